@@ -1,0 +1,112 @@
+#include "raster/clip.h"
+
+#include <cmath>
+
+#include "raster/config.h"
+
+namespace pelt::raster {
+namespace {
+
+// The smallest w a vertex may keep. Only matters for matrices whose near plane does not
+// already keep w away from zero (an orthographic-like or hand-made transform).
+constexpr double kMinW = 1e-6;
+
+enum PlaneBit : uint32_t {
+  kNear = 1u << 0,    // z >= -w
+  kFar = 1u << 1,     // z <= w
+  kPosW = 1u << 2,    // w >= kMinW
+  kGuardPX = 1u << 3, // x <= gx w
+  kGuardNX = 1u << 4, // x >= -gx w
+  kGuardPY = 1u << 5,
+  kGuardNY = 1u << 6,
+  // Viewport sides: used only to reject, never to clip.
+  kViewPX = 1u << 7,
+  kViewNX = 1u << 8,
+  kViewPY = 1u << 9,
+  kViewNY = 1u << 10,
+};
+constexpr uint32_t kClipPlanes = kNear | kFar | kPosW | kGuardPX | kGuardNX | kGuardPY | kGuardNY;
+constexpr int kNumClipPlanes = 7;
+
+// Signed distance to clip plane i; inside where >= 0.
+inline double plane_distance(int i, const ClipVertex& v, const ClipBounds& b) {
+  switch (i) {
+    case 0: return v.z + v.w;
+    case 1: return v.w - v.z;
+    case 2: return v.w - kMinW;
+    case 3: return b.guard_x * v.w - v.x;
+    case 4: return b.guard_x * v.w + v.x;
+    case 5: return b.guard_y * v.w - v.y;
+    default: return b.guard_y * v.w + v.y;
+  }
+}
+
+uint32_t outcode(const ClipVertex& v, const ClipBounds& b) {
+  uint32_t code = 0;
+  for (int i = 0; i < kNumClipPlanes; ++i)
+    if (plane_distance(i, v, b) < 0.0) code |= 1u << i;
+  if (v.x > v.w) code |= kViewPX;
+  if (v.x < -v.w) code |= kViewNX;
+  if (v.y > v.w) code |= kViewPY;
+  if (v.y < -v.w) code |= kViewNY;
+  return code;
+}
+
+ClipVertex lerp(const ClipVertex& p, const ClipVertex& q, double t) {
+  return {p.x + (q.x - p.x) * t, p.y + (q.y - p.y) * t, p.z + (q.z - p.z) * t,
+          p.w + (q.w - p.w) * t, p.b1 + (q.b1 - p.b1) * t, p.b2 + (q.b2 - p.b2) * t};
+}
+
+bool finite(const glm::vec4& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w);
+}
+
+}  // namespace
+
+ClipBounds make_clip_bounds(int width, int height) {
+  return {1.0 + 2.0 * kGuardBand / width, 1.0 + 2.0 * kGuardBand / height};
+}
+
+ClipResult clip_triangle(const glm::vec4& a, const glm::vec4& b, const glm::vec4& c,
+                         const ClipBounds& bounds, ClipPolygon& out) {
+  if (!finite(a) || !finite(b) || !finite(c)) return ClipResult::Culled;
+  out.count = 3;
+  out.v[0] = {a.x, a.y, a.z, a.w, 0.0, 0.0};
+  out.v[1] = {b.x, b.y, b.z, b.w, 1.0, 0.0};
+  out.v[2] = {c.x, c.y, c.z, c.w, 0.0, 1.0};
+  const uint32_t c0 = outcode(out.v[0], bounds), c1 = outcode(out.v[1], bounds),
+                 c2 = outcode(out.v[2], bounds);
+  if (c0 & c1 & c2) return ClipResult::Culled;
+  const uint32_t any = (c0 | c1 | c2) & kClipPlanes;
+  if (!any) return ClipResult::Unclipped;
+
+  // Sutherland-Hodgman, only against the planes some vertex violates.
+  ClipVertex tmp[kMaxClipVertices];
+  ClipVertex* src = out.v;
+  ClipVertex* dst = tmp;
+  int n = 3;
+  for (int i = 0; i < kNumClipPlanes; ++i) {
+    if (!(any & (1u << i))) continue;
+    int m = 0;
+    for (int k = 0; k < n; ++k) {
+      const ClipVertex& p = src[k];
+      const ClipVertex& q = src[(k + 1) % n];
+      const double dp = plane_distance(i, p, bounds), dq = plane_distance(i, q, bounds);
+      if (dp >= 0.0) dst[m++] = p;
+      if ((dp >= 0.0) != (dq >= 0.0)) {
+        // Interpolate from the inside vertex so the new vertex lands on the plane's inner side
+        // up to rounding, whichever way the edge is walked.
+        dst[m++] = dp >= 0.0 ? lerp(p, q, dp / (dp - dq)) : lerp(q, p, dq / (dq - dp));
+      }
+    }
+    n = m;
+    std::swap(src, dst);
+    if (n < 3) return ClipResult::Culled;
+  }
+  if (src != out.v)
+    for (int k = 0; k < n; ++k) out.v[k] = src[k];
+  out.count = n;
+  return ClipResult::Clipped;
+}
+
+}  // namespace pelt::raster

@@ -1,0 +1,45 @@
+// Transform/clip stage: homogeneous clipping of one triangle against the near and far
+// planes, w > 0, and the x/y guard band. Inside the guard band x/y are never clipped:
+// the rasterizer's scissor to the viewport does that for free.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec4.hpp>
+
+namespace pelt::raster {
+
+// A vertex of a clipped polygon: its clip-space position and its barycentric
+// coordinates (b1, b2) in the ORIGINAL triangle (b0 = 1 - b1 - b2), so that varyings
+// are always interpolated from the original three vertices.
+struct ClipVertex {
+  double x, y, z, w;
+  double b1, b2;
+};
+
+// Seven planes can each add one vertex to a triangle.
+inline constexpr int kMaxClipVertices = 3 + 7;
+
+struct ClipPolygon {
+  int count = 0;
+  ClipVertex v[kMaxClipVertices];
+};
+
+// Guard-band limits in NDC units for a width x height viewport.
+struct ClipBounds {
+  double guard_x, guard_y;  // |x| <= guard_x * w keeps the pixel x inside the guard band
+};
+ClipBounds make_clip_bounds(int width, int height);
+
+enum class ClipResult : uint8_t {
+  Culled,     // wholly outside one plane, non-finite, or clipped away
+  Unclipped,  // inside every plane: the polygon is the triangle itself
+  Clipped,    // the polygon is a convex fan of `count` vertices
+};
+
+// Called per triangle by the front end. Non-finite input coordinates cull the triangle:
+// a mesh with NaN never reaches the rasterizer as garbage.
+ClipResult clip_triangle(const glm::vec4& a, const glm::vec4& b, const glm::vec4& c,
+                         const ClipBounds& bounds, ClipPolygon& out);
+
+}  // namespace pelt::raster

@@ -1,0 +1,34 @@
+// Fixed constants of the rasterizer. Everything that depends on them derives from them.
+#pragma once
+
+#include <cstdint>
+
+namespace pelt::raster {
+
+// A worker owns one tile; 64x64 float RGBA + depth + id is 96 KiB, resident in L2.
+inline constexpr int kTileSize = 64;
+// Pixels are shaded and stored in 4x4 blocks of 16 lanes (one AVX-512 vector, two AVX2).
+inline constexpr int kBlockSize = 4;
+inline constexpr int kBlockLanes = kBlockSize * kBlockSize;
+inline constexpr int kBlocksPerTileSide = kTileSize / kBlockSize;
+inline constexpr int kBlocksPerTile = kBlocksPerTileSide * kBlocksPerTileSide;
+inline constexpr int kTilePixels = kTileSize * kTileSize;
+
+// 8 sub-pixel bits: positions snap to 1/256 pixel.
+inline constexpr int kSubPixelBits = 8;
+inline constexpr int kSubPixelScale = 1 << kSubPixelBits;
+
+// Guard band, in pixels beyond each side of the viewport. Triangles are clipped in x/y
+// only where they leave it. With the image limit below, every snapped coordinate span is
+// at most 2^15 pixels = 2^23 sub-pixel units, so edge coefficients fit in 24 bits and an
+// edge evaluated over a tile it crosses fits in int32 (see setup.h).
+inline constexpr int kGuardBand = 8192;
+inline constexpr int kMaxImageSide = 16384;
+
+// Per-fragment interpolated attributes a draw may carry.
+inline constexpr int kMaxVaryings = 16;
+
+// Visibility-buffer value of an empty pixel.
+inline constexpr uint32_t kNoPrimitive = 0xFFFFFFFFu;
+
+}  // namespace pelt::raster

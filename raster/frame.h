@@ -1,0 +1,138 @@
+// Internal plain data shared by the front end (renderer.cpp) and the tile kernels
+// (tile_kernels.cc): binned triangles per chunk and per-worker tile scratch.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "raster/config.h"
+#include "raster/renderer.h"
+#include "raster/setup.h"
+
+namespace pelt::raster {
+
+// Bin item flags, decided at bin time over the block-aligned part of the tile the
+// triangle's bounding box touches.
+inline constexpr uint32_t kItemFull = 1u;  // every pixel of that region is inside
+inline constexpr uint32_t kItemTiny = 2u;  // that region is a single 4x4 block
+inline constexpr uint32_t kItemFlagBits = 2;
+
+// Triangles of consecutive submission order, set up and binned by one worker.
+struct BinChunk {
+  uint32_t draw = 0, first = 0, count = 0;  // triangles [first, first+count) of draw
+  uint32_t setup_base = 0;                  // frame-wide index of setups[0]
+  std::vector<TriSetup> setups;
+  std::vector<uint32_t> tile_offsets;       // tiles + 1
+  std::vector<uint32_t> items;              // (setup index << kItemFlagBits) | flags, by tile
+  std::vector<uint64_t> pairs;              // scratch: (tile << 32) | item
+  uint64_t culled = 0, clipped = 0, full_items = 0;
+};
+
+struct FrameView {
+  Viewport vp;
+  int tiles_x = 0, tiles_y = 0;
+  const DrawCall* draws = nullptr;
+  const BinChunk* chunks = nullptr;
+  size_t chunk_count = 0;
+  RenderOptions options;
+  RenderTarget target;
+};
+
+inline constexpr uint32_t kBatchBlocks = 64;
+inline constexpr uint32_t kBatchLanes = kBatchBlocks * kBlockLanes;
+
+struct TranslucentRef {
+  const TriSetup* tri;
+  uint32_t id;     // frame-wide setup index
+  uint32_t flags;
+};
+
+// Per-worker state, reused for every tile the worker takes. Tile planes are stored
+// block-major: block (bx, by) of the tile at [(by * 16 + bx) * 16], lane l = pixel
+// (l % 4, l / 4) of the block, so 16 lanes are one contiguous load.
+struct alignas(64) TileScratch {
+  alignas(64) float color[4][kTilePixels];
+  alignas(64) float depth[kTilePixels];
+  alignas(64) uint32_t vis[kTilePixels];  // frame-wide setup index of the visible triangle
+  alignas(64) uint16_t block_valid[kBlocksPerTile];  // lanes inside the viewport
+
+  // The batch being assembled for the shader: blocks of one draw.
+  uint32_t batch_blocks = 0;
+  uint32_t batch_draw = 0;
+  alignas(64) uint16_t batch_mask[kBatchBlocks];
+  alignas(64) int32_t batch_x[kBatchBlocks];
+  alignas(64) int32_t batch_y[kBatchBlocks];
+  alignas(64) uint32_t batch_prim[kBatchBlocks];
+  alignas(64) uint16_t batch_offset[kBatchBlocks];  // block offset within the tile planes
+  const TriSetup* batch_tri[kBatchBlocks];
+  alignas(64) float lane_depth[kBatchLanes];
+  alignas(64) float lane_b1[kBatchLanes];
+  alignas(64) float lane_b2[kBatchLanes];
+  alignas(64) float varyings[kMaxVaryings][kBatchLanes];
+  alignas(64) float out[4][kBatchLanes];
+
+  std::vector<TranslucentRef> translucent;
+
+  uint64_t fragments_visible = 0, pixels_shaded = 0, fragments_blended = 0;
+};
+
+// Lane layout of a 4x4 block.
+alignas(64) inline constexpr int32_t kLaneX[kBlockLanes] = {0, 1, 2, 3, 0, 1, 2, 3,
+                                                            0, 1, 2, 3, 0, 1, 2, 3};
+alignas(64) inline constexpr int32_t kLaneY[kBlockLanes] = {0, 0, 0, 0, 1, 1, 1, 1,
+                                                            2, 2, 2, 2, 3, 3, 3, 3};
+alignas(64) inline constexpr int32_t kLaneBit[kBlockLanes] = {
+    1 << 0, 1 << 1, 1 << 2,  1 << 3,  1 << 4,  1 << 5,  1 << 6,  1 << 7,
+    1 << 8, 1 << 9, 1 << 10, 1 << 11, 1 << 12, 1 << 13, 1 << 14, 1 << 15};
+
+// Rasterizes, shades, blends and resolves tile `tile` (dispatched once per tile).
+void raster_tile(const FrameView& frame, uint32_t tile, TileScratch& scratch);
+
+}  // namespace pelt::raster
+
+namespace pelt::raster {
+
+// A triangle's edges restricted to the part of one tile its bounding box touches,
+// widened to whole 4x4 blocks ("region", inclusive pixel bounds). Edges that accept the
+// whole region are replaced by an always-positive constant, so the kernels only pay for
+// edges that cross it, and those fit in int32 (config.h). Used at bin time to classify
+// and by the tile kernels to rasterize; returns false if the region holds no pixel of
+// the triangle.
+struct TileEdges {
+  int32_t a[3], b[3];
+  int32_t e0[3];  // edge value at the region's first pixel (rx0, ry0)
+  int32_t rx0, ry0, rx1, ry1;
+  bool all_accepted;
+};
+
+inline bool tile_region_edges(const TriSetup& t, int32_t tx0, int32_t ty0, TileEdges& te) {
+  const int32_t bx0 = t.x0 > tx0 ? t.x0 : tx0;
+  const int32_t by0 = t.y0 > ty0 ? t.y0 : ty0;
+  const int32_t bx1 = t.xmax < tx0 + kTileSize - 1 ? t.xmax : tx0 + kTileSize - 1;
+  const int32_t by1 = t.ymax < ty0 + kTileSize - 1 ? t.ymax : ty0 + kTileSize - 1;
+  if (bx0 > bx1 || by0 > by1) return false;
+  te.rx0 = tx0 + ((bx0 - tx0) & ~(kBlockSize - 1));
+  te.ry0 = ty0 + ((by0 - ty0) & ~(kBlockSize - 1));
+  te.rx1 = tx0 + ((bx1 - tx0) | (kBlockSize - 1));
+  te.ry1 = ty0 + ((by1 - ty0) | (kBlockSize - 1));
+  te.all_accepted = true;
+  for (int k = 0; k < 3; ++k) {
+    const EdgeEq& e = t.edge[k];
+    const int64_t lo = eval_edge(e, e.a > 0 ? te.rx0 : te.rx1, e.b > 0 ? te.ry0 : te.ry1);
+    const int64_t hi = eval_edge(e, e.a > 0 ? te.rx1 : te.rx0, e.b > 0 ? te.ry1 : te.ry0);
+    if (hi < 0) return false;
+    if (lo >= 0) {
+      te.a[k] = 0;
+      te.b[k] = 0;
+      te.e0[k] = 1 << 30;
+    } else {
+      te.a[k] = e.a;
+      te.b[k] = e.b;
+      te.e0[k] = static_cast<int32_t>(eval_edge(e, te.rx0, te.ry0));
+      te.all_accepted = false;
+    }
+  }
+  return true;
+}
+
+}  // namespace pelt::raster

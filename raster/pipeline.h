@@ -1,0 +1,72 @@
+// What a caller hands the rasterizer: draw calls (indexed triangles, per-vertex
+// varyings, a clip-space transform, fixed-function state) and the Shader interface that
+// turns interpolated fragments into colour. The rasterizer knows nothing of what the
+// varyings mean.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "raster/config.h"
+
+namespace pelt::raster {
+
+enum class DepthFunc : uint8_t { Less, LessEqual, Always };
+enum class CullMode : uint8_t { None, Back, Front };  // front = counter-clockwise in NDC (OpenGL)
+enum class BlendMode : uint8_t {
+  Opaque,
+  AlphaOver,  // src-over, straight alpha: C = Cs a + Cd (1 - a), A = a + Ad (1 - a)
+  Additive,   // C = Cd + Cs a, A = Ad: counts overdraw, glows
+};
+
+// Opaque draws fill a visibility buffer (depth + primitive) and are shaded once per
+// visible pixel after all opaque geometry of a tile is known. AlphaOver draws come after,
+// depth-tested against the opaque depth, shaded per fragment and blended src-over
+// (straight alpha; or added) in their order: submission order, or back to front per tile.
+struct PipelineState {
+  DepthFunc depth_func = DepthFunc::Less;
+  bool depth_write = true;
+  CullMode cull = CullMode::None;
+  BlendMode blend = BlendMode::Opaque;
+};
+
+// A batch of fragments of ONE draw, in whole 4x4 blocks. Lane l of a block is pixel
+// (block_x + l % 4, block_y + l / 4). Lanes outside `mask` hold the triangle's planes
+// extrapolated (finite, usable for derivatives) and their outputs are ignored.
+// All per-lane arrays hold 16 * blocks floats, 64-byte aligned.
+struct FragmentBatch {
+  uint32_t blocks = 0;
+  const uint16_t* mask = nullptr;     // per block: bit l = lane l covered
+  const int32_t* block_x = nullptr;   // per block: pixel x of lane 0
+  const int32_t* block_y = nullptr;   // per block: pixel y of lane 0
+  const uint32_t* primitive = nullptr;  // per block: triangle index within the draw
+  const float* varying[kMaxVaryings] = {};  // per lane, perspective-correct
+  const float* depth = nullptr;       // per lane, window depth in [0, 1]
+  float* out[4] = {};                 // per lane: the shader writes linear r, g, b, a
+};
+
+class Shader {
+ public:
+  virtual ~Shader() = default;
+  // Called per worker thread, per batch, possibly concurrently from several threads:
+  // must not modify shared state. Writes out[0..3] for all 16 * blocks lanes.
+  virtual void shade(const FragmentBatch& batch) const = 0;
+};
+
+struct DrawCall {
+  const glm::vec3* positions = nullptr;  // object space
+  uint32_t vertex_count = 0;
+  const uint32_t* indices = nullptr;     // 3 per triangle
+  uint32_t triangle_count = 0;
+  const float* varyings = nullptr;       // varying_count floats per vertex, interleaved
+  uint32_t varying_count = 0;
+  glm::mat4 clip_from_object{1.0f};
+  PipelineState state;
+  const Shader* shader = nullptr;
+  // The id AOV of a pixel shows id_base + triangle index + 1 of its visible opaque triangle.
+  uint32_t id_base = 0;
+};
+
+}  // namespace pelt::raster

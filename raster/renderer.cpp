@@ -1,0 +1,229 @@
+#include "raster/renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "raster/clip.h"
+#include "raster/frame.h"
+#include "raster/parallel.h"
+
+namespace pelt::raster {
+namespace {
+
+// Triangles per front-end chunk: large enough to amortise a chunk's per-tile offsets,
+// small enough to balance two workers on a 36k-triangle fur frame.
+constexpr uint32_t kChunkTriangles = 1024;
+constexpr uint32_t kVertexChunk = 4096;
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+struct Renderer::Impl {
+  explicit Impl(int threads) : pool(threads) {}
+
+  ThreadPool pool;
+  std::vector<std::vector<glm::vec4>> clip;  // per draw
+  std::vector<BinChunk> chunks;
+  std::vector<std::unique_ptr<TileScratch>> scratch;  // per worker slot
+  std::vector<uint32_t> tile_order;
+
+  struct VertexJob {
+    uint32_t draw, first, count;
+  };
+  std::vector<VertexJob> vertex_jobs;
+
+  void transform(std::span<const DrawCall> draws);
+  void front_end(std::span<const DrawCall> draws, const Viewport& vp, int tiles_x, int tiles_y);
+  void bin_chunk(BinChunk& ch, const DrawCall& draw, const std::vector<glm::vec4>& clip,
+                 const Viewport& vp, const ClipBounds& bounds, int tiles_x, int tiles_y);
+};
+
+Renderer::Renderer(int threads) : impl_(std::make_unique<Impl>(threads)) {}
+Renderer::~Renderer() = default;
+int Renderer::threads() const { return impl_->pool.threads(); }
+
+void Renderer::Impl::transform(std::span<const DrawCall> draws) {
+  if (clip.size() < draws.size()) clip.resize(draws.size());
+  vertex_jobs.clear();
+  for (uint32_t d = 0; d < draws.size(); ++d) {
+    clip[d].resize(draws[d].vertex_count);
+    for (uint32_t v = 0; v < draws[d].vertex_count; v += kVertexChunk)
+      vertex_jobs.push_back({d, v, std::min(kVertexChunk, draws[d].vertex_count - v)});
+  }
+  pool.parallel_for(vertex_jobs.size(), [&](size_t j, int) {
+    const VertexJob& job = vertex_jobs[j];
+    const DrawCall& draw = draws[job.draw];
+    glm::vec4* out = clip[job.draw].data();
+    for (uint32_t v = job.first; v < job.first + job.count; ++v)
+      out[v] = draw.clip_from_object * glm::vec4(draw.positions[v], 1.0f);
+  });
+}
+
+void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const std::vector<glm::vec4>& cv,
+                               const Viewport& vp, const ClipBounds& bounds, int tiles_x,
+                               int tiles_y) {
+  ch.setups.clear();
+  ch.pairs.clear();
+  ch.culled = ch.clipped = ch.full_items = 0;
+  const uint32_t tiles = static_cast<uint32_t>(tiles_x * tiles_y);
+  ClipPolygon poly;
+  for (uint32_t p = ch.first; p < ch.first + ch.count; ++p) {
+    const uint32_t i0 = draw.indices[3 * size_t{p}], i1 = draw.indices[3 * size_t{p} + 1],
+                   i2 = draw.indices[3 * size_t{p} + 2];
+    if (i0 >= draw.vertex_count || i1 >= draw.vertex_count || i2 >= draw.vertex_count) {
+      ++ch.culled;  // loaders reject such meshes; the rasterizer still never reads out of range
+      continue;
+    }
+    const glm::vec4 &a = cv[i0], &b = cv[i1], &c = cv[i2];
+    const ClipResult r = clip_triangle(a, b, c, bounds, poly);
+    if (r == ClipResult::Culled) {
+      ++ch.culled;
+      continue;
+    }
+    if (r == ClipResult::Clipped) ++ch.clipped;
+    const float key = (a.w + b.w + c.w) * (1.0f / 3.0f);
+    bool any = false;
+    for (int k = 1; k + 1 < poly.count; ++k) {
+      TriSetup t;
+      if (!setup_triangle(poly.v[0], poly.v[k], poly.v[k + 1], vp, draw.state.cull, t)) continue;
+      t.draw = 0;  // set by the caller's draw index below
+      t.primitive = p;
+      t.sort_key = key;
+      const uint32_t local = static_cast<uint32_t>(ch.setups.size());
+      ch.setups.push_back(t);
+      any = true;
+      const int32_t tx0 = t.x0 / kTileSize, tx1 = t.xmax / kTileSize;
+      const int32_t ty0 = t.y0 / kTileSize, ty1 = t.ymax / kTileSize;
+      for (int32_t ty = ty0; ty <= ty1; ++ty)
+        for (int32_t tx = tx0; tx <= tx1; ++tx) {
+          TileEdges te;
+          if (!tile_region_edges(t, tx * kTileSize, ty * kTileSize, te)) continue;
+          uint32_t flags = 0;
+          if (te.all_accepted) {
+            flags |= kItemFull;
+            ++ch.full_items;
+          }
+          if (te.rx1 - te.rx0 < kBlockSize && te.ry1 - te.ry0 < kBlockSize) flags |= kItemTiny;
+          const uint64_t tile = static_cast<uint64_t>(ty) * tiles_x + tx;
+          ch.pairs.push_back((tile << 32) | (local << kItemFlagBits) | flags);
+        }
+    }
+    if (!any) ++ch.culled;
+  }
+  // Counting sort by tile; within a tile the items keep submission order.
+  ch.tile_offsets.assign(tiles + 1, 0);
+  for (uint64_t pr : ch.pairs) ++ch.tile_offsets[(pr >> 32) + 1];
+  std::partial_sum(ch.tile_offsets.begin(), ch.tile_offsets.end(), ch.tile_offsets.begin());
+  ch.items.resize(ch.pairs.size());
+  // Stable scatter: walk pairs in order, writing at a running position per tile.
+  thread_local std::vector<uint32_t> pos;
+  pos.assign(ch.tile_offsets.begin(), ch.tile_offsets.end() - 1);
+  for (uint64_t pr : ch.pairs) ch.items[pos[pr >> 32]++] = static_cast<uint32_t>(pr);
+}
+
+void Renderer::Impl::front_end(std::span<const DrawCall> draws, const Viewport& vp, int tiles_x,
+                               int tiles_y) {
+  size_t n = 0;
+  for (uint32_t d = 0; d < draws.size(); ++d)
+    for (uint32_t f = 0; f < draws[d].triangle_count; f += kChunkTriangles) {
+      if (chunks.size() <= n) chunks.emplace_back();
+      BinChunk& ch = chunks[n++];
+      ch.draw = d;
+      ch.first = f;
+      ch.count = std::min(kChunkTriangles, draws[d].triangle_count - f);
+    }
+  chunks.resize(n);
+  const ClipBounds bounds = make_clip_bounds(vp.width, vp.height);
+  pool.parallel_for(chunks.size(), [&](size_t c, int) {
+    BinChunk& ch = chunks[c];
+    bin_chunk(ch, draws[ch.draw], clip[ch.draw], vp, bounds, tiles_x, tiles_y);
+    for (TriSetup& t : ch.setups) t.draw = ch.draw;
+  });
+  uint32_t base = 0;
+  for (BinChunk& ch : chunks) {
+    ch.setup_base = base;
+    base += static_cast<uint32_t>(ch.setups.size());
+  }
+}
+
+void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& options,
+                      const RenderTarget& target, RasterStats* stats) {
+  if (target.width <= 0 || target.height <= 0 || target.width > kMaxImageSide ||
+      target.height > kMaxImageSide)
+    throw std::invalid_argument("render target size " + std::to_string(target.width) + "x" +
+                                std::to_string(target.height) + " outside 1.." +
+                                std::to_string(kMaxImageSide));
+  for (const DrawCall& d : draws) {
+    if (d.triangle_count > 0 && (!d.positions || !d.indices || !d.shader))
+      throw std::invalid_argument("draw call without positions, indices or shader");
+    if (d.varying_count > kMaxVaryings || (d.varying_count > 0 && !d.varyings))
+      throw std::invalid_argument("draw call varyings: count above kMaxVaryings or no data");
+  }
+  Impl& im = *impl_;
+  const auto t0 = Clock::now();
+  const Viewport vp{target.width, target.height};
+  const int tiles_x = (vp.width + kTileSize - 1) / kTileSize;
+  const int tiles_y = (vp.height + kTileSize - 1) / kTileSize;
+  im.transform(draws);
+  im.front_end(draws, vp, tiles_x, tiles_y);
+  const double ms_front = ms_since(t0);
+
+  const auto t1 = Clock::now();
+  const uint32_t tiles = static_cast<uint32_t>(tiles_x * tiles_y);
+  // Heaviest tiles first, so the last ones to finish are short; the order never changes
+  // a pixel because tiles are independent.
+  im.tile_order.resize(tiles);
+  std::iota(im.tile_order.begin(), im.tile_order.end(), 0u);
+  std::vector<uint32_t> load(tiles, 0);
+  for (const BinChunk& ch : im.chunks)
+    for (uint32_t t = 0; t < tiles; ++t) load[t] += ch.tile_offsets[t + 1] - ch.tile_offsets[t];
+  std::stable_sort(im.tile_order.begin(), im.tile_order.end(),
+                   [&](uint32_t a, uint32_t b) { return load[a] > load[b]; });
+
+  while (im.scratch.size() < static_cast<size_t>(im.pool.slots()))
+    im.scratch.push_back(std::make_unique<TileScratch>());
+  for (auto& s : im.scratch) s->fragments_visible = s->pixels_shaded = s->fragments_blended = 0;
+
+  FrameView view;
+  view.vp = vp;
+  view.tiles_x = tiles_x;
+  view.tiles_y = tiles_y;
+  view.draws = draws.data();
+  view.chunks = im.chunks.data();
+  view.chunk_count = im.chunks.size();
+  view.options = options;
+  view.target = target;
+  im.pool.parallel_for(tiles, [&](size_t i, int slot) {
+    raster_tile(view, im.tile_order[i], *im.scratch[slot]);
+  });
+
+  if (stats) {
+    RasterStats st;
+    for (const DrawCall& d : draws) st.triangles_submitted += d.triangle_count;
+    for (const BinChunk& ch : im.chunks) {
+      st.triangles_culled += ch.culled;
+      st.triangles_clipped += ch.clipped;
+      st.triangles_setup += ch.setups.size();
+      st.bin_items += ch.items.size();
+      st.bin_items_full += ch.full_items;
+    }
+    for (auto& s : im.scratch) {
+      st.fragments_visible += s->fragments_visible;
+      st.pixels_shaded += s->pixels_shaded;
+      st.fragments_blended += s->fragments_blended;
+    }
+    st.ms_front = ms_front;
+    st.ms_tiles = ms_since(t1);
+    *stats = st;
+  }
+}
+
+}  // namespace pelt::raster

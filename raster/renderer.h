@@ -1,0 +1,73 @@
+// The rasterizer's public API: one call renders a list of draws into caller-owned planes.
+//
+// Stages, each handing plain data to the next:
+//   transform (vertices to clip space, per draw)
+//   -> clip + set-up + bin (per chunk of triangles, in parallel; per-chunk tile lists
+//      keep submission order without atomics)
+//   -> tiles (in parallel, a worker owns a 64x64 tile): opaque visibility (depth + id),
+//      shading of each visible pixel once, translucent fragments shaded and blended in
+//      order, resolve into the caller's planes.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include <glm/vec4.hpp>
+
+#include "raster/pipeline.h"
+
+namespace pelt::raster {
+
+enum class SortMode : uint8_t {
+  None,  // translucent triangles blend in submission order
+  Tile,  // per tile, back to front by the triangle's view depth (stable)
+};
+
+struct RenderTarget {
+  int width = 0, height = 0;
+  float* color = nullptr;  // width*height*4 linear RGBA, row 0 at the top; null: not wanted
+  float* depth = nullptr;  // width*height window depth z/w*0.5+0.5; 1 where empty
+  uint32_t* id = nullptr;  // width*height id_base + triangle + 1 of the visible opaque triangle; 0 empty
+};
+
+struct RenderOptions {
+  glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};
+  SortMode sort = SortMode::None;
+};
+
+struct RasterStats {
+  uint64_t triangles_submitted = 0;
+  uint64_t triangles_culled = 0;   // outside the frustum, back-facing, zero area or no pixel
+  uint64_t triangles_clipped = 0;  // needed near/far/guard-band clipping
+  uint64_t triangles_setup = 0;    // set up (after clipping's fans)
+  uint64_t bin_items = 0;          // (tile, triangle) pairs
+  uint64_t bin_items_full = 0;     // of which the triangle covers the whole tile region
+  uint64_t fragments_visible = 0;  // opaque fragments that passed the depth test
+  uint64_t pixels_shaded = 0;      // opaque pixels shaded (once each)
+  uint64_t fragments_blended = 0;  // translucent fragments that passed the depth test
+  double ms_front = 0.0;           // transform, clip, set-up and binning
+  double ms_tiles = 0.0;           // rasterization, shading, blending, resolve
+};
+
+class Renderer {
+ public:
+  // threads: see ThreadPool (0 = inline on the calling thread).
+  explicit Renderer(int threads);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  int threads() const;
+
+  // Renders `draws` in order. The images are bit-identical for any thread count.
+  // Buffers are kept between calls: rendering the same-sized frame again allocates nothing.
+  void render(std::span<const DrawCall> draws, const RenderOptions& options,
+              const RenderTarget& target, RasterStats* stats = nullptr);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pelt::raster

@@ -1,0 +1,107 @@
+#include "raster/setup.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "raster/config.h"
+
+namespace pelt::raster {
+namespace {
+
+// Floor division by 256 of a possibly negative integer.
+inline int64_t floor_div_subpixel(int64_t v) { return v >> kSubPixelBits; }
+
+EdgeEq make_edge(const SnappedVertex& i, const SnappedVertex& j) {
+  const int64_t a = static_cast<int64_t>(i.y) - j.y;
+  const int64_t b = static_cast<int64_t>(j.x) - i.x;
+  const int64_t cross = static_cast<int64_t>(i.x) * j.y - static_cast<int64_t>(j.x) * i.y;
+  // Our triangles are oriented with positive area in y-down pixel space, so the interior
+  // is where E > 0; a "left" edge has the interior to its right (a > 0) and a "top" edge
+  // is horizontal with the interior below (a == 0, b > 0). Those own their pixels.
+  const bool top_left = a > 0 || (a == 0 && b > 0);
+  const int64_t k = (kSubPixelScale / 2) * (a + b) + cross - (top_left ? 0 : 1);
+  return {static_cast<int32_t>(a), static_cast<int32_t>(b), floor_div_subpixel(k)};
+}
+
+Plane make_plane(const double f[3], const double x[3], const double y[3], double area2,
+                 int32_t x0, int32_t y0) {
+  const double dx = ((f[1] - f[0]) * (y[2] - y[0]) - (f[2] - f[0]) * (y[1] - y[0])) / area2;
+  const double dy = ((f[2] - f[0]) * (x[1] - x[0]) - (f[1] - f[0]) * (x[2] - x[0])) / area2;
+  const double ref = f[0] + dx * (x0 + 0.5 - x[0]) + dy * (y0 + 0.5 - y[0]);
+  return {static_cast<float>(ref), static_cast<float>(dx), static_cast<float>(dy)};
+}
+
+}  // namespace
+
+SnappedVertex snap_vertex(const ClipVertex& v, const Viewport& vp) {
+  const double inv_w = 1.0 / v.w;
+  const double sx = (v.x * inv_w * 0.5 + 0.5) * vp.width;
+  const double sy = (0.5 - v.y * inv_w * 0.5) * vp.height;
+  // Clipping leaves vertices on the guard band up to rounding; clamping keeps the
+  // fixed-point range promise of config.h without visibly moving anything.
+  const double lo = -kGuardBand;
+  const double sxc = std::clamp(sx, lo, static_cast<double>(vp.width + kGuardBand));
+  const double syc = std::clamp(sy, lo, static_cast<double>(vp.height + kGuardBand));
+  const double depth = std::clamp(v.z * inv_w * 0.5 + 0.5, 0.0, 1.0);
+  return {static_cast<int32_t>(std::llround(sxc * kSubPixelScale)),
+          static_cast<int32_t>(std::llround(syc * kSubPixelScale)), depth};
+}
+
+bool setup_triangle(const ClipVertex& cv0, const ClipVertex& cv1, const ClipVertex& cv2,
+                    const Viewport& vp, CullMode cull, TriSetup& out) {
+  const ClipVertex* cv[3] = {&cv0, &cv1, &cv2};
+  SnappedVertex s[3] = {snap_vertex(cv0, vp), snap_vertex(cv1, vp), snap_vertex(cv2, vp)};
+  int64_t area2 = (static_cast<int64_t>(s[1].x) - s[0].x) * (static_cast<int64_t>(s[2].y) - s[0].y) -
+                  (static_cast<int64_t>(s[1].y) - s[0].y) * (static_cast<int64_t>(s[2].x) - s[0].x);
+  if (area2 == 0) return false;
+  // Counter-clockwise in NDC (y up) is clockwise in y-down pixels: negative area here.
+  const bool front = area2 < 0;
+  if ((cull == CullMode::Back && !front) || (cull == CullMode::Front && front)) return false;
+  if (area2 < 0) {
+    std::swap(s[1], s[2]);
+    std::swap(cv[1], cv[2]);
+    area2 = -area2;
+  }
+
+  // Pixel px is reachable iff its centre 256 px + 128 lies within the snapped extent.
+  const int32_t minx = std::min({s[0].x, s[1].x, s[2].x}), maxx = std::max({s[0].x, s[1].x, s[2].x});
+  const int32_t miny = std::min({s[0].y, s[1].y, s[2].y}), maxy = std::max({s[0].y, s[1].y, s[2].y});
+  const int64_t half = kSubPixelScale / 2;
+  int64_t bx0 = -floor_div_subpixel(-(minx - half));  // ceil((minx - 128) / 256)
+  int64_t by0 = -floor_div_subpixel(-(miny - half));
+  int64_t bx1 = floor_div_subpixel(maxx - half);
+  int64_t by1 = floor_div_subpixel(maxy - half);
+  bx0 = std::max<int64_t>(bx0, 0);
+  by0 = std::max<int64_t>(by0, 0);
+  bx1 = std::min<int64_t>(bx1, vp.width - 1);
+  by1 = std::min<int64_t>(by1, vp.height - 1);
+  if (bx0 > bx1 || by0 > by1) return false;
+
+  out.edge[0] = make_edge(s[0], s[1]);
+  out.edge[1] = make_edge(s[1], s[2]);
+  out.edge[2] = make_edge(s[2], s[0]);
+  out.x0 = static_cast<int32_t>(bx0);
+  out.y0 = static_cast<int32_t>(by0);
+  out.xmax = static_cast<int32_t>(bx1);
+  out.ymax = static_cast<int32_t>(by1);
+
+  const double x[3] = {s[0].x / double(kSubPixelScale), s[1].x / double(kSubPixelScale),
+                       s[2].x / double(kSubPixelScale)};
+  const double y[3] = {s[0].y / double(kSubPixelScale), s[1].y / double(kSubPixelScale),
+                       s[2].y / double(kSubPixelScale)};
+  const double area = area2 / double(kSubPixelScale * kSubPixelScale);
+  const double z[3] = {s[0].depth, s[1].depth, s[2].depth};
+  double iw[3], b1w[3], b2w[3];
+  for (int k = 0; k < 3; ++k) {
+    iw[k] = 1.0 / cv[k]->w;
+    b1w[k] = cv[k]->b1 * iw[k];
+    b2w[k] = cv[k]->b2 * iw[k];
+  }
+  out.z = make_plane(z, x, y, area, out.x0, out.y0);
+  out.inv_w = make_plane(iw, x, y, area, out.x0, out.y0);
+  out.b1w = make_plane(b1w, x, y, area, out.x0, out.y0);
+  out.b2w = make_plane(b2w, x, y, area, out.x0, out.y0);
+  return true;
+}
+
+}  // namespace pelt::raster

@@ -1,0 +1,456 @@
+// The back end: everything a worker does to one 64x64 tile, written once with Highway
+// and compiled for every target; dispatched once per tile.
+//
+// Pass 1, opaque visibility: coverage (exact int32 edge equations, hierarchical 16x16
+//   then 4x4 rejection) and the depth test; writes depth and the visible triangle.
+// Pass 2, opaque shading: each visible pixel is shaded once, by the triangle that owns it.
+// Pass 3, translucent: fragments depth-tested against pass 1, shaded in batches and
+//   blended src-over in order (submission order or back to front per tile).
+// Resolve: the tile's planes into the caller's row-major images.
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "raster/tile_kernels.cc"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+
+#include "raster/frame.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace pelt::raster {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using DF = hn::ScalableTag<float>;
+using DI = hn::RebindToSigned<DF>;
+using DU = hn::RebindToUnsigned<DF>;
+
+template <class D, class M>
+HWY_INLINE uint32_t MaskToBits(D d, M m) {
+  uint8_t bytes[8] = {};
+  hn::StoreMaskBits(d, m, bytes);
+  return uint32_t{bytes[0]} | (uint32_t{bytes[1]} << 8);
+}
+
+// Lanes [g * N, g * N + N) of a 16-bit block mask as a vector mask.
+HWY_INLINE hn::Mask<DF> BitsToMask(uint32_t bits, size_t g) {
+  const DI di;
+  const DF df;
+  const size_t n = hn::Lanes(di);
+  const auto lane_bits = hn::LoadU(di, kLaneBit + g * n);
+  return hn::RebindMask(df, hn::Ne(hn::And(hn::Set(di, static_cast<int32_t>(bits)), lane_bits),
+                                   hn::Zero(di)));
+}
+
+// Plane value at lanes g of the block whose lane 0 is pixel (ox, oy) relative to the
+// triangle's reference pixel. Same expression as eval_plane in setup.h.
+HWY_INLINE hn::Vec<DF> EvalPlane(const Plane& p, int32_t ox, int32_t oy, size_t g) {
+  const DF df;
+  const DI di;
+  const size_t n = hn::Lanes(df);
+  const auto fx = hn::ConvertTo(df, hn::Add(hn::Set(di, ox), hn::LoadU(di, kLaneX + g * n)));
+  const auto fy = hn::ConvertTo(df, hn::Add(hn::Set(di, oy), hn::LoadU(di, kLaneY + g * n)));
+  return hn::Add(hn::Set(df, p.ref),
+                 hn::Add(hn::Mul(hn::Set(df, p.dx), fx), hn::Mul(hn::Set(df, p.dy), fy)));
+}
+
+inline uint32_t BlockIndex(int32_t px, int32_t py, int32_t tx0, int32_t ty0) {
+  return static_cast<uint32_t>(((py - ty0) / kBlockSize) * kBlocksPerTileSide +
+                               (px - tx0) / kBlockSize);
+}
+
+// Calls fn(px, py, block, bits) for every block of the region that holds a covered
+// pixel; bits = covered lanes inside the viewport. Called per triangle per tile.
+template <class Fn>
+HWY_INLINE void ForEachCoveredBlock(const TileEdges& te, int32_t tx0, int32_t ty0,
+                                    const uint16_t* valid, Fn&& fn) {
+  if (te.all_accepted) {
+    for (int32_t py = te.ry0; py <= te.ry1; py += kBlockSize)
+      for (int32_t px = te.rx0; px <= te.rx1; px += kBlockSize) {
+        const uint32_t b = BlockIndex(px, py, tx0, ty0);
+        if (valid[b]) fn(px, py, b, uint32_t{valid[b]});
+      }
+    return;
+  }
+  const DI di;
+  const size_t n = hn::Lanes(di);
+  const uint32_t group_bits = (n >= 32) ? ~0u : ((1u << n) - 1u);
+  alignas(64) int32_t step[3][kBlockLanes];
+  for (int k = 0; k < 3; ++k)
+    for (int l = 0; l < kBlockLanes; ++l) step[k][l] = te.a[k] * kLaneX[l] + te.b[k] * kLaneY[l];
+
+  constexpr int32_t kSub = 16;  // hierarchical level between the tile and the block
+  const int32_t sy0 = ty0 + ((te.ry0 - ty0) & ~(kSub - 1));
+  const int32_t sx0 = tx0 + ((te.rx0 - tx0) & ~(kSub - 1));
+  for (int32_t sy = sy0; sy <= te.ry1; sy += kSub) {
+    const int32_t y0 = std::max(sy, te.ry0), y1 = std::min(sy + kSub - 1, te.ry1);
+    for (int32_t sx = sx0; sx <= te.rx1; sx += kSub) {
+      const int32_t x0 = std::max(sx, te.rx0), x1 = std::min(sx + kSub - 1, te.rx1);
+      bool reject = false, full = true;
+      int32_t e_origin[3];
+      for (int k = 0; k < 3; ++k) {
+        const int32_t a = te.a[k], b = te.b[k];
+        e_origin[k] = te.e0[k] + a * (x0 - te.rx0) + b * (y0 - te.ry0);
+        const int32_t dx = x1 - x0, dy = y1 - y0;
+        const int32_t lo = e_origin[k] + (a < 0 ? a * dx : 0) + (b < 0 ? b * dy : 0);
+        const int32_t hi = e_origin[k] + (a > 0 ? a * dx : 0) + (b > 0 ? b * dy : 0);
+        reject |= hi < 0;
+        full &= lo >= 0;
+      }
+      if (reject) continue;
+      for (int32_t py = y0; py <= y1; py += kBlockSize) {
+        for (int32_t px = x0; px <= x1; px += kBlockSize) {
+          const uint32_t blk = BlockIndex(px, py, tx0, ty0);
+          uint32_t bits = valid[blk];
+          if (!full) {
+            uint32_t cover = 0;
+            const int32_t dxp = px - x0, dyp = py - y0;
+            const int32_t e0 = e_origin[0] + te.a[0] * dxp + te.b[0] * dyp;
+            const int32_t e1 = e_origin[1] + te.a[1] * dxp + te.b[1] * dyp;
+            const int32_t e2 = e_origin[2] + te.a[2] * dxp + te.b[2] * dyp;
+            for (size_t g = 0; g * n < kBlockLanes; ++g) {
+              const auto v0 = hn::Add(hn::Set(di, e0), hn::Load(di, step[0] + g * n));
+              const auto v1 = hn::Add(hn::Set(di, e1), hn::Load(di, step[1] + g * n));
+              const auto v2 = hn::Add(hn::Set(di, e2), hn::Load(di, step[2] + g * n));
+              // Inside all three edges <=> the OR of the values has no sign bit.
+              const auto outside = hn::Lt(hn::Or(hn::Or(v0, v1), v2), hn::Zero(di));
+              cover |= (~MaskToBits(di, outside) & group_bits) << (g * n);
+            }
+            bits &= cover;
+          }
+          if (bits) fn(px, py, blk, bits);
+        }
+      }
+    }
+  }
+}
+
+template <DepthFunc kFunc>
+HWY_INLINE hn::Mask<DF> DepthPass(hn::Vec<DF> z, hn::Vec<DF> stored) {
+  if constexpr (kFunc == DepthFunc::Less) return hn::Lt(z, stored);
+  if constexpr (kFunc == DepthFunc::LessEqual) return hn::Le(z, stored);
+  (void)stored;
+  return hn::Eq(z, z);  // Always: true for the finite depths set-up produces
+}
+
+// Depth-tests the covered lanes of one block; writes depth (and vis) when asked.
+// Returns the lanes that passed.
+template <DepthFunc kFunc, bool kWrite, bool kWriteVis>
+HWY_INLINE uint32_t DepthTestBlock(const TriSetup& t, int32_t px, int32_t py, uint32_t blk,
+                                   uint32_t bits, uint32_t vis_id, TileScratch& s) {
+  const DF df;
+  const DU du;
+  const size_t n = hn::Lanes(df);
+  const uint32_t off = blk * kBlockLanes;
+  uint32_t passed = 0;
+  for (size_t g = 0; g * n < kBlockLanes; ++g) {
+    const auto z = EvalPlane(t.z, px - t.x0, py - t.y0, g);
+    const auto zb = hn::Load(df, s.depth + off + g * n);
+    const auto pass = hn::And(BitsToMask(bits, g), DepthPass<kFunc>(z, zb));
+    if constexpr (kWrite) {
+      hn::Store(hn::IfThenElse(pass, z, zb), df, s.depth + off + g * n);
+      if constexpr (kWriteVis) {
+        const auto vb = hn::Load(du, s.vis + off + g * n);
+        hn::Store(hn::IfThenElse(hn::RebindMask(du, pass), hn::Set(du, vis_id), vb), du,
+                  s.vis + off + g * n);
+      }
+    }
+    passed |= MaskToBits(df, pass) << (g * n);
+  }
+  return passed;
+}
+
+template <class Fn>
+HWY_INLINE void DispatchDepth(const PipelineState& st, Fn&& fn) {
+  // Hot loops are specialised per depth function and write flag at compile time.
+  switch (st.depth_func) {
+    case DepthFunc::Less:
+      st.depth_write ? fn.template operator()<DepthFunc::Less, true>()
+                     : fn.template operator()<DepthFunc::Less, false>();
+      break;
+    case DepthFunc::LessEqual:
+      st.depth_write ? fn.template operator()<DepthFunc::LessEqual, true>()
+                     : fn.template operator()<DepthFunc::LessEqual, false>();
+      break;
+    case DepthFunc::Always:
+      st.depth_write ? fn.template operator()<DepthFunc::Always, true>()
+                     : fn.template operator()<DepthFunc::Always, false>();
+      break;
+  }
+}
+
+// Interpolates the batch's varyings, runs the draw's shader, then stores (opaque) or
+// blends (translucent) its output into the tile, block after block in batch order.
+void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
+  const uint32_t nb = s.batch_blocks;
+  if (nb == 0) return;
+  s.batch_blocks = 0;
+  const DrawCall& draw = frame.draws[s.batch_draw];
+  const DF df;
+  const size_t n = hn::Lanes(df);
+  const uint32_t vc = draw.varying_count;
+  const auto tiny = hn::Set(df, 1e-30f);
+  const auto bmin = hn::Set(df, -8.0f), bmax = hn::Set(df, 9.0f);
+  for (uint32_t i = 0; i < nb; ++i) {
+    const TriSetup& t = *s.batch_tri[i];
+    const int32_t ox = s.batch_x[i] - t.x0, oy = s.batch_y[i] - t.y0;
+    const uint32_t* tri = draw.indices + 3 * size_t{t.primitive};
+    const float* a0 = draw.varyings + size_t{tri[0]} * vc;
+    const float* a1 = draw.varyings + size_t{tri[1]} * vc;
+    const float* a2 = draw.varyings + size_t{tri[2]} * vc;
+    for (size_t g = 0; g * n < kBlockLanes; ++g) {
+      const size_t lane = i * kBlockLanes + g * n;
+      const auto z = EvalPlane(t.z, ox, oy, g);
+      // Lanes outside the triangle extrapolate the planes; clamping 1/w and the
+      // barycentrics keeps their varyings finite without touching covered lanes.
+      const auto w = hn::Div(hn::Set(df, 1.0f), hn::Max(EvalPlane(t.inv_w, ox, oy, g), tiny));
+      const auto b1 = hn::Min(hn::Max(hn::Mul(EvalPlane(t.b1w, ox, oy, g), w), bmin), bmax);
+      const auto b2 = hn::Min(hn::Max(hn::Mul(EvalPlane(t.b2w, ox, oy, g), w), bmin), bmax);
+      hn::Store(z, df, s.lane_depth + lane);
+      hn::Store(b1, df, s.lane_b1 + lane);
+      hn::Store(b2, df, s.lane_b2 + lane);
+      for (uint32_t k = 0; k < vc; ++k) {
+        const auto v = hn::Add(hn::Set(df, a0[k]), hn::Add(hn::Mul(b1, hn::Set(df, a1[k] - a0[k])),
+                                                           hn::Mul(b2, hn::Set(df, a2[k] - a0[k]))));
+        hn::Store(v, df, s.varyings[k] + lane);
+      }
+    }
+  }
+
+  FragmentBatch fb;
+  fb.blocks = nb;
+  fb.mask = s.batch_mask;
+  fb.block_x = s.batch_x;
+  fb.block_y = s.batch_y;
+  fb.primitive = s.batch_prim;
+  for (uint32_t k = 0; k < vc; ++k) fb.varying[k] = s.varyings[k];
+  fb.depth = s.lane_depth;
+  for (int c = 0; c < 4; ++c) fb.out[c] = s.out[c];
+  draw.shader->shade(fb);
+  const bool additive = draw.state.blend == BlendMode::Additive;
+
+  for (uint32_t i = 0; i < nb; ++i) {
+    const uint32_t off = s.batch_offset[i] * kBlockLanes;
+    const uint32_t bits = s.batch_mask[i];
+    for (size_t g = 0; g * n < kBlockLanes; ++g) {
+      const size_t lane = i * kBlockLanes + g * n;
+      const auto m = BitsToMask(bits, g);
+      if (!blend) {
+        for (int c = 0; c < 4; ++c) {
+          float* dst = s.color[c] + off + g * n;
+          hn::Store(hn::IfThenElse(m, hn::Load(df, s.out[c] + lane), hn::Load(df, dst)), df, dst);
+        }
+        continue;
+      }
+      // Alpha clamped to [0, 1] so a shader's overshoot cannot push the framebuffer out
+      // of range.
+      const auto a = hn::Min(hn::Max(hn::Load(df, s.out[3] + lane), hn::Zero(df)), hn::Set(df, 1.0f));
+      if (additive) {
+        for (int c = 0; c < 3; ++c) {
+          float* dst = s.color[c] + off + g * n;
+          const auto d = hn::Load(df, dst);
+          hn::Store(hn::IfThenElse(m, hn::Add(d, hn::Mul(hn::Load(df, s.out[c] + lane), a)), d), df, dst);
+        }
+        continue;
+      }
+      const auto keep = hn::Sub(hn::Set(df, 1.0f), a);
+      for (int c = 0; c < 3; ++c) {
+        float* dst = s.color[c] + off + g * n;
+        const auto d = hn::Load(df, dst);
+        const auto r = hn::Add(hn::Mul(hn::Load(df, s.out[c] + lane), a), hn::Mul(d, keep));
+        hn::Store(hn::IfThenElse(m, r, d), df, dst);
+      }
+      float* dst = s.color[3] + off + g * n;
+      const auto d = hn::Load(df, dst);
+      hn::Store(hn::IfThenElse(m, hn::Add(a, hn::Mul(d, keep)), d), df, dst);
+    }
+  }
+}
+
+void AppendBlock(const FrameView& frame, TileScratch& s, const TriSetup& t, int32_t px,
+                 int32_t py, uint32_t blk, uint32_t bits, bool blend) {
+  if (s.batch_blocks > 0 && s.batch_draw != t.draw) FlushBatch(frame, s, blend);
+  const uint32_t i = s.batch_blocks++;
+  s.batch_draw = t.draw;
+  s.batch_mask[i] = static_cast<uint16_t>(bits);
+  s.batch_x[i] = px;
+  s.batch_y[i] = py;
+  s.batch_prim[i] = t.primitive;
+  s.batch_offset[i] = static_cast<uint16_t>(blk);
+  s.batch_tri[i] = &t;
+  if (s.batch_blocks == kBatchBlocks) FlushBatch(frame, s, blend);
+}
+
+// Calls fn(setup, frame-wide id, flags) for the tile's items in submission order.
+template <class Fn>
+HWY_INLINE void ForEachItem(const FrameView& frame, uint32_t tile, Fn&& fn) {
+  for (size_t c = 0; c < frame.chunk_count; ++c) {
+    const BinChunk& ch = frame.chunks[c];
+    const uint32_t* it = ch.items.data() + ch.tile_offsets[tile];
+    const uint32_t* end = ch.items.data() + ch.tile_offsets[tile + 1];
+    for (; it != end; ++it) {
+      const uint32_t local = *it >> kItemFlagBits;
+      fn(ch.setups[local], ch.setup_base + local, *it & ((1u << kItemFlagBits) - 1));
+    }
+  }
+}
+
+void ClearTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& s) {
+  const DF df;
+  const DU du;
+  const size_t n = hn::Lanes(df);
+  const glm::vec4 bg = frame.options.background;
+  const float bgc[4] = {bg.r, bg.g, bg.b, bg.a};
+  for (int c = 0; c < 4; ++c)
+    for (size_t i = 0; i < kTilePixels; i += n) hn::Store(hn::Set(df, bgc[c]), df, s.color[c] + i);
+  for (size_t i = 0; i < kTilePixels; i += n) {
+    hn::Store(hn::Set(df, 1.0f), df, s.depth + i);
+    hn::Store(hn::Set(du, kNoPrimitive), du, s.vis + i);
+  }
+  const int32_t w = frame.vp.width - tx0, h = frame.vp.height - ty0;
+  for (int by = 0; by < kBlocksPerTileSide; ++by)
+    for (int bx = 0; bx < kBlocksPerTileSide; ++bx) {
+      uint32_t bits = 0;
+      for (int l = 0; l < kBlockLanes; ++l)
+        if (bx * kBlockSize + kLaneX[l] < w && by * kBlockSize + kLaneY[l] < h) bits |= 1u << l;
+      s.block_valid[by * kBlocksPerTileSide + bx] = static_cast<uint16_t>(bits);
+    }
+}
+
+// Maps a frame-wide setup index to its triangle, remembering the last chunk hit:
+// neighbouring pixels mostly share a triangle.
+struct SetupLookup {
+  const FrameView& frame;
+  size_t chunk = 0;
+  const TriSetup& operator()(uint32_t id) {
+    const BinChunk* ch = &frame.chunks[chunk];
+    if (id < ch->setup_base || id >= ch->setup_base + ch->setups.size()) {
+      size_t lo = 0, hi = frame.chunk_count;
+      while (hi - lo > 1) {
+        const size_t mid = (lo + hi) / 2;
+        (frame.chunks[mid].setup_base <= id ? lo : hi) = mid;
+      }
+      // Chunks with no setups share a base with the next one; step to the one that holds id.
+      while (frame.chunks[lo].setups.empty() ||
+             id >= frame.chunks[lo].setup_base + frame.chunks[lo].setups.size())
+        ++lo;
+      chunk = lo;
+      ch = &frame.chunks[chunk];
+    }
+    return ch->setups[id - ch->setup_base];
+  }
+};
+
+void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& s) {
+  const RenderTarget& t = frame.target;
+  const int32_t w = std::min(kTileSize, frame.vp.width - tx0);
+  const int32_t h = std::min(kTileSize, frame.vp.height - ty0);
+  SetupLookup lookup{frame};
+  for (int32_t y = 0; y < h; ++y) {
+    const size_t row = static_cast<size_t>(ty0 + y) * t.width + tx0;
+    for (int32_t x = 0; x < w; ++x) {
+      const uint32_t src = BlockIndex(x, y, 0, 0) * kBlockLanes + (y % kBlockSize) * kBlockSize +
+                           (x % kBlockSize);
+      if (t.color)
+        for (int c = 0; c < 4; ++c) t.color[(row + x) * 4 + c] = s.color[c][src];
+      if (t.depth) t.depth[row + x] = s.depth[src];
+      if (t.id) {
+        const uint32_t v = s.vis[src];
+        if (v == kNoPrimitive) {
+          t.id[row + x] = 0;
+        } else {
+          const TriSetup& tri = lookup(v);
+          t.id[row + x] = frame.draws[tri.draw].id_base + tri.primitive + 1;
+        }
+      }
+    }
+  }
+}
+
+void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
+  const int32_t tx0 = static_cast<int32_t>(tile % frame.tiles_x) * kTileSize;
+  const int32_t ty0 = static_cast<int32_t>(tile / frame.tiles_x) * kTileSize;
+  ClearTile(frame, tx0, ty0, s);
+  s.translucent.clear();
+  s.batch_blocks = 0;
+
+  // Pass 1: opaque visibility.
+  ForEachItem(frame, tile, [&](const TriSetup& t, uint32_t id, uint32_t flags) {
+    const DrawCall& draw = frame.draws[t.draw];
+    if (draw.state.blend != BlendMode::Opaque) {
+      s.translucent.push_back({&t, id, flags});
+      return;
+    }
+    TileEdges te;
+    if (!tile_region_edges(t, tx0, ty0, te)) return;
+    DispatchDepth(draw.state, [&]<DepthFunc F, bool W>() {
+      ForEachCoveredBlock(te, tx0, ty0, s.block_valid, [&](int32_t px, int32_t py, uint32_t blk, uint32_t bits) {
+        s.fragments_visible += std::popcount(DepthTestBlock<F, W, true>(t, px, py, blk, bits, id, s));
+      });
+    });
+  });
+
+  // Pass 2: shade each visible opaque pixel once, with the triangle that owns it.
+  const DU du;
+  const size_t n = hn::Lanes(du);
+  ForEachItem(frame, tile, [&](const TriSetup& t, uint32_t id, uint32_t) {
+    if (frame.draws[t.draw].state.blend != BlendMode::Opaque) return;
+    TileEdges te;
+    if (!tile_region_edges(t, tx0, ty0, te)) return;
+    const auto want = hn::Set(du, id);
+    for (int32_t py = te.ry0; py <= te.ry1; py += kBlockSize)
+      for (int32_t px = te.rx0; px <= te.rx1; px += kBlockSize) {
+        const uint32_t blk = BlockIndex(px, py, tx0, ty0);
+        uint32_t bits = 0;
+        for (size_t g = 0; g * n < kBlockLanes; ++g)
+          bits |= MaskToBits(du, hn::Eq(hn::Load(du, s.vis + blk * kBlockLanes + g * n), want)) << (g * n);
+        if (bits) {
+          s.pixels_shaded += std::popcount(bits);
+          AppendBlock(frame, s, t, px, py, blk, bits, false);
+        }
+      }
+  });
+  FlushBatch(frame, s, false);
+
+  // Pass 3: translucent fragments, back to front per tile when asked.
+  if (frame.options.sort == SortMode::Tile)
+    std::stable_sort(s.translucent.begin(), s.translucent.end(),
+                     [](const TranslucentRef& a, const TranslucentRef& b) {
+                       return a.tri->sort_key > b.tri->sort_key;
+                     });
+  for (const TranslucentRef& ref : s.translucent) {
+    const TriSetup& t = *ref.tri;
+    const DrawCall& draw = frame.draws[t.draw];
+    TileEdges te;
+    if (!tile_region_edges(t, tx0, ty0, te)) continue;
+    DispatchDepth(draw.state, [&]<DepthFunc F, bool W>() {
+      ForEachCoveredBlock(te, tx0, ty0, s.block_valid, [&](int32_t px, int32_t py, uint32_t blk, uint32_t bits) {
+        const uint32_t passed = DepthTestBlock<F, W, false>(t, px, py, blk, bits, ref.id, s);
+        if (passed) {
+          s.fragments_blended += std::popcount(passed);
+          AppendBlock(frame, s, t, px, py, blk, passed, true);
+        }
+      });
+    });
+  }
+  FlushBatch(frame, s, true);
+
+  ResolveTile(frame, tx0, ty0, s);
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace pelt::raster
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace pelt::raster {
+HWY_EXPORT(RasterTile);
+
+void raster_tile(const FrameView& frame, uint32_t tile, TileScratch& scratch) {
+  HWY_DYNAMIC_DISPATCH(RasterTile)(frame, tile, scratch);
+}
+}  // namespace pelt::raster
+#endif

@@ -1,0 +1,30 @@
+// The scalar reference rasterizer: one pixel at a time, exact int64 edge functions
+// evaluated directly at every pixel centre of the viewport, the top-left rule applied
+// literally. It shares with pelt only the clipper, the snapping and the depth-plane
+// formula (the contract the SIMD kernels must reproduce bit for bit); coverage, culling,
+// orientation and bounding are computed independently.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "raster/pipeline.h"
+
+namespace pelt::raster::test {
+
+struct ReferenceImage {
+  int width = 0, height = 0;
+  std::vector<float> depth;      // 1 where empty
+  std::vector<uint32_t> id;      // 0 where empty
+  std::vector<uint32_t> count;   // fragments that passed the depth test, per pixel
+};
+
+// Opaque draws only (state.blend == Opaque), in order; honours depth_func and cull.
+ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int height);
+
+// Inside test of pixel (px, py) against a triangle of snapped vertices (1/256 pixel,
+// y down) with positive orientation, by the literal top-left rule.
+bool reference_covers(const int32_t x[3], const int32_t y[3], int32_t px, int32_t py);
+
+}  // namespace pelt::raster::test

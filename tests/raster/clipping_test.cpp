@@ -1,0 +1,130 @@
+// Near-plane crossings, geometry behind the eye, w near zero and coordinates far outside
+// the guard band: never a crash or a NaN, and coverage equal to the reference.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "tests/raster/reference_raster.h"
+#include "tests/raster/render_helpers.h"
+#include "tests/raster/test_shaders.h"
+
+namespace pelt::raster::test {
+namespace {
+
+struct Soup {
+  std::vector<glm::vec3> pos;
+  std::vector<uint32_t> idx;
+  DrawCall draw(const Shader* sh, const glm::mat4& m) const {
+    DrawCall d;
+    d.positions = pos.data();
+    d.vertex_count = uint32_t(pos.size());
+    d.indices = idx.data();
+    d.triangle_count = uint32_t(idx.size() / 3);
+    d.clip_from_object = m;
+    d.shader = sh;
+    return d;
+  }
+  void add(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    for (const glm::vec3& p : {a, b, c}) {
+      pos.push_back(p);
+      idx.push_back(uint32_t(pos.size() - 1));
+    }
+  }
+};
+
+void expect_matches_reference(const DrawCall& d, int w, int h) {
+  const ReferenceImage ref = reference_render({&d, 1}, w, h);
+  for_each_target([&](const std::string& target) {
+    const Image img = render({&d, 1}, w, h);
+    size_t diff = 0;
+    for (size_t i = 0; i < ref.id.size(); ++i) diff += img.id[i] != ref.id[i] || img.depth[i] != ref.depth[i];
+    EXPECT_EQ(diff, 0u) << target;
+    for (float v : img.color) ASSERT_TRUE(std::isfinite(v)) << target;
+    for (float v : img.depth) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << target;
+  });
+}
+
+TEST(Clipping, TrianglesCrossingTheNearPlaneAndBehindTheEye) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  Soup s;
+  for (int i = 0; i < 800; ++i) {
+    // View space: z from -6 (in front) to +3 (behind the eye); near = 0.25.
+    auto p = [&] { return glm::vec3(u(rng) * 4.0f, u(rng) * 4.0f, -1.5f + u(rng) * 4.5f); };
+    s.add(p(), p(), p());
+  }
+  s.add({-1, -1, 2}, {1, -1, 2}, {0, 1, 2});  // wholly behind the eye
+  const VaryingShader sh;
+  const glm::mat4 proj = glm::perspective(glm::radians(70.0f), 1.5f, 0.25f, 8.0f);
+  expect_matches_reference(s.draw(&sh, proj), 150, 100);
+}
+
+TEST(Clipping, WNearZeroAndVerticesOnTheEyePlane) {
+  Soup s;
+  const float tiny = 1e-7f;
+  s.add({0, 0, -tiny}, {1, 0, -1}, {0, 1, -1});
+  s.add({0, 0, 0}, {-1, 0, -1}, {0, -1, -1});
+  s.add({-1, -1, tiny}, {1, -1, -2}, {0, 1, -2});
+  s.add({1e-30f, 1e-30f, -1e-30f}, {1, 1, -1}, {-1, 1, -1});
+  const VaryingShader sh;
+  expect_matches_reference(s.draw(&sh, glm::perspective(glm::radians(60.0f), 1.0f, 0.1f, 10.0f)), 64, 64);
+  // A hand-made matrix whose w can be zero or negative without any near plane.
+  glm::mat4 m(1.0f);
+  m[2][3] = -1.0f;  // w = -z
+  m[3][3] = 0.0f;
+  expect_matches_reference(s.draw(&sh, m), 64, 64);
+}
+
+TEST(Clipping, CoordinatesUpToAMillionPixelsUseTheGuardBand) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  Soup s;
+  const int w = 120, h = 90;
+  // NDC of 1e4 is ~6e5 pixels; 2e4 is ~1.2e6.
+  for (int i = 0; i < 300; ++i) {
+    const float r = (i % 3 == 0) ? 2e4f : (i % 3 == 1) ? 50.0f : 2.0f;
+    s.add({u(rng) * r, u(rng) * r, u(rng) * 0.9f}, {u(rng) * r, u(rng) * r, u(rng) * 0.9f},
+          {u(rng) * 1.2f, u(rng) * 1.2f, u(rng) * 0.9f});
+  }
+  const VaryingShader sh;
+  expect_matches_reference(s.draw(&sh, glm::mat4(1.0f)), w, h);
+
+  // One triangle with vertices a million pixels away that contains the whole viewport.
+  Soup big;
+  big.add({-2e4f, -2e4f, 0.0f}, {2e4f, -2e4f, 0.0f}, {0.0f, 2e4f, 0.0f});
+  const ConstantShader white({1, 1, 1, 1});
+  for_each_target([&](const std::string& target) {
+    const DrawCall d = big.draw(&white, glm::mat4(1.0f));
+    const Image img = render({&d, 1}, w, h);
+    for (uint32_t id : img.id) ASSERT_EQ(id, 1u) << target;
+  });
+}
+
+TEST(Clipping, NonFiniteAndDegenerateInputIsDroppedQuietly) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::nanf("");
+  Soup s;
+  s.add({nan, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  s.add({inf, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  s.add({0.2f, 0.2f, 0}, {0.2f, 0.2f, 0}, {0.2f, 0.2f, 0});  // a point
+  s.add({-0.5f, 0, 0}, {0, 0, 0}, {0.5f, 0, 0});             // a line
+  s.add({-0.5f, -0.5f, 0}, {0.5f, -0.5f, 0}, {0, 0.5f, 0});  // one good triangle
+  const ConstantShader white({1, 1, 1, 1});
+  const DrawCall d = s.draw(&white, glm::mat4(1.0f));
+  for_each_target([&](const std::string& target) {
+    const Image img = render({&d, 1}, 32, 32);
+    int covered = 0;
+    for (uint32_t id : img.id) {
+      EXPECT_TRUE(id == 0 || id == 5) << target;
+      covered += id == 5;
+    }
+    EXPECT_GT(covered, 50) << target;
+    EXPECT_EQ(img.stats.triangles_culled, 4u) << target;
+  });
+}
+
+}  // namespace
+}  // namespace pelt::raster::test

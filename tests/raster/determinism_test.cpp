@@ -1,0 +1,64 @@
+// The image is bit-identical for any thread count (and with threads = 0, inline).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "tests/raster/render_helpers.h"
+#include "tests/raster/test_shaders.h"
+
+namespace pelt::raster::test {
+namespace {
+
+TEST(Determinism, OneTwoAndEightThreadsGiveIdenticalImages) {
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<glm::vec3> pos;
+  std::vector<float> var;
+  std::vector<uint32_t> idx;
+  for (int i = 0; i < 6000; ++i) {
+    const glm::vec3 c(u(rng) * 3.0f, u(rng) * 3.0f, -5.0f + u(rng) * 3.0f);
+    const float s = 0.05f + 0.5f * (u(rng) + 1.0f);
+    for (int k = 0; k < 3; ++k) {
+      pos.push_back(c + s * glm::vec3(u(rng), u(rng), u(rng)));
+      var.insert(var.end(), {0.5f + 0.5f * u(rng), 0.5f + 0.5f * u(rng), 0.5f + 0.5f * u(rng)});
+      idx.push_back(uint32_t(pos.size() - 1));
+    }
+  }
+  const glm::mat4 proj = glm::perspective(glm::radians(60.0f), 4.0f / 3.0f, 0.5f, 20.0f);
+  const VaryingShader opaque_sh(1.0f), glass_sh(0.35f);
+  DrawCall opaque;
+  opaque.positions = pos.data();
+  opaque.vertex_count = uint32_t(pos.size());
+  opaque.indices = idx.data();
+  opaque.triangle_count = 3000;
+  opaque.varyings = var.data();
+  opaque.varying_count = 3;
+  opaque.clip_from_object = proj;
+  opaque.shader = &opaque_sh;
+  DrawCall glass = opaque;
+  glass.indices = idx.data() + 3 * 3000;
+  glass.triangle_count = 3000;
+  glass.shader = &glass_sh;
+  glass.state.blend = BlendMode::AlphaOver;
+  glass.state.depth_write = false;
+  const DrawCall draws[2] = {opaque, glass};
+  for (SortMode sort : {SortMode::None, SortMode::Tile}) {
+    RenderOptions opt;
+    opt.sort = sort;
+    const Image base = render(draws, 333, 222, 1, opt);
+    EXPECT_GT(base.stats.fragments_blended, 10000u);
+    for (int threads : {0, 2, 8}) {
+      const Image img = render(draws, 333, 222, threads, opt);
+      EXPECT_EQ(0, std::memcmp(img.color.data(), base.color.data(), base.color.size() * 4)) << threads;
+      EXPECT_EQ(0, std::memcmp(img.depth.data(), base.depth.data(), base.depth.size() * 4)) << threads;
+      EXPECT_EQ(img.id, base.id) << threads;
+      EXPECT_EQ(img.stats.fragments_blended, base.stats.fragments_blended);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace pelt::raster::test

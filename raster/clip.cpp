@@ -42,14 +42,12 @@ inline double plane_distance(int i, const ClipVertex& v, const ClipBounds& b) {
 }
 
 uint32_t outcode(const ClipVertex& v, const ClipBounds& b) {
-  uint32_t code = 0;
-  for (int i = 0; i < kNumClipPlanes; ++i)
-    if (plane_distance(i, v, b) < 0.0) code |= 1u << i;
-  if (v.x > v.w) code |= kViewPX;
-  if (v.x < -v.w) code |= kViewNX;
-  if (v.y > v.w) code |= kViewPY;
-  if (v.y < -v.w) code |= kViewNY;
-  return code;
+  const double gx = b.guard_x * v.w, gy = b.guard_y * v.w;
+  return (v.z + v.w < 0.0 ? kNear : 0u) | (v.w - v.z < 0.0 ? kFar : 0u) |
+         (v.w - kMinW < 0.0 ? kPosW : 0u) | (gx - v.x < 0.0 ? kGuardPX : 0u) |
+         (gx + v.x < 0.0 ? kGuardNX : 0u) | (gy - v.y < 0.0 ? kGuardPY : 0u) |
+         (gy + v.y < 0.0 ? kGuardNY : 0u) | (v.x > v.w ? kViewPX : 0u) |
+         (v.x < -v.w ? kViewNX : 0u) | (v.y > v.w ? kViewPY : 0u) | (v.y < -v.w ? kViewNY : 0u);
 }
 
 ClipVertex lerp(const ClipVertex& p, const ClipVertex& q, double t) {

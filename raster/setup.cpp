@@ -23,10 +23,10 @@ EdgeEq make_edge(const SnappedVertex& i, const SnappedVertex& j) {
   return {static_cast<int32_t>(a), static_cast<int32_t>(b), floor_div_subpixel(k)};
 }
 
-Plane make_plane(const double f[3], const double x[3], const double y[3], double area2,
+Plane make_plane(const double f[3], const double x[3], const double y[3], double inv_area2,
                  int32_t x0, int32_t y0) {
-  const double dx = ((f[1] - f[0]) * (y[2] - y[0]) - (f[2] - f[0]) * (y[1] - y[0])) / area2;
-  const double dy = ((f[2] - f[0]) * (x[1] - x[0]) - (f[1] - f[0]) * (x[2] - x[0])) / area2;
+  const double dx = ((f[1] - f[0]) * (y[2] - y[0]) - (f[2] - f[0]) * (y[1] - y[0])) * inv_area2;
+  const double dy = ((f[2] - f[0]) * (x[1] - x[0]) - (f[1] - f[0]) * (x[2] - x[0])) * inv_area2;
   const double ref = f[0] + dx * (x0 + 0.5 - x[0]) + dy * (y0 + 0.5 - y[0]);
   return {static_cast<float>(ref), static_cast<float>(dx), static_cast<float>(dy)};
 }
@@ -43,8 +43,10 @@ SnappedVertex snap_vertex(const ClipVertex& v, const Viewport& vp) {
   const double sxc = std::clamp(sx, lo, static_cast<double>(vp.width + kGuardBand));
   const double syc = std::clamp(sy, lo, static_cast<double>(vp.height + kGuardBand));
   const double depth = std::clamp(v.z * inv_w * 0.5 + 0.5, 0.0, 1.0);
-  return {static_cast<int32_t>(std::llround(sxc * kSubPixelScale)),
-          static_cast<int32_t>(std::llround(syc * kSubPixelScale)), depth};
+  // lrint rounds half to even under the default rounding mode: deterministic, and one
+  // instruction with -fno-math-errno.
+  return {static_cast<int32_t>(std::lrint(sxc * kSubPixelScale)),
+          static_cast<int32_t>(std::lrint(syc * kSubPixelScale)), depth, inv_w};
 }
 
 bool setup_triangle(const ClipVertex& cv0, const ClipVertex& cv1, const ClipVertex& cv2,
@@ -89,18 +91,18 @@ bool setup_triangle(const ClipVertex& cv0, const ClipVertex& cv1, const ClipVert
                        s[2].x / double(kSubPixelScale)};
   const double y[3] = {s[0].y / double(kSubPixelScale), s[1].y / double(kSubPixelScale),
                        s[2].y / double(kSubPixelScale)};
-  const double area = area2 / double(kSubPixelScale * kSubPixelScale);
+  const double inv_area = double(kSubPixelScale * kSubPixelScale) / double(area2);
   const double z[3] = {s[0].depth, s[1].depth, s[2].depth};
   double iw[3], b1w[3], b2w[3];
   for (int k = 0; k < 3; ++k) {
-    iw[k] = 1.0 / cv[k]->w;
+    iw[k] = s[k].inv_w;
     b1w[k] = cv[k]->b1 * iw[k];
     b2w[k] = cv[k]->b2 * iw[k];
   }
-  out.z = make_plane(z, x, y, area, out.x0, out.y0);
-  out.inv_w = make_plane(iw, x, y, area, out.x0, out.y0);
-  out.b1w = make_plane(b1w, x, y, area, out.x0, out.y0);
-  out.b2w = make_plane(b2w, x, y, area, out.x0, out.y0);
+  out.z = make_plane(z, x, y, inv_area, out.x0, out.y0);
+  out.inv_w = make_plane(iw, x, y, inv_area, out.x0, out.y0);
+  out.b1w = make_plane(b1w, x, y, inv_area, out.x0, out.y0);
+  out.b2w = make_plane(b2w, x, y, inv_area, out.x0, out.y0);
   return true;
 }
 

@@ -56,6 +56,7 @@ bool setup_triangle(const ClipVertex& v0, const ClipVertex& v1, const ClipVertex
 struct SnappedVertex {
   int32_t x, y;  // 1/256 pixel, y down (row 0 at the top)
   double depth;  // window depth
+  double inv_w;  // 1 / clip w
 };
 SnappedVertex snap_vertex(const ClipVertex& v, const Viewport& vp);
 

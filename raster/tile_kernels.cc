@@ -311,6 +311,10 @@ void ClearTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& s)
     hn::Store(hn::Set(du, kNoPrimitive), du, s.vis + i);
   }
   const int32_t w = frame.vp.width - tx0, h = frame.vp.height - ty0;
+  if (w >= kTileSize && h >= kTileSize) {
+    std::fill(s.block_valid, s.block_valid + kBlocksPerTile, uint16_t{0xFFFF});
+    return;
+  }
   for (int by = 0; by < kBlocksPerTileSide; ++by)
     for (int bx = 0; bx < kBlocksPerTileSide; ++bx) {
       uint32_t bits = 0;
@@ -348,17 +352,55 @@ void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& 
   const RenderTarget& t = frame.target;
   const int32_t w = std::min(kTileSize, frame.vp.width - tx0);
   const int32_t h = std::min(kTileSize, frame.vp.height - ty0);
+  const int32_t whole = w & ~(kBlockSize - 1);  // columns resolved 4 at a time
+  [[maybe_unused]] const hn::CappedTag<float, 4> d4;
   SetupLookup lookup{frame};
   for (int32_t y = 0; y < h; ++y) {
     const size_t row = static_cast<size_t>(ty0 + y) * t.width + tx0;
-    for (int32_t x = 0; x < w; ++x) {
-      const uint32_t src = BlockIndex(x, y, 0, 0) * kBlockLanes + (y % kBlockSize) * kBlockSize +
-                           (x % kBlockSize);
-      if (t.color)
+    const uint32_t lane_row = (y % kBlockSize) * kBlockSize;
+    if (t.color) {
+      // A block row of 4 pixels is 4 contiguous floats per plane: interleave to RGBA.
+      for (int32_t x = 0; x < whole; x += kBlockSize) {
+        const uint32_t src = BlockIndex(x, y, 0, 0) * kBlockLanes + lane_row;
+        float* dst = t.color + (row + x) * 4;
+#if HWY_TARGET == HWY_SCALAR
+        for (size_t i = 0; i < kBlockSize; ++i)
+          for (int c = 0; c < 4; ++c) dst[i * 4 + c] = s.color[c][src + i];
+#else
+        // 4x4 transpose, then streaming stores: the frame is written once and not read
+        // back by this worker, so skipping the read-for-ownership halves the traffic.
+        const auto r = hn::LoadU(d4, s.color[0] + src), g = hn::LoadU(d4, s.color[1] + src);
+        const auto b = hn::LoadU(d4, s.color[2] + src), a = hn::LoadU(d4, s.color[3] + src);
+        const auto rg_lo = hn::InterleaveLower(d4, r, g), ba_lo = hn::InterleaveLower(d4, b, a);
+        const auto rg_hi = hn::InterleaveUpper(d4, r, g), ba_hi = hn::InterleaveUpper(d4, b, a);
+        const auto p0 = hn::ConcatLowerLower(d4, ba_lo, rg_lo), p1 = hn::ConcatUpperUpper(d4, ba_lo, rg_lo);
+        const auto p2 = hn::ConcatLowerLower(d4, ba_hi, rg_hi), p3 = hn::ConcatUpperUpper(d4, ba_hi, rg_hi);
+        if ((reinterpret_cast<uintptr_t>(dst) & 15) == 0) {
+          hn::Stream(p0, d4, dst);
+          hn::Stream(p1, d4, dst + 4);
+          hn::Stream(p2, d4, dst + 8);
+          hn::Stream(p3, d4, dst + 12);
+        } else {
+          hn::StoreU(p0, d4, dst);
+          hn::StoreU(p1, d4, dst + 4);
+          hn::StoreU(p2, d4, dst + 8);
+          hn::StoreU(p3, d4, dst + 12);
+        }
+#endif
+      }
+      for (int32_t x = whole; x < w; ++x) {
+        const uint32_t src = BlockIndex(x, y, 0, 0) * kBlockLanes + lane_row + (x % kBlockSize);
         for (int c = 0; c < 4; ++c) t.color[(row + x) * 4 + c] = s.color[c][src];
-      if (t.depth) t.depth[row + x] = s.depth[src];
-      if (t.id) {
-        const uint32_t v = s.vis[src];
+      }
+    }
+    if (t.depth)
+      for (int32_t x = 0; x < w; x += kBlockSize) {
+        const uint32_t src = BlockIndex(x, y, 0, 0) * kBlockLanes + lane_row;
+        std::memcpy(t.depth + row + x, s.depth + src, sizeof(float) * std::min(kBlockSize, w - x));
+      }
+    if (t.id)
+      for (int32_t x = 0; x < w; ++x) {
+        const uint32_t v = s.vis[BlockIndex(x, y, 0, 0) * kBlockLanes + lane_row + (x % kBlockSize)];
         if (v == kNoPrimitive) {
           t.id[row + x] = 0;
         } else {
@@ -366,7 +408,6 @@ void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& 
           t.id[row + x] = frame.draws[tri.draw].id_base + tri.primitive + 1;
         }
       }
-    }
   }
 }
 

@@ -26,7 +26,11 @@ inline constexpr int kGuardBand = 8192;
 inline constexpr int kMaxImageSide = 16384;
 
 // Per-fragment interpolated attributes a draw may carry.
-inline constexpr int kMaxVaryings = 16;
+inline constexpr int kMaxVaryings = 24;
+
+// A shader sees at most this many 4x4 blocks per call.
+inline constexpr uint32_t kMaxBatchBlocks = 64;
+inline constexpr uint32_t kMaxBatchLanes = kMaxBatchBlocks * kBlockLanes;
 
 // Visibility-buffer value of an empty pixel.
 inline constexpr uint32_t kNoPrimitive = 0xFFFFFFFFu;

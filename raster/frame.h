@@ -38,8 +38,8 @@ struct FrameView {
   RenderTarget target;
 };
 
-inline constexpr uint32_t kBatchBlocks = 64;
-inline constexpr uint32_t kBatchLanes = kBatchBlocks * kBlockLanes;
+inline constexpr uint32_t kBatchBlocks = kMaxBatchBlocks;
+inline constexpr uint32_t kBatchLanes = kMaxBatchLanes;
 
 struct TranslucentRef {
   const TriSetup* tri;

@@ -1,0 +1,328 @@
+// Texture construction (validation, mip chain) and the double-precision reference sampler.
+#include "raster/texture.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace pelt::raster {
+namespace {
+
+double srgb_decode(double s) {
+  return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+}
+
+double srgb_encode(double x) {
+  return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+}
+
+// round-half-up(255 x), clamped: the same rounding as tools/io's encoders.
+uint8_t to_byte(double x) {
+  const double b = std::floor(x * 255.0 + 0.5);
+  return uint8_t(std::clamp(b, 0.0, 255.0));
+}
+
+const std::array<double, 256>& srgb_table_double() {
+  static const std::array<double, 256> table = [] {
+    std::array<double, 256> t{};
+    for (int i = 0; i < 256; ++i) t[size_t(i)] = srgb_decode(i / 255.0);
+    return t;
+  }();
+  return table;
+}
+
+// Decoded texel: straight linear colour and alpha, in double.
+struct Texel {
+  double c[4];
+};
+
+Texel decode(uint32_t t, TexelEncoding enc) {
+  Texel out{};
+  for (int ch = 0; ch < 3; ++ch) {
+    const uint32_t b = (t >> (8 * ch)) & 255u;
+    out.c[ch] = enc == TexelEncoding::Srgb ? srgb_table_double()[b] : b / 255.0;
+  }
+  out.c[3] = (t >> 24) / 255.0;
+  return out;
+}
+
+uint32_t encode(const Texel& t, TexelEncoding enc) {
+  uint32_t packed = 0;
+  for (int ch = 0; ch < 3; ++ch) {
+    const double x = enc == TexelEncoding::Srgb ? srgb_encode(std::clamp(t.c[ch], 0.0, 1.0)) : t.c[ch];
+    packed |= uint32_t{to_byte(x)} << (8 * ch);
+  }
+  return packed | (uint32_t{to_byte(t.c[3])} << 24);
+}
+
+// Source texels and weights of one destination texel of an area-exact box reduction
+// from `src` to `dst` texels along one axis: destination i covers [i s, (i + 1) s),
+// s = src / dst, and each source texel weighs its overlap / s. At most 3 taps (s < 3).
+struct AxisTaps {
+  int first = 0;
+  int count = 0;
+  double w[3] = {};
+};
+
+std::vector<AxisTaps> box_taps(int src, int dst) {
+  std::vector<AxisTaps> taps(size_t(dst));
+  for (int i = 0; i < dst; ++i) {
+    // Integer bounds in units of 1/dst source texels keep the overlaps exact.
+    const int64_t lo = int64_t(i) * src, hi = int64_t(i + 1) * src;
+    AxisTaps& t = taps[size_t(i)];
+    t.first = int(lo / dst);
+    for (int64_t j = t.first; j * dst < hi; ++j) {
+      const int64_t a = std::max(lo, j * dst), b = std::min(hi, (j + 1) * dst);
+      t.w[t.count++] = double(b - a) / double(src);
+    }
+  }
+  return taps;
+}
+
+// One level of the chain from the previous one, both as straight decoded texels. Colour is
+// averaged weighted by alpha; where the whole footprint is transparent, plainly.
+std::vector<Texel> reduce(const std::vector<Texel>& src, int sw, int sh, int dw, int dh) {
+  const std::vector<AxisTaps> tx = box_taps(sw, dw), ty = box_taps(sh, dh);
+  std::vector<Texel> dst(size_t(dw) * size_t(dh));
+  for (int y = 0; y < dh; ++y)
+    for (int x = 0; x < dw; ++x) {
+      double pm[3] = {}, plain[3] = {}, alpha = 0.0;
+      const AxisTaps& ax = tx[size_t(x)];
+      const AxisTaps& ay = ty[size_t(y)];
+      for (int j = 0; j < ay.count; ++j)
+        for (int i = 0; i < ax.count; ++i) {
+          const Texel& s = src[size_t(ay.first + j) * size_t(sw) + size_t(ax.first + i)];
+          const double w = ax.w[i] * ay.w[j];
+          const double wa = w * s.c[3];
+          for (int ch = 0; ch < 3; ++ch) {
+            pm[ch] += wa * s.c[ch];
+            plain[ch] += w * s.c[ch];
+          }
+          alpha += wa;
+        }
+      Texel& d = dst[size_t(y) * size_t(dw) + size_t(x)];
+      for (int ch = 0; ch < 3; ++ch) d.c[ch] = alpha > 0.0 ? pm[ch] / alpha : plain[ch];
+      d.c[3] = alpha;
+    }
+  return dst;
+}
+
+std::optional<TextureError> check_size(int width, int height) {
+  if (width < 1 || width > kMaxTextureSide)
+    return TextureError{"width", std::to_string(width) + " is outside [1, " +
+                                     std::to_string(kMaxTextureSide) + "]"};
+  if (height < 1 || height > kMaxTextureSide)
+    return TextureError{"height", std::to_string(height) + " is outside [1, " +
+                                      std::to_string(kMaxTextureSide) + "]"};
+  return std::nullopt;
+}
+
+}  // namespace
+
+// Why a class builder and not a constructor: errors are returned as values naming the field.
+struct TextureBuilder {
+  static void build(int width, int height, std::vector<uint32_t> level0, TexelEncoding enc,
+                    std::vector<uint32_t>& texels, std::vector<MipLevel>& levels) {
+    levels.clear();
+    size_t total = 0;
+    for (int w = width, h = height;; w = std::max(1, w / 2), h = std::max(1, h / 2)) {
+      levels.push_back(MipLevel{w, h, total});
+      total += size_t(w) * size_t(h);
+      if (w == 1 && h == 1) break;
+    }
+    texels.assign(total, 0u);
+    std::copy(level0.begin(), level0.end(), texels.begin());
+    // Each level is reduced from the previous one unquantised, so 8-bit rounding does not
+    // compound down the chain.
+    std::vector<Texel> cur(level0.size());
+    for (size_t i = 0; i < level0.size(); ++i) cur[i] = decode(level0[i], enc);
+    for (size_t k = 1; k < levels.size(); ++k) {
+      const MipLevel& s = levels[k - 1];
+      const MipLevel& d = levels[k];
+      cur = reduce(cur, s.width, s.height, d.width, d.height);
+      for (size_t i = 0; i < cur.size(); ++i) texels[d.offset + i] = encode(cur[i], enc);
+    }
+  }
+};
+
+std::optional<TextureError> Texture::from_rgba8(int width, int height, const uint8_t* rgba,
+                                                TexelEncoding encoding, Texture& out) {
+  if (auto e = check_size(width, height)) return e;
+  if (rgba == nullptr) return TextureError{"rgba", "is null"};
+  std::vector<uint32_t> level0(size_t(width) * size_t(height));
+  for (size_t i = 0; i < level0.size(); ++i) {
+    const uint8_t* p = rgba + i * 4;
+    level0[i] = uint32_t{p[0]} | (uint32_t{p[1]} << 8) | (uint32_t{p[2]} << 16) | (uint32_t{p[3]} << 24);
+  }
+  out.encoding_ = encoding;
+  TextureBuilder::build(width, height, std::move(level0), encoding, out.texels_, out.levels_);
+  return std::nullopt;
+}
+
+std::optional<TextureError> Texture::from_linear_float(int width, int height, const float* rgba,
+                                                       TexelEncoding encoding, Texture& out) {
+  if (auto e = check_size(width, height)) return e;
+  if (rgba == nullptr) return TextureError{"rgba", "is null"};
+  const size_t n = size_t(width) * size_t(height);
+  std::vector<uint32_t> level0(n);
+  for (size_t i = 0; i < n; ++i) {
+    Texel t{};
+    for (int ch = 0; ch < 4; ++ch) {
+      const float x = rgba[i * 4 + size_t(ch)];
+      if (!(x >= 0.0f && x <= 1.0f)) {
+        static const char* const kChannel = "rgba";
+        return TextureError{"rgba[" + std::to_string(i * 4 + size_t(ch)) + "]",
+                            "texel (" + std::to_string(i % size_t(width)) + ", " +
+                                std::to_string(i / size_t(width)) + ") channel " + kChannel[ch] +
+                                " = " + std::to_string(x) +
+                                " is outside [0, 1] (textures store 8 bits per channel)"};
+      }
+      t.c[ch] = x;
+    }
+    level0[i] = encode(t, encoding);
+  }
+  out.encoding_ = encoding;
+  TextureBuilder::build(width, height, std::move(level0), encoding, out.texels_, out.levels_);
+  return std::nullopt;
+}
+
+std::optional<TextureError> TextureArray::from_rgba8_layers(int width, int height, int count,
+                                                            const uint8_t* rgba,
+                                                            TexelEncoding encoding,
+                                                            TextureArray& out) {
+  if (count < 1) return TextureError{"count", std::to_string(count) + " layers: need at least 1"};
+  if (auto e = check_size(width, height)) return e;
+  if (rgba == nullptr) return TextureError{"rgba", "is null"};
+  const size_t layer_bytes = size_t(width) * size_t(height) * 4;
+  std::vector<Texture> layers(size_t(count));
+  for (int s = 0; s < count; ++s)
+    if (auto e = Texture::from_rgba8(width, height, rgba + size_t(s) * layer_bytes, encoding,
+                                     layers[size_t(s)])) {
+      e->field = "layer " + std::to_string(s) + " " + e->field;
+      return e;
+    }
+  out.layers = std::move(layers);
+  return std::nullopt;
+}
+
+const float* srgb8_to_linear_table() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[size_t(i)] = float(srgb_table_double()[size_t(i)]);
+    return t;
+  }();
+  return table.data();
+}
+
+double block_lod(const float* u, const float* v, int width, int height) {
+  double ux = 0, vx = 0, uy = 0, vy = 0;
+  for (int r = 0; r < 4; ++r) {
+    ux += double(u[4 * r + 3]) - double(u[4 * r]);
+    vx += double(v[4 * r + 3]) - double(v[4 * r]);
+  }
+  for (int c = 0; c < 4; ++c) {
+    uy += double(u[12 + c]) - double(u[c]);
+    vy += double(v[12 + c]) - double(v[c]);
+  }
+  ux *= width / 12.0;
+  uy *= width / 12.0;
+  vx *= height / 12.0;
+  vy *= height / 12.0;
+  return 0.5 * std::log2(std::max(ux * ux + vx * vx, uy * uy + vy * vy));
+}
+
+// ---- Reference sampler: written independently of the kernel, in double. ----
+namespace {
+
+// Texel index along one axis of `size`, for integer position i.
+int64_t wrap_index(int64_t i, int64_t size, Wrap wrap) {
+  if (wrap == Wrap::Repeat) return ((i % size) + size) % size;
+  return std::clamp<int64_t>(i, 0, size - 1);
+}
+
+// Continuous texel-space coordinate along one axis (texel centres at integers + 0.5).
+double texel_coord(float c, int size, Wrap wrap) {
+  double x = double(c);
+  if (wrap == Wrap::Repeat) x -= std::floor(x);
+  x *= size;
+  // Only keeps the integer conversion defined; changes no texel choice.
+  return std::clamp(x, -2.0, double(size) + 2.0);
+}
+
+struct RefAcc {
+  double pm[3] = {}, plain[3] = {}, alpha = 0;
+  void add(const Texel& t, double w) {
+    for (int ch = 0; ch < 3; ++ch) {
+      pm[ch] += w * t.c[3] * t.c[ch];
+      plain[ch] += w * t.c[ch];
+    }
+    alpha += w * t.c[3];
+  }
+};
+
+void ref_bilinear(const Texture& tex, int k, const SamplerState& s, float u, float v, double weight,
+                  RefAcc& acc) {
+  const MipLevel& L = tex.level(k);
+  const double x = texel_coord(u, L.width, s.wrap_u) - 0.5;
+  const double y = texel_coord(v, L.height, s.wrap_v) - 0.5;
+  const double fx = std::floor(x), fy = std::floor(y);
+  const double ax = x - fx, ay = y - fy;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const int64_t xi = wrap_index(int64_t(fx) + i, L.width, s.wrap_u);
+      const int64_t yi = wrap_index(int64_t(fy) + j, L.height, s.wrap_v);
+      const double w = (i ? ax : 1.0 - ax) * (j ? ay : 1.0 - ay) * weight;
+      acc.add(decode(tex.texel(k, int(xi), int(yi)), tex.encoding()), w);
+    }
+}
+
+double ref_lod(const Texture& tex, const float* u, const float* v, float bias) {
+  // Mean of the 12 horizontal and 12 vertical neighbour differences of the block.
+  double d[2][2] = {};  // [x or y][u or v]
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 3; ++c) {
+      d[0][0] += double(u[4 * r + c + 1]) - double(u[4 * r + c]);
+      d[0][1] += double(v[4 * r + c + 1]) - double(v[4 * r + c]);
+      d[1][0] += double(u[4 * (c + 1) + r]) - double(u[4 * c + r]);
+      d[1][1] += double(v[4 * (c + 1) + r]) - double(v[4 * c + r]);
+    }
+  const double W = tex.width(), H = tex.height();
+  const double lx = std::hypot(d[0][0] * W / 12, d[0][1] * H / 12);
+  const double ly = std::hypot(d[1][0] * W / 12, d[1][1] * H / 12);
+  const double lambda = std::log2(std::max(lx, ly)) + bias;
+  const double top = tex.levels() - 1;
+  return lambda > 0.0 ? std::min(lambda, top) : 0.0;  // NaN and -inf give 0
+}
+
+}  // namespace
+
+void sample_reference(const Texture& tex, const SamplerState& s, const float* u, const float* v,
+                      size_t lanes, double* const out[4]) {
+  if (tex.empty()) throw std::invalid_argument("sample_reference: texture is empty");
+  if (lanes % 16 != 0) throw std::invalid_argument("sample_reference: lanes must be a multiple of 16");
+  for (size_t b = 0; b < lanes; b += 16) {
+    const double lambda = s.filter == Filter::Trilinear ? ref_lod(tex, u + b, v + b, s.lod_bias) : 0.0;
+    const int l0 = int(std::floor(lambda));
+    const int l1 = std::min(l0 + 1, tex.levels() - 1);
+    const double t = lambda - l0;
+    for (size_t i = b; i < b + 16; ++i) {
+      if (s.filter == Filter::Nearest) {
+        const MipLevel& L = tex.level(0);
+        const int64_t xi = wrap_index(int64_t(std::floor(texel_coord(u[i], L.width, s.wrap_u))), L.width, s.wrap_u);
+        const int64_t yi = wrap_index(int64_t(std::floor(texel_coord(v[i], L.height, s.wrap_v))), L.height, s.wrap_v);
+        const Texel tx = decode(tex.texel(0, int(xi), int(yi)), tex.encoding());
+        for (int ch = 0; ch < 4; ++ch) out[ch][i] = tx.c[ch];
+        continue;
+      }
+      RefAcc acc;
+      ref_bilinear(tex, l0, s, u[i], v[i], 1.0 - t, acc);
+      if (s.filter == Filter::Trilinear) ref_bilinear(tex, l1, s, u[i], v[i], t, acc);
+      for (int ch = 0; ch < 3; ++ch) out[ch][i] = acc.alpha > 0.0 ? acc.pm[ch] / acc.alpha : acc.plain[ch];
+      out[3][i] = acc.alpha;
+    }
+  }
+}
+
+}  // namespace pelt::raster

@@ -1,0 +1,160 @@
+// Mipmapped 2-D RGBA textures and the sampler the shaders call: nearest, bilinear and
+// trilinear filtering, repeat or clamp-to-edge wrapping per axis, the level of detail
+// taken from screen-space derivatives within each 4x4 block of a FragmentBatch.
+//
+// Storage: every mip level is packed RGBA8, one uint32_t per texel (R in the low byte,
+// A in the high byte), row-major, rows of `width` texels, row 0 = v = 0. One 32-bit gather
+// fetches a whole texel, and a 256x256 level with its whole chain is 341 KiB, so a shell
+// layer stays in the 1 MiB L2 of this machine while it is drawn (float RGBA would need 1.3 MiB
+// per layer, and four gathers per texel). Colour channels are stored linear or sRGB-encoded
+// (TexelEncoding); alpha is always linear. sRGB bytes are decoded through a 256-entry float
+// table, so filtering happens in linear space as the colour-map brief asks.
+//
+// Alpha: texels are stored with STRAIGHT alpha (full colour precision at low alpha), but
+// every filter, the mip box filter and the sampler alike, weights colour by alpha (the
+// premultiplied average) and divides by the filtered alpha again: a transparent texel's
+// colour never bleeds into its neighbours, so strands and cut-outs gain no dark (or any
+// other) fringes whatever colour their transparent surroundings carry. Where every texel
+// under the filter has alpha 0, the colour is their plain weighted average instead, so a
+// fully transparent region keeps its own colour (and a constant texture samples to itself).
+//
+// Level sizes follow OpenGL: level k+1 is max(1, floor(w/2)) x max(1, floor(h/2)) of level
+// k, down to 1x1. The box filter is area-exact: a destination texel averages the source
+// interval it covers (2 texels when the side is even; 2 + a fraction, 3 taps, when odd), so
+// no source texel is dropped and every source texel has the same total weight.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pelt::raster {
+
+enum class TexelEncoding : uint8_t {
+  Linear,  // bytes are value * 255 (data maps, the fur strand textures)
+  Srgb,    // colour bytes are sRGB-encoded (colour maps); alpha stays linear
+};
+
+enum class Filter : uint8_t {
+  Nearest,    // level 0, the texel under the sample (GL_NEAREST)
+  Bilinear,   // level 0, 2x2 texels (GL_LINEAR)
+  Trilinear,  // bilinear on the two levels around the LOD, lerped (GL_LINEAR_MIPMAP_LINEAR)
+};
+
+enum class Wrap : uint8_t {
+  Repeat,  // coordinate taken modulo 1 (GL_REPEAT)
+  Clamp,   // texel index clamped to the edge (GL_CLAMP_TO_EDGE)
+};
+
+struct TextureError {
+  std::string field;
+  std::string reason;
+  std::string message() const { return field + ": " + reason; }
+};
+
+struct MipLevel {
+  int width = 0;
+  int height = 0;
+  size_t offset = 0;  // first texel of the level in Texture::data()
+};
+
+// Largest accepted side: keeps texel coordinates exact in float's 24-bit mantissa and
+// texel indices within int32.
+inline constexpr int kMaxTextureSide = 16384;
+
+class Texture {
+ public:
+  Texture() = default;
+
+  // `rgba`: width * height * 4 bytes, R, G, B, A, straight alpha, row 0 = v = 0.
+  // Builds the full mip chain. Allocates: call when a texture is loaded or generated.
+  static std::optional<TextureError> from_rgba8(int width, int height, const uint8_t* rgba,
+                                                TexelEncoding encoding, Texture& out);
+  // `rgba`: width * height * 4 linear floats in [0, 1], straight alpha (e.g. io::ImageRGBA).
+  // Stored with `encoding` (Srgb for colour maps keeps 8-bit precision in the darks; an
+  // sRGB8 image read to linear floats and stored as Srgb gives back its bytes exactly).
+  // Values outside [0, 1] or not finite are an error naming the texel and channel.
+  static std::optional<TextureError> from_linear_float(int width, int height, const float* rgba,
+                                                       TexelEncoding encoding, Texture& out);
+
+  bool empty() const { return levels_.empty(); }
+  int width() const { return empty() ? 0 : levels_[0].width; }
+  int height() const { return empty() ? 0 : levels_[0].height; }
+  int levels() const { return int(levels_.size()); }
+  TexelEncoding encoding() const { return encoding_; }
+  const MipLevel& level(int k) const { return levels_[size_t(k)]; }
+  const uint32_t* data() const { return texels_.data(); }
+  const uint32_t* level_texels(int k) const { return texels_.data() + levels_[size_t(k)].offset; }
+  // Packed texel (x, y) of level k: byte c (0 = R .. 3 = A) is (t >> 8c) & 255.
+  uint32_t texel(int k, int x, int y) const {
+    return level_texels(k)[size_t(y) * size_t(levels_[size_t(k)].width) + size_t(x)];
+  }
+  size_t bytes() const { return texels_.size() * sizeof(uint32_t); }
+
+ private:
+  std::vector<uint32_t> texels_;  // all levels, level 0 first
+  std::vector<MipLevel> levels_;
+  TexelEncoding encoding_ = TexelEncoding::Linear;
+};
+
+// Layers of equal size, e.g. the 16 fur shells.
+struct TextureArray {
+  std::vector<Texture> layers;
+
+  int width() const { return layers.empty() ? 0 : layers[0].width(); }
+  int height() const { return layers.empty() ? 0 : layers[0].height(); }
+
+  // `rgba`: `count` layers one after another, each width * height * 4 bytes as in
+  // Texture::from_rgba8 (the layout of fur::LayerTextures).
+  static std::optional<TextureError> from_rgba8_layers(int width, int height, int count,
+                                                       const uint8_t* rgba, TexelEncoding encoding,
+                                                       TextureArray& out);
+};
+
+struct SamplerState {
+  Filter filter = Filter::Trilinear;
+  Wrap wrap_u = Wrap::Repeat;
+  Wrap wrap_v = Wrap::Repeat;
+  float lod_bias = 0.0f;  // added to the LOD before clamping (trilinear only)
+};
+
+// Samples `tex` at `lanes` points and writes linear straight-alpha r, g, b, a to
+// out[0..3][0..lanes). Texel centres are at ((i + 0.5) / width, (j + 0.5) / height).
+//
+// `lanes` is a multiple of 16, laid out as 4x4 blocks (lane l of a block is pixel
+// (l % 4, l / 4), as in FragmentBatch). Trilinear takes ONE level of detail per block:
+//   dU/dx = W * sum over rows r of (u[4r + 3] - u[4r]) / 12   (and dV/dx with H and v)
+//   dU/dy = W * sum over columns c of (u[12 + c] - u[c]) / 12 (and dV/dy)
+//   lambda = log2(max(|(dU/dx, dV/dx)|, |(dU/dy, dV/dy)|)) + lod_bias,
+//            clamped to [0, levels - 1] (NaN or a zero derivative gives 0),
+// evaluated in double. These are the mean differences over the whole block, i.e. the
+// derivative at the block centre: one LOD per block means the two levels and their lerp
+// weight are the same for all 16 lanes, so level addressing is scalar and the per-lane work
+// is the bilinear taps alone; averaging four rows (columns) also keeps the estimate smooth
+// where perspective bends u, v within the block. Blocks are 4 pixels wide, so the LOD is
+// coarser than a GPU's 2x2 quads; the difference is the variation of the derivative over 2
+// pixels, far below what is visible in the fur's shells.
+//
+// Repeat wraps u to u - floor(u) before scaling, so huge coordinates (1e6) keep their exact
+// fraction; clamp clamps the texel index. Non-finite u, v give unspecified values but never
+// read outside the texture. Throws std::invalid_argument (naming the argument) if the texture
+// is empty, lanes is not a multiple of 16, or a pointer is null. Dispatches once per call to
+// the best Highway target; allocation-free; safe to call concurrently.
+void sample(const Texture& tex, const SamplerState& state, const float* u, const float* v,
+            size_t lanes, float* const out[4]);
+
+// The scalar reference: the same contract evaluated in double from the same float inputs
+// and texel bytes (the sRGB table in double), written as double. For tests.
+void sample_reference(const Texture& tex, const SamplerState& state, const float* u,
+                      const float* v, size_t lanes, double* const out[4]);
+
+// The LOD of the 4x4 block at u[0..16), v[0..16) as defined above, before the bias and clamp
+// (may be -inf for a zero derivative). For tests and for shaders that want to skip work.
+double block_lod(const float* u, const float* v, int width, int height);
+
+// The 256 sRGB bytes decoded to linear (inverse transfer function in double, rounded once).
+const float* srgb8_to_linear_table();
+
+}  // namespace pelt::raster

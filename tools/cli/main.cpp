@@ -1,0 +1,43 @@
+// pelt: a CPU rasterizer for fur and skin. Exit codes: 0 success, 1 internal error,
+// 2 bad input (scene, mesh, parameter, option), with a message naming the file, the
+// field and the reason.
+#include <cstdio>
+#include <exception>
+#include <map>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "tools/cli/commands.h"
+#include "tools/io/input_error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"pelt: tiled SIMD rasterizer for fur and skin"};
+  app.require_subcommand(1);
+  std::map<CLI::App*, pelt::cli::Run> runs;
+  for (auto add : {pelt::cli::add_render_command, pelt::cli::add_info_command}) {
+    pelt::cli::Run run = add(app);
+    runs[app.get_subcommands({}).back()] = std::move(run);
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+  try {
+    for (auto& [sub, run] : runs)
+      if (sub->parsed()) return run();
+  } catch (const pelt::io::InputError& e) {
+    std::fprintf(stderr, "pelt: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pelt: internal error: %s\n", e.what());
+    return 1;
+  }
+  return 1;
+}

@@ -1,0 +1,28 @@
+#include "tools/render/frame_stats.h"
+
+#include <cstring>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+namespace pelt::render {
+
+namespace {
+size_t stage_index(const char* name) {
+  for (size_t i = 0; i < kStageCount; ++i)
+    if (std::strcmp(kStageNames[i], name) == 0) return i;
+  throw std::logic_error(std::string("unknown pipeline stage ") + name);
+}
+}  // namespace
+
+StageRecord& FrameStats::stage(const char* name) { return stages[stage_index(name)]; }
+const StageRecord& FrameStats::stage(const char* name) const { return stages[stage_index(name)]; }
+
+nlohmann::json FrameStats::to_json() const {
+  nlohmann::json list = nlohmann::json::array();
+  for (size_t i = 0; i < kStageCount; ++i)
+    list.push_back({{"name", kStageNames[i]}, {"ran", stages[i].ran}, {"ms", stages[i].ms}});
+  return {{"frame", frame}, {"stages", list}, {"triangles", triangles}, {"fragments", fragments}};
+}
+
+}  // namespace pelt::render

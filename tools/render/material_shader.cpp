@@ -1,0 +1,77 @@
+#include "tools/render/material_shader.h"
+
+#include <algorithm>
+
+#include "raster/config.h"
+#include "shading/skin_kernels.h"
+#include "tools/render/varyings.h"
+
+namespace pelt::render {
+namespace {
+
+constexpr size_t kLanes = raster::kMaxBatchLanes;
+
+// Per-thread scratch for the arrays a batch needs beyond the rasterizer's: albedo and the
+// per-layer outputs. Fixed size: no allocation per batch.
+struct alignas(64) Scratch {
+  alignas(64) float albedo[3][kLanes];
+  alignas(64) float layers[9][kLanes];
+};
+thread_local Scratch tls_scratch;
+
+}  // namespace
+
+MaterialShader::MaterialShader(const MaterialDesc& desc, std::vector<shading::Light> lights,
+                               glm::vec3 eye, SkinLayer layer)
+    : desc_(desc), lights_(std::move(lights)), eye_{eye.x, eye.y, eye.z}, layer_(layer) {}
+
+void MaterialShader::shade(const raster::FragmentBatch& b) const {
+  Scratch& s = tls_scratch;
+  const size_t n = size_t{b.blocks} * raster::kBlockLanes;
+  using V = SurfaceVaryings;
+  // Skin takes its colours from SkinParams: its albedo is the colour map alone.
+  const glm::vec3 base = desc_.kind == MaterialKind::skin ? glm::vec3(1.0f) : desc_.color;
+  for (int c = 0; c < 3; ++c) std::fill(s.albedo[c], s.albedo[c] + n, base[c]);
+
+  shading::SurfaceSoA surf{};
+  surf.n = n;
+  for (int k = 0; k < 3; ++k) {
+    surf.pos[k] = b.varying[V::kPos + k];
+    surf.normal[k] = b.varying[V::kNormal + k];
+    surf.albedo[k] = s.albedo[k];
+  }
+  const bool blurred = desc_.kind == MaterialKind::skin &&
+                       desc_.skin.multiple_scattering == shading::MultipleScattering::normal_blur;
+  if (blurred)
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k) surf.blurred_normal[c][k] = b.varying[V::kBlurred + 3 * c + k];
+
+  shading::ShadeOutSoA out{};
+  for (int c = 0; c < 3; ++c) out.rgb[c] = b.out[c];
+  out.alpha = b.out[3];
+  const float* const* picked = nullptr;
+  float* layer_ptr[3][3];
+  if (desc_.kind == MaterialKind::skin && layer_ != SkinLayer::all) {
+    for (int l = 0; l < 3; ++l)
+      for (int c = 0; c < 3; ++c) layer_ptr[l][c] = s.layers[3 * l + c];
+    for (int c = 0; c < 3; ++c) {
+      out.sebum[c] = layer_ptr[0][c];
+      out.epidermis[c] = layer_ptr[1][c];
+      out.dermis[c] = layer_ptr[2][c];
+    }
+    picked = layer_ptr[layer_ == SkinLayer::sebum ? 0 : layer_ == SkinLayer::epidermis ? 1 : 2];
+  }
+
+  const shading::Light* lights = lights_.data();
+  const size_t lc = lights_.size();
+  switch (desc_.kind) {
+    case MaterialKind::unlit: shading::shade_unlit(lights, lc, eye_, surf, out); break;
+    case MaterialKind::lambert: shading::shade_lambert(lights, lc, eye_, surf, out); break;
+    case MaterialKind::blinn: shading::shade_blinn(desc_.basic, lights, lc, eye_, surf, out); break;
+    case MaterialKind::skin: shading::shade_skin(desc_.skin, lights, lc, eye_, surf, out); break;
+  }
+  if (picked)
+    for (int c = 0; c < 3; ++c) std::copy(picked[c], picked[c] + n, b.out[c]);
+}
+
+}  // namespace pelt::render

@@ -1,0 +1,42 @@
+// Opaque materials as rasterizer shaders: turns a FragmentBatch of SurfaceVaryings into
+// the shading library's SoA batch and calls its kernel (Lambert, Blinn, unlit, skin).
+#pragma once
+
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "raster/pipeline.h"
+#include "shading/basic_params.h"
+#include "shading/light.h"
+#include "shading/skin_params.h"
+
+namespace pelt::render {
+
+enum class MaterialKind { unlit, lambert, blinn, skin };
+
+// Which term a skin material writes: the full colour, or one layer of the paper's
+// multi-layer rendering (the per-layer AOVs).
+enum class SkinLayer { all, sebum, epidermis, dermis };
+
+struct MaterialDesc {
+  MaterialKind kind = MaterialKind::lambert;
+  glm::vec3 color{0.8f};              // albedo of the basic materials
+  shading::BasicParams basic;         // blinn
+  shading::SkinParams skin;           // skin
+};
+
+class MaterialShader final : public raster::Shader {
+ public:
+  MaterialShader(const MaterialDesc& desc, std::vector<shading::Light> lights, glm::vec3 eye,
+                 SkinLayer layer = SkinLayer::all);
+  void shade(const raster::FragmentBatch& batch) const override;
+
+ private:
+  MaterialDesc desc_;
+  std::vector<shading::Light> lights_;
+  float eye_[3];
+  SkinLayer layer_;
+};
+
+}  // namespace pelt::render

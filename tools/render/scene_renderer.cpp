@@ -1,0 +1,187 @@
+#include "tools/render/scene_renderer.h"
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include "tools/render/varyings.h"
+
+namespace pelt::render {
+
+struct SceneRenderer::Object {
+  Mesh mesh;  // world space
+  std::vector<float> varyings;
+  int varying_count = SurfaceVaryings::kCount;
+  MaterialDesc material;
+  bool translucent = false;
+  uint32_t id_base = 0;
+  std::unique_ptr<MaterialShader> shader;
+};
+
+namespace {
+
+MaterialKind kind_of(io::MaterialType t) {
+  switch (t) {
+    case io::MaterialType::unlit: return MaterialKind::unlit;
+    case io::MaterialType::lambert: return MaterialKind::lambert;
+    case io::MaterialType::blinn: return MaterialKind::blinn;
+    case io::MaterialType::skin: return MaterialKind::skin;
+  }
+  return MaterialKind::lambert;
+}
+
+std::vector<shading::Light> convert_lights(const std::vector<io::Light>& in) {
+  std::vector<shading::Light> out;
+  for (const io::Light& l : in) {
+    shading::Light s{};
+    const glm::vec3 c = l.color * l.intensity;
+    s.color[0] = c.r;
+    s.color[1] = c.g;
+    s.color[2] = c.b;
+    switch (l.type) {
+      case io::LightType::directional:
+        s.type = shading::Light::Type::Directional;
+        s.vec[0] = l.direction.x, s.vec[1] = l.direction.y, s.vec[2] = l.direction.z;
+        break;
+      case io::LightType::point:
+        s.type = shading::Light::Type::Point;
+        s.vec[0] = l.position.x, s.vec[1] = l.position.y, s.vec[2] = l.position.z;
+        break;
+      case io::LightType::ambient:
+        s.type = shading::Light::Type::Ambient;
+        break;
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+SkinLayer layer_of(Aov aov) {
+  switch (aov) {
+    case Aov::sebum: return SkinLayer::sebum;
+    case Aov::epidermis: return SkinLayer::epidermis;
+    case Aov::dermis: return SkinLayer::dermis;
+    default: return SkinLayer::all;
+  }
+}
+
+}  // namespace
+
+SceneRenderer::SceneRenderer(const io::Scene& scene, const RenderSettings& settings)
+    : scene_(scene),
+      settings_(settings),
+      width_(settings.width > 0 ? settings.width : scene.image.width),
+      height_(settings.height > 0 ? settings.height : scene.image.height),
+      renderer_(settings.threads),
+      lights_(convert_lights(scene.lights)) {
+  setup_stats_.frame = -1;
+  std::vector<io::SceneMesh> meshes;
+  {
+    StageTimer t(setup_stats_, "meshes");
+    meshes = io::load_scene_meshes(scene);
+  }
+  uint32_t id_base = 0;
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const io::SceneObject& so = scene.objects[i];
+    auto obj = std::make_unique<Object>();
+    obj->mesh = std::move(meshes[i].loaded.mesh);
+    io::bake_transform(obj->mesh, meshes[i].model);
+    const Mesh& m = obj->mesh;
+    obj->material.kind = kind_of(so.material.type);
+    obj->material.color = so.material.color;
+    obj->material.basic = so.material.basic;
+    obj->material.skin = so.material.skin;
+    obj->translucent = obj->material.kind == MaterialKind::skin && so.material.skin.Opacity < 1.0f;
+    obj->id_base = id_base;
+    id_base += static_cast<uint32_t>(m.triangle_count());
+
+    const int vc = obj->varying_count;
+    obj->varyings.assign(m.vertex_count() * vc, 0.0f);
+    for (size_t v = 0; v < m.vertex_count(); ++v) {
+      float* dst = obj->varyings.data() + v * vc;
+      dst[SurfaceVaryings::kPos + 0] = m.positions[v].x;
+      dst[SurfaceVaryings::kPos + 1] = m.positions[v].y;
+      dst[SurfaceVaryings::kPos + 2] = m.positions[v].z;
+      dst[SurfaceVaryings::kNormal + 0] = m.normals[v].x;
+      dst[SurfaceVaryings::kNormal + 1] = m.normals[v].y;
+      dst[SurfaceVaryings::kNormal + 2] = m.normals[v].z;
+      if (!m.uvs.empty()) {
+        dst[SurfaceVaryings::kUv + 0] = m.uvs[v].x;
+        dst[SurfaceVaryings::kUv + 1] = m.uvs[v].y;
+      }
+    }
+    obj->shader = std::make_unique<MaterialShader>(obj->material, lights_, scene.camera.eye,
+                                                   layer_of(settings.aov));
+    objects_.push_back(std::move(obj));
+  }
+}
+
+SceneRenderer::~SceneRenderer() = default;
+
+int SceneRenderer::frame_count() const { return scene_.animation ? scene_.animation->frames : 1; }
+
+uint64_t SceneRenderer::base_triangles() const {
+  uint64_t n = 0;
+  for (const auto& o : objects_) n += o->mesh.triangle_count();
+  return n;
+}
+
+uint64_t SceneRenderer::fur_triangles() const { return 0; }
+
+void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats) {
+  stats = FrameStats{};
+  stats.frame = frame;
+  if (!setup_reported_) {
+    for (size_t i = 0; i < kStageCount; ++i) stats.stages[i] = setup_stats_.stages[i];
+    setup_reported_ = true;
+  }
+
+  const float aspect = float(width_) / float(height_);
+  const glm::mat4 clip_from_world = scene_.camera.projection(aspect) * scene_.camera.view();
+  std::vector<raster::DrawCall> draws;
+  for (const auto& o : objects_) {
+    raster::DrawCall d;
+    d.positions = o->mesh.positions.data();
+    d.vertex_count = static_cast<uint32_t>(o->mesh.vertex_count());
+    d.indices = o->mesh.indices.data();
+    d.triangle_count = static_cast<uint32_t>(o->mesh.triangle_count());
+    d.varyings = o->varyings.data();
+    d.varying_count = static_cast<uint32_t>(o->varying_count);
+    d.clip_from_object = clip_from_world;
+    d.shader = o->shader.get();
+    d.id_base = o->id_base;
+    if (o->translucent) {
+      d.state.blend = raster::BlendMode::AlphaOver;
+      d.state.depth_write = false;
+    }
+    draws.push_back(d);
+  }
+
+  out.width = width_;
+  out.height = height_;
+  const size_t px = size_t(width_) * height_;
+  raster::RenderTarget target{width_, height_};
+  switch (settings_.aov) {
+    case Aov::depth:
+      out.depth.resize(px);
+      target.depth = out.depth.data();
+      break;
+    case Aov::id:
+      out.id.resize(px);
+      target.id = out.id.data();
+      break;
+    default:
+      out.color.resize(px * 4);
+      target.color = out.color.data();
+      break;
+  }
+  raster::RenderOptions opt;
+  opt.background = scene_.image.background;
+  opt.sort = settings_.sort;
+  raster::RasterStats rs;
+  renderer_.render(draws, opt, target, &rs);
+  stats.stage("raster_front") = {true, rs.ms_front};
+  stats.stage("raster_tiles") = {true, rs.ms_tiles};
+  stats.triangles = rs.triangles_submitted;
+  stats.fragments = rs.fragments_visible + rs.fragments_blended;
+}
+
+}  // namespace pelt::render

@@ -1,0 +1,64 @@
+// Builds a frame pipeline from a scene and renders its frames: only the stages the scene
+// calls for are built (fur for furry objects, wind only with wind, blurred normals only
+// for normal_blur skin), and per-frame work is redone only when its inputs change.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "raster/renderer.h"
+#include "tools/io/scene.h"
+#include "tools/render/frame_stats.h"
+#include "tools/render/material_shader.h"
+
+namespace pelt::render {
+
+enum class Aov { color, depth, id, sebum, epidermis, dermis };
+
+struct RenderSettings {
+  int width = 0, height = 0;  // 0: the scene's image size
+  int threads = 1;
+  raster::SortMode sort = raster::SortMode::Tile;
+  Aov aov = Aov::color;
+};
+
+// The planes of one rendered frame, row 0 at the top. Only the AOV asked for is filled.
+struct FrameImage {
+  int width = 0, height = 0;
+  std::vector<float> color;     // RGBA linear
+  std::vector<float> depth;     // window depth, 1 = background
+  std::vector<uint32_t> id;     // scene triangle index + 1, 0 = background
+};
+
+class FurObject;
+
+class SceneRenderer {
+ public:
+  // Loads meshes and builds everything the scene needs once. Throws io::InputError for
+  // bad input. The set-up stages' times are reported in the first frame's stats.
+  SceneRenderer(const io::Scene& scene, const RenderSettings& settings);
+  ~SceneRenderer();
+
+  // Renders frame `frame` (0-based) of the scene's animation. Deterministic: the same
+  // frame gives the same image whatever was rendered before and on any thread count.
+  void render(int frame, FrameImage& out, FrameStats& stats);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int frame_count() const;
+  uint64_t base_triangles() const;
+  uint64_t fur_triangles() const;
+
+ private:
+  struct Object;
+  const io::Scene& scene_;
+  RenderSettings settings_;
+  int width_, height_;
+  raster::Renderer renderer_;
+  std::vector<shading::Light> lights_;
+  std::vector<std::unique_ptr<Object>> objects_;
+  FrameStats setup_stats_;  // stages run by the constructor, reported once
+  bool setup_reported_ = false;
+};
+
+}  // namespace pelt::render

@@ -1,0 +1,27 @@
+// Varying layout of the draws the scene renderer builds: what the rasterizer interpolates
+// per fragment, by slot. Material draws and fur draws each have their own layout.
+#pragma once
+
+namespace pelt::render {
+
+// Opaque surfaces (lambert, blinn, unlit, skin).
+struct SurfaceVaryings {
+  static constexpr int kPos = 0;      // world position, 3
+  static constexpr int kNormal = 3;   // world normal, 3
+  static constexpr int kUv = 6;       // texture coordinate, 2
+  static constexpr int kCount = 8;
+  static constexpr int kBlurred = 8;  // normal_blur only: blurred normals r, g, b (3 x 3)
+  static constexpr int kCountBlurred = 17;
+};
+
+// Fur shells and fins.
+struct FurVaryings {
+  static constexpr int kPos = 0;      // world position of the deformed fur vertex, 3
+  static constexpr int kTangent = 3;  // strand tangent from the deformed chain, 3
+  static constexpr int kUv = 6;       // shell uv (shells) or fin uv (fins), 2
+  static constexpr int kHeight = 8;   // layer / (shells - 1): 0 at the root, 1 at the tip
+  static constexpr int kNormal = 9;   // base surface normal, 3
+  static constexpr int kCount = 12;
+};
+
+}  // namespace pelt::render

@@ -1,0 +1,104 @@
+// Fur dynamics on the shared vertex array (seed 3.2-3.3): a gravity pose, a wind pose,
+// and the per-frame blend of the two.
+//
+// A pose is one position per fur vertex, laid out like FurGeometry::positions: vertex
+// I = i + s*N, so base vertex i's chain of nodes is I = i, i+N, ..., i+(S-1)N, node 0 on
+// the base surface (never moved). Every function is a pure loop over base vertices
+// [begin, end): call it once over all of them, or split the range across threads (the
+// ranges touch disjoint outputs). None allocates; outputs are preallocated by the
+// caller and may not alias inputs unless stated.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "fur/fur_geometry.h"
+#include "fur/fur_params.h"
+
+namespace pelt::fur {
+
+// How eq. 2's theta = dot(V, G) * RN / stability is read (V = unit direction of the
+// chain segment leaving the current node, G = unit gravity direction, RN = nodes
+// remaining beyond the current node, S-1-k at node k; axis = cross(V, G)).
+//   lever    (default): the dot factor is taken as the lever arm |V x G| = sin(angle):
+//            largest for a horizontal strand, zero for one along or against G.
+//   seed_dot: the formula as printed, dot(V, G) = cos(angle): no bend for a horizontal
+//            strand and none (clamped from negative) for strands pointing up.
+// Both multiply by params.strength, and both clamp theta to [0, angle(V, G)] so a
+// segment swings toward gravity but never past it: stability = 0 (or a huge strength)
+// lets every segment hang straight along G, never NaN.
+enum class GravityLaw { lever, seed_dot };
+
+// Bends each chain node by node (seed Fig. 9): at node k = 0..S-2, rotate nodes
+// k+1..S-1 about node k, axis cross(V, G), by theta. Rotations keep every segment's
+// length (to float rounding). Nothing bends when G or strength is 0, when V is
+// parallel or antiparallel to G, or when stability is huge. `rest` and `out` have
+// S*N entries; out may equal rest (in place). Chains longer than 128 nodes (beyond
+// FurParams' range) bend their first 128 nodes only.
+void apply_gravity(std::span<const glm::vec3> rest, uint32_t base_vertex_count, uint32_t layers,
+                   const GravityParams& gravity, GravityLaw law, std::span<glm::vec3> out,
+                   uint32_t begin, uint32_t end);
+
+// Wind force field: one force per base vertex, a travelling gust wave,
+//   F_i(t) = d * strength * (1 + gust_scale * sin(2 pi (gust_frequency * t - (q_i.d) / L)))
+// d = unit wind direction, q_i = base vertex - bounding centre, L = 2 R (wavelength:
+// one gust crest spans the object and moves along d at L * gust_frequency units/s).
+// gust_scale in [0, 1] keeps the factor in [0, 2]. Build once per object (allocates);
+// forces() per frame does not.
+struct WindField {
+  glm::vec3 direction{1.0f, 0.0f, 0.0f};  // unit
+  float strength = 0.0f, gust_frequency = 0.0f, gust_scale = 0.0f;
+  std::vector<float> phase;  // (q_i.d) / L per base vertex, in wavelengths
+
+  // Fills out[begin, end) with F_i(time_seconds).
+  void forces(double time_seconds, std::span<glm::vec3> out, uint32_t begin, uint32_t end) const;
+};
+WindField make_wind_field(const FurGeometry& geometry, const WindParams& wind);
+
+// Rotates each whole chain once about its root (seed Fig. 11): axis cross(n_i, F_i),
+// angle theta = phi * (1 - exp(-|F_i|)) where phi = angle(n_i, F_i): the strand leans
+// toward the force, further for a stronger force, never past it (|F| = 1 goes 63% of
+// the way). n_i = `normals` (pass FurGeometry::growth so combed fur bends from its
+// combed direction). No rotation for F = 0, F parallel or antiparallel to n, or
+// non-finite F. `pose` is the pose to push (the rest or the gravity pose); out may
+// equal pose.
+void apply_wind(std::span<const glm::vec3> pose, std::span<const glm::vec3> normals,
+                std::span<const glm::vec3> forces, uint32_t base_vertex_count, uint32_t layers,
+                std::span<glm::vec3> out, uint32_t begin, uint32_t end);
+
+// out[I] = a[I] + (b[I] - a[I]) * t for fur vertices I in [begin, end) (a flat range,
+// not base vertices). t = 0 gives exactly a, t = 1 exactly b.
+void lerp_poses(std::span<const glm::vec3> a, std::span<const glm::vec3> b, float t,
+                std::span<glm::vec3> out, size_t begin, size_t end);
+inline void lerp_poses(std::span<const glm::vec3> a, std::span<const glm::vec3> b, float t,
+                       std::span<glm::vec3> out) {
+  lerp_poses(a, b, t, out, 0, out.size());
+}
+
+// Seed Fig. 12: animation data 1 (gravity pose) at t = 0, data 2 (wind pose) at t = 1.
+// pelt swings between them smoothly and periodically:
+//   t(frame) = 0.5 - 0.5 cos(2 pi frame / period_frames), t(0) = 0.
+// period_frames <= 0 or non-finite gives 0 (static gravity pose).
+float animation_t(double frame, double period_frames);
+
+// Unit strand tangent per fur vertex from a deformed pose, for Kajiya-Kay: central
+// difference p[k+1] - p[k-1] along the chain, one-sided at the root and tip; where the
+// chain has zero length (or is not finite) the growth direction. out has S*N entries.
+void strand_tangents(std::span<const glm::vec3> pose, std::span<const glm::vec3> growth,
+                     uint32_t base_vertex_count, uint32_t layers, std::span<glm::vec3> out,
+                     uint32_t begin, uint32_t end);
+
+// The llvmpipe harness's animation (its README): with h = s/(S-1), bend = h^2 * fur length,
+// tang(a, n) = a - n (a.n), q = base vertex - centre:
+//   p0 = rest + tang((0,-1,0), n) * 0.4 bend
+//   p1 = rest + tang(normalize(1, 0.2, 0.6), n) * 0.8 bend * (0.75 + 0.25 sin(3 (q.x + q.z) / R))
+// rest = geometry.positions, n = geometry.base_normals. With geometry built from the
+// harness's mesh with shells = 16 and length = 0.1 this is its scene.
+void llvmpipe_poses(const FurGeometry& geometry, std::span<glm::vec3> p0, std::span<glm::vec3> p1);
+// t = 0.5 + 0.5 sin(0.1 frame).
+float llvmpipe_animation_t(int frame);
+
+}  // namespace pelt::fur

@@ -1,0 +1,250 @@
+#include "fur/fur_geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+namespace pelt::fur {
+namespace {
+
+bool finite3(const glm::vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// Unit normal of a triangle; (0,1,0) for a degenerate one, the same fallback as
+// pelt::compute_vertex_normals, so later code never divides by zero.
+glm::vec3 triangle_normal(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  glm::vec3 n = glm::cross(b - a, c - a);
+  float len = glm::length(n);
+  if (!(len > 0.0f) || !std::isfinite(len)) return {0.0f, 1.0f, 0.0f};
+  return n / len;
+}
+
+}  // namespace
+
+BoundingSphere bounding_sphere(const Mesh& mesh) {
+  BoundingSphere s;
+  if (mesh.positions.empty()) return s;
+  glm::vec3 lo = mesh.positions[0], hi = mesh.positions[0];
+  for (const glm::vec3& p : mesh.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  s.centre = (lo + hi) * 0.5f;
+  for (const glm::vec3& p : mesh.positions) s.radius = std::max(s.radius, glm::length(p - s.centre));
+  return s;
+}
+
+std::vector<FurEdge> mesh_edges(const Mesh& mesh) {
+  // (a, b, face) for every triangle side, sorted so that equal edges are adjacent and
+  // their faces come in index order.
+  struct Side {
+    uint32_t a, b, face;
+  };
+  const size_t F = mesh.triangle_count();
+  std::vector<Side> sides;
+  sides.reserve(3 * F);
+  for (size_t f = 0; f < F; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      uint32_t a = mesh.indices[3 * f + k], b = mesh.indices[3 * f + (k + 1) % 3];
+      if (a == b) continue;  // a collapsed side is no edge
+      sides.push_back({std::min(a, b), std::max(a, b), uint32_t(f)});
+    }
+  }
+  std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) {
+    if (x.a != y.a) return x.a < y.a;
+    if (x.b != y.b) return x.b < y.b;
+    return x.face < y.face;
+  });
+  std::vector<FurEdge> edges;
+  for (size_t i = 0; i < sides.size();) {
+    FurEdge e{sides[i].a, sides[i].b, sides[i].face, kNoFace};
+    size_t j = i + 1;
+    for (; j < sides.size() && sides[j].a == e.a && sides[j].b == e.b; ++j) {
+      // A triangle naming the same edge twice (a degenerate one) is not a second face.
+      if (e.face1 == kNoFace && sides[j].face != e.face0) e.face1 = sides[j].face;
+    }
+    edges.push_back(e);
+    i = j;
+  }
+  return edges;
+}
+
+FurCounts fur_counts(size_t base_vertices, size_t base_faces, size_t edges, int layers) {
+  FurCounts c;
+  const size_t S = size_t(std::max(layers, 0));
+  c.base_vertices = base_vertices;
+  c.shell_vertices = base_vertices * S;
+  c.fin_vertices = c.shell_vertices;  // the same vertices
+  c.total_vertices = c.base_vertices + c.shell_vertices;
+  c.base_faces = base_faces;
+  c.shell_faces = base_faces * S;
+  c.fin_faces = S > 1 ? 2 * edges * (S - 1) : 0;
+  c.total_faces = c.base_faces + c.shell_faces + c.fin_faces;
+  c.edges = edges;
+  return c;
+}
+
+glm::vec3 growth_direction(const glm::vec3& normal, const std::optional<CombParams>& comb) {
+  if (!comb || comb->weight <= 0.0f) return normal;
+  const float dl = glm::length(comb->direction);
+  if (!(dl > 0.0f) || !std::isfinite(dl)) return normal;
+  const glm::vec3 d = comb->direction / dl;
+  const glm::vec3 g = (1.0f - comb->weight) * normal + comb->weight * d;
+  const float gl = glm::length(g);
+  // The blend cancels where d is nearly -n: keep the normal rather than a random tilt.
+  if (!(gl > 1e-4f)) return normal;
+  return g / gl;
+}
+
+std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& params,
+                                             FurGeometry& out) {
+  if (auto e = validate(params)) return e;
+  const size_t N = base.positions.size();
+  if (N == 0) return ParamError{"mesh.positions", "the base mesh has no vertices"};
+  if (N * size_t(params.shells) > size_t(UINT32_MAX)) {
+    return ParamError{"mesh.positions", std::to_string(N) + " vertices x " +
+                                            std::to_string(params.shells) +
+                                            " shells overflow 32-bit indices"};
+  }
+  if (base.indices.size() % 3 != 0) {
+    return ParamError{"mesh.indices", "size " + std::to_string(base.indices.size()) +
+                                          " is not a multiple of 3"};
+  }
+  if (base.indices.empty()) return ParamError{"mesh.indices", "the base mesh has no triangles"};
+  for (size_t k = 0; k < base.indices.size(); ++k) {
+    if (base.indices[k] >= N) {
+      return ParamError{"mesh.indices", "index " + std::to_string(k) + " = " +
+                                            std::to_string(base.indices[k]) + " >= " +
+                                            std::to_string(N) + " vertices"};
+    }
+  }
+  for (size_t i = 0; i < N; ++i) {
+    if (!finite3(base.positions[i])) {
+      return ParamError{"mesh.positions", "vertex " + std::to_string(i) + " is not finite"};
+    }
+  }
+  if (!base.normals.empty() && base.normals.size() != N) {
+    return ParamError{"mesh.normals", "has " + std::to_string(base.normals.size()) +
+                                          " entries for " + std::to_string(N) + " positions"};
+  }
+  if (!base.uvs.empty() && base.uvs.size() != N) {
+    return ParamError{"mesh.uvs", "has " + std::to_string(base.uvs.size()) + " entries for " +
+                                      std::to_string(N) + " positions"};
+  }
+
+  const uint32_t S = uint32_t(params.shells);
+  const size_t F = base.triangle_count();
+  out.base_vertex_count = uint32_t(N);
+  out.layers = S;
+  out.bounds = bounding_sphere(base);
+  out.fur_length = params.length * out.bounds.radius;
+  out.layer_distance = out.fur_length / float(S - 1);
+
+  // Normals: the mesh's own (renormalised), or computed like the rest of pelt.
+  if (base.normals.empty()) {
+    Mesh copy;
+    copy.positions = base.positions;
+    copy.indices = base.indices;
+    compute_vertex_normals(copy);
+    out.base_normals = std::move(copy.normals);
+  } else {
+    out.base_normals.resize(N);
+    for (size_t i = 0; i < N; ++i) {
+      const glm::vec3 n = base.normals[i];
+      const float len = glm::length(n);
+      if (!finite3(n) || !(len > 0.0f)) {
+        return ParamError{"mesh.normals", "normal " + std::to_string(i) + " is zero or not finite"};
+      }
+      out.base_normals[i] = std::fabs(len - 1.0f) <= 1e-6f ? n : n / len;
+    }
+  }
+  out.growth.resize(N);
+  for (size_t i = 0; i < N; ++i) out.growth[i] = growth_direction(out.base_normals[i], params.comb);
+
+  // Texture coordinates per base vertex (the same in every layer).
+  const double R = out.bounds.radius > 0.0f ? double(out.bounds.radius) : 1.0;
+  const double k = 2.449490 * std::sqrt(3.0) / R;
+  const glm::dvec3 e1 = glm::normalize(glm::dvec3(1, -1, 0));
+  const glm::dvec3 e2 = glm::normalize(glm::dvec3(1, 1, -2));
+  const glm::dvec3 ef = glm::normalize(glm::dvec3(1, 2, 3));
+  std::vector<glm::vec2> base_uv(N);
+  std::vector<float> fin_u(N);
+  for (size_t i = 0; i < N; ++i) {
+    const glm::dvec3 q = glm::dvec3(base.positions[i]) - glm::dvec3(out.bounds.centre);
+    base_uv[i] = base.uvs.empty() ? glm::vec2(float(k * glm::dot(q, e1)), float(k * glm::dot(q, e2)))
+                                  : base.uvs[i];
+    fin_u[i] = float(k * glm::dot(q, ef));
+  }
+
+  // Eq. 1: one array for shells and fins.
+  const size_t V = N * S;
+  out.positions.resize(V);
+  out.shell_uvs.resize(V);
+  out.fin_uvs.resize(V);
+  out.layer.resize(V);
+  for (uint32_t s = 0; s < S; ++s) {
+    const float offset = out.layer_distance * float(s);
+    const float fv = float(s) / float(S - 1);
+    for (size_t i = 0; i < N; ++i) {
+      const size_t I = i + size_t(s) * N;
+      out.positions[I] = base.positions[i] + out.growth[i] * offset;
+      out.shell_uvs[I] = base_uv[i];
+      out.fin_uvs[I] = {fin_u[i], fv};
+      out.layer[I] = uint16_t(s);
+    }
+  }
+
+  out.face_normals.resize(F);
+  for (size_t f = 0; f < F; ++f) {
+    out.face_normals[f] =
+        triangle_normal(base.positions[base.indices[3 * f]], base.positions[base.indices[3 * f + 1]],
+                        base.positions[base.indices[3 * f + 2]]);
+  }
+
+  out.shell_indices.resize(size_t(S) * F * 3);
+  for (uint32_t s = 0; s < S; ++s) {
+    const uint32_t shift = uint32_t(s * N);
+    uint32_t* dst = out.shell_indices.data() + size_t(s) * F * 3;
+    for (size_t k3 = 0; k3 < 3 * F; ++k3) dst[k3] = base.indices[k3] + shift;
+  }
+
+  out.edges = mesh_edges(base);
+  const size_t E = out.edges.size();
+  out.fin_indices.resize(size_t(S - 1) * E * 6);
+  uint32_t* fi = out.fin_indices.data();
+  for (uint32_t s = 0; s + 1 < S; ++s) {
+    const uint32_t lo = uint32_t(s * N), hi = uint32_t((s + 1) * N);
+    for (const FurEdge& e : out.edges) {
+      const uint32_t a0 = e.a + lo, b0 = e.b + lo, a1 = e.a + hi, b1 = e.b + hi;
+      *fi++ = a0; *fi++ = b0; *fi++ = b1;
+      *fi++ = a0; *fi++ = b1; *fi++ = a1;
+    }
+  }
+  out.counts = fur_counts(N, F, E, int(S));
+  return std::nullopt;
+}
+
+float fin_weight(const glm::vec3& face_normal_a, const std::optional<glm::vec3>& face_normal_b,
+                 const glm::vec3& view_dir, FinMode mode) {
+  if (mode == FinMode::off) return 0.0f;
+  if (mode == FinMode::all) return 1.0f;
+  const float vl = glm::length(view_dir);
+  if (!(vl > 0.0f) || !std::isfinite(vl)) return 1.0f;
+  const glm::vec3 v = view_dir / vl;
+  const float ca = glm::dot(face_normal_a, v);
+  if (!std::isfinite(ca)) return 1.0f;
+  float c = std::fabs(ca);
+  if (face_normal_b) {
+    const float cb = glm::dot(*face_normal_b, v);
+    if (!std::isfinite(cb)) return 1.0f;
+    if ((ca > 0.0f && cb < 0.0f) || (ca < 0.0f && cb > 0.0f)) return 1.0f;  // silhouette edge
+    c = std::min(c, std::fabs(cb));
+  }
+  const float x = std::clamp(c / 0.5f, 0.0f, 1.0f);
+  return 1.0f - x * x * (3.0f - 2.0f * x);
+}
+
+}  // namespace pelt::fur

@@ -1,0 +1,120 @@
+// Shells and fins on one shared vertex array (seed 3.1.1, eq. 1).
+//
+// For a base mesh with N vertices and S layers, fur vertex I = i + s*N (s = 0..S-1)
+// sits at base_v[i] + g[i] * (SL_D * s): layer 0 lies on the base surface, layer S-1 at
+// the fur length. Shells are the base triangles copied per layer (layer 0 first, so the
+// draw order is inner to outer). Fins are one quad per mesh edge and layer gap, drawn on
+// the same vertices, so a deformation of the vertex array moves shells and fins together.
+// Built once per object (allocates); nothing here runs per frame.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "fur/fur_params.h"
+#include "raster/mesh.h"
+
+namespace pelt::fur {
+
+inline constexpr uint32_t kNoFace = 0xFFFFFFFFu;
+
+// An undirected mesh edge, a < b, with the (up to) two base triangles that share it.
+// face1 = kNoFace on a boundary edge. On a non-manifold edge (3+ triangles) the first
+// two triangles in index order are kept; the fin is still drawn once.
+struct FurEdge {
+  uint32_t a = 0, b = 0;
+  uint32_t face0 = kNoFace, face1 = kNoFace;
+};
+
+// The seed's Tables 1-3 rows. Shell and fin vertices are the same array ("shared"), so
+// total_vertices = base + shell, not base + shell + fin.
+struct FurCounts {
+  size_t base_vertices = 0, shell_vertices = 0, fin_vertices = 0, total_vertices = 0;
+  size_t base_faces = 0, shell_faces = 0, fin_faces = 0, total_faces = 0;
+  size_t edges = 0;
+};
+
+// Centre = bounding-box centre; radius = largest distance of a vertex from it (the
+// llvmpipe harness's R). Zero radius for an empty or single-point mesh.
+struct BoundingSphere {
+  glm::vec3 centre{0.0f};
+  float radius = 0.0f;
+};
+
+struct FurGeometry {
+  uint32_t base_vertex_count = 0;  // N
+  uint32_t layers = 0;             // S
+  float fur_length = 0.0f;         // params.length * R, scene units (layer S-1's offset)
+  float layer_distance = 0.0f;     // SL_D = fur_length / (S - 1)
+  BoundingSphere bounds;
+
+  // Per base vertex (size N).
+  std::vector<glm::vec3> base_normals;  // unit vertex normals n[i] (the mesh's own, renormalised
+                                        // only when more than 1e-6 off unit length)
+  std::vector<glm::vec3> growth;        // unit growth directions g[i] (n, or combed)
+
+  // Per fur vertex I = i + s*N (size S*N): the rest pose of eq. 1.
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec2> shell_uvs;  // the base vertex's uv, the same in every layer
+  // u = k q.(1,2,3)/sqrt14 with q = p - centre and k = 2.449490 sqrt(3) / R (the
+  // llvmpipe harness's fin coordinate: runs along every edge that is not perpendicular
+  // to (1,2,3)); v = s / (S-1), 0 at the root, 1 at the tip.
+  std::vector<glm::vec2> fin_uvs;
+  std::vector<uint16_t> layer;  // s
+
+  // Shell triangles: layer s's copy of base triangle f is triangle s*F + f (S*F*3 indices).
+  std::vector<uint32_t> shell_indices;
+  // Fin triangles: quad q = s*E + e (s = 0..S-2, e = index into `edges`) is triangles
+  // 2q, 2q+1 = (a_s, b_s, b_{s+1}), (a_s, b_{s+1}, a_{s+1}) ((S-1)*E*6 indices).
+  std::vector<uint32_t> fin_indices;
+  std::vector<FurEdge> edges;             // sorted by (a, b), deduplicated
+  std::vector<glm::vec3> face_normals;    // unit normal per base triangle ((0,1,0) if degenerate)
+
+  FurCounts counts;
+
+  // The edge (and so the two base faces) behind fin quad q.
+  const FurEdge& fin_edge(size_t quad) const { return edges[quad % edges.size()]; }
+};
+
+BoundingSphere bounding_sphere(const Mesh& mesh);
+
+// Unique undirected edges of the triangles, sorted by (a, b), with their faces.
+std::vector<FurEdge> mesh_edges(const Mesh& mesh);
+
+// Table counts for a base mesh of the given size with S layers.
+FurCounts fur_counts(size_t base_vertices, size_t base_faces, size_t edges, int layers);
+
+// Unit growth direction from a unit normal and the optional combing (see CombParams).
+glm::vec3 growth_direction(const glm::vec3& normal, const std::optional<CombParams>& comb);
+
+// Builds the fur of `base` with params.shells layers, params.length and params.comb.
+// Uses base.normals when present (one per position), otherwise computes them as
+// pelt::compute_vertex_normals does; uses base.uvs when present, otherwise the
+// body-diagonal planar projection (u = k q.e1, v = k q.e2, e1 = (1,-1,0)/sqrt2,
+// e2 = (1,1,-2)/sqrt6). Returns the first problem (a params field, or "mesh.indices",
+// "mesh.normals", "mesh.uvs", "mesh.positions" with the reason) and leaves `out`
+// unspecified on error.
+std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& params,
+                                             FurGeometry& out);
+
+// How visible a fin is, in [0, 1] (Lengyel et al. 2001: fins matter only near
+// silhouettes, where shells are seen edge-on and leave gaps).
+//   off        -> 0
+//   all        -> 1
+//   silhouette -> with v = normalize(view_dir), c_a = n_a.v, c_b = n_b.v:
+//                 1 if the edge is a true silhouette (c_a and c_b of opposite signs);
+//                 otherwise with c = min(|c_a|, |c_b|) (the more edge-on face; |c_a|
+//                 alone on a boundary edge) and x = clamp(c / 0.5, 0, 1):
+//                 1 - x^2 (3 - 2x), i.e. full at edge-on, gone once both faces are
+//                 within 60 degrees of facing the viewer.
+// view_dir may point either way (only |n.v| and sign changes matter). Zero or
+// non-finite inputs give 1 for silhouette mode (show the fin rather than a gap).
+float fin_weight(const glm::vec3& face_normal_a, const std::optional<glm::vec3>& face_normal_b,
+                 const glm::vec3& view_dir, FinMode mode);
+
+}  // namespace pelt::fur

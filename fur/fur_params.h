@@ -1,0 +1,90 @@
+// The fields of a scene object's `fur` block, with their defaults and accepted ranges.
+// The scene parser fills a FurParams from JSON (keys = the member names below, nested
+// blocks as JSON objects) and calls validate(); everything in fur/ assumes a FurParams
+// that validate() accepted.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <glm/vec3.hpp>
+
+namespace pelt::fur {
+
+// Which fins are drawn. `off`: none. `all`: every edge's fin at full opacity (the
+// llvmpipe harness). `silhouette`: fins faded in near silhouettes by fin_weight()
+// (Lengyel et al. 2001), where shells alone show gaps.
+enum class FinMode { off, all, silhouette };
+
+// Gravity (seed eq. 2). The block is optional: without it no gravity pass runs.
+struct GravityParams {
+  glm::vec3 direction{0.0f, -1.0f, 0.0f};  // "direction": any non-zero vector; normalised
+  float strength = 1.0f;                   // "strength": >= 0, <= 1e3; 0 = no bend
+  float stability = 200.0f;                // "stability": > 0, <= 1e9; larger = stiffer
+};
+
+// Wind (seed 3.2.2). Optional: without it no wind field is built.
+struct WindParams {
+  glm::vec3 direction{1.0f, 0.0f, 0.0f};  // "direction": any non-zero vector; normalised
+  float strength = 1.0f;                  // "strength": >= 0, <= 1e3 (force magnitude)
+  float gust_frequency = 0.5f;            // "gust_frequency": gusts per second, >= 0, <= 1e3
+  float gust_scale = 0.5f;                // "gust_scale": in [0, 1]; 0 = steady wind
+};
+
+// Combing (seed Fig. 6): growth direction g = normalize((1 - weight) n + weight d).
+// Optional: without it g is the vertex normal n. Where the blend cancels (d = -n at
+// weight 0.5) the normal is used.
+struct CombParams {
+  glm::vec3 direction{0.0f, -1.0f, 0.0f};  // "direction": any non-zero vector; normalised
+  float weight = 0.5f;                     // "weight": in [0, 1]; 0 = plain normals
+};
+
+struct FurParams {
+  // "shells": number of layers S including layer 0 on the base surface; in [2, 128].
+  int shells = 16;
+  // "length": distance of the outermost layer from the base surface, as a FRACTION OF
+  // THE BASE MESH'S BOUNDING RADIUS R (largest distance of a vertex from the
+  // bounding-box centre), so a scene keeps its look when a mesh is rescaled. In
+  // (0, 2]. Layer spacing SL_D = length * R / (shells - 1). Default 0.1 = the FPS
+  // tables' setting.
+  float length = 0.1f;
+  // "density": strand roots per 100 texels of the base-level shell texture, i.e. the
+  // percentage of layer-0 texels where a strand starts (the seed's "density 15 / 30"
+  // read as 15% / 30%; the llvmpipe harness uses 30). Exactly
+  // round(density/100 * texture_size^2) distinct root texels are chosen. In (0, 100].
+  float density = 30.0f;
+  // "texture_size": side of each square layer texture in texels; a power of two in
+  // [16, 4096].
+  int texture_size = 256;
+  // "seed": seeds the strand generators (std::mt19937); the same seed gives the same
+  // textures. Any value in [0, 2^32 - 1].
+  uint32_t seed = 1;
+  // "fins": "off" | "all" | "silhouette".
+  FinMode fins = FinMode::silhouette;
+  // "root_color", "tip_color": linear RGB, each component in [0, 1]; strand colour
+  // runs from root to tip.
+  glm::vec3 root_color{0.36f, 0.261f, 0.162f};
+  glm::vec3 tip_color{0.80f, 0.58f, 0.36f};
+  std::optional<GravityParams> gravity;  // "gravity": {direction, strength, stability}
+  std::optional<WindParams> wind;        // "wind": {direction, strength, gust_frequency, gust_scale}
+  std::optional<CombParams> comb;        // "comb": {direction, weight}
+};
+
+// A rejected field: its JSON key path inside the fur block (e.g. "gravity.stability",
+// "root_color[2]") and why.
+struct ParamError {
+  std::string field;
+  std::string reason;
+};
+
+// The first bad field, or nothing when every field is in range (NaN and infinities are
+// rejected everywhere).
+std::optional<ParamError> validate(const FurParams& params);
+
+std::string_view to_string(FinMode mode);
+// "off" | "all" | "silhouette" (exact, lower case); nothing for any other text.
+std::optional<FinMode> fin_mode_from_string(std::string_view text);
+
+}  // namespace pelt::fur

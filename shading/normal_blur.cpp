@@ -1,0 +1,166 @@
+#include "shading/normal_blur.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <queue>
+#include <unordered_map>
+#include <utility>
+
+namespace pelt::shading {
+namespace {
+
+struct Key {
+  uint32_t x, y, z;
+  bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct KeyHash {
+  size_t operator()(const Key& k) const {
+    return (size_t(k.x) * 73856093u) ^ (size_t(k.y) * 19349663u) ^ (size_t(k.z) * 83492791u);
+  }
+};
+
+uint32_t bits(float f) {
+  if (f == 0.0f) f = 0.0f;  // +0 and -0 weld
+  uint32_t u;
+  std::memcpy(&u, &f, sizeof u);
+  return u;
+}
+
+double dist(const float* a, const float* b) {
+  const double dx = double(a[0]) - b[0], dy = double(a[1]) - b[1], dz = double(a[2]) - b[2];
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+}  // namespace
+
+std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sigma[3], BlurredNormals& out) {
+  for (auto& ch : out.channel) ch.clear();
+  for (int c = 0; c < 3; ++c)
+    if (!std::isfinite(sigma[c]) || sigma[c] < 0.0f)
+      return ParamError{"normal_blur_radius[" + std::to_string(c) + "]", "must be finite and >= 0"};
+  if (m.index_count % 3 != 0) return ParamError{"indices", "count must be a multiple of 3"};
+  if (m.vertex_count > 0 && (!m.positions || !m.normals)) return ParamError{"positions", "null with vertices"};
+  if (m.index_count > 0 && !m.indices) return ParamError{"indices", "null with a non-zero count"};
+  const size_t V = m.vertex_count;
+  for (size_t i = 0; i < 3 * V; ++i) {
+    if (!std::isfinite(m.positions[i])) return ParamError{"positions", "vertex " + std::to_string(i / 3) + " is not finite"};
+    if (!std::isfinite(m.normals[i])) return ParamError{"normals", "vertex " + std::to_string(i / 3) + " is not finite"};
+  }
+  for (size_t i = 0; i < m.index_count; ++i)
+    if (m.indices[i] >= V)
+      return ParamError{"indices", "index " + std::to_string(i) + " = " + std::to_string(m.indices[i]) +
+                                       " is out of range (" + std::to_string(V) + " vertices)"};
+
+  // Weld coincident positions: `rep[v]` is the welded vertex id.
+  std::vector<uint32_t> rep(V);
+  std::vector<uint32_t> first;  // welded id -> a source vertex
+  {
+    std::unordered_map<Key, uint32_t, KeyHash> ids;
+    ids.reserve(V * 2);
+    for (size_t v = 0; v < V; ++v) {
+      const float* p = m.positions + 3 * v;
+      auto [it, inserted] = ids.emplace(Key{bits(p[0]), bits(p[1]), bits(p[2])}, uint32_t(first.size()));
+      if (inserted) first.push_back(uint32_t(v));
+      rep[v] = it->second;
+    }
+  }
+  const size_t W = first.size();
+
+  // Welded normals (sum of unit normals of the copies) and vertex areas.
+  std::vector<double> nrm(3 * W, 0.0), area(W, 0.0);
+  for (size_t v = 0; v < V; ++v) {
+    const float* n = m.normals + 3 * v;
+    const double len = std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2]);
+    if (len > 0)
+      for (int a = 0; a < 3; ++a) nrm[3 * rep[v] + a] += n[a] / len;
+  }
+  // Adjacency as compressed rows of (neighbour, edge length).
+  std::vector<std::pair<uint32_t, uint32_t>> edges;
+  edges.reserve(m.index_count * 2);
+  for (size_t t = 0; t + 2 < m.index_count; t += 3) {
+    const uint32_t w[3] = {rep[m.indices[t]], rep[m.indices[t + 1]], rep[m.indices[t + 2]]};
+    const float* p0 = m.positions + 3 * size_t(m.indices[t]);
+    const float* p1 = m.positions + 3 * size_t(m.indices[t + 1]);
+    const float* p2 = m.positions + 3 * size_t(m.indices[t + 2]);
+    const double e1[3] = {double(p1[0]) - p0[0], double(p1[1]) - p0[1], double(p1[2]) - p0[2]};
+    const double e2[3] = {double(p2[0]) - p0[0], double(p2[1]) - p0[1], double(p2[2]) - p0[2]};
+    const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+                 cz = e1[0] * e2[1] - e1[1] * e2[0];
+    const double a3 = 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz) / 3.0;
+    for (int k = 0; k < 3; ++k) {
+      area[w[k]] += a3;
+      if (w[k] != w[(k + 1) % 3]) {
+        edges.emplace_back(w[k], w[(k + 1) % 3]);
+        edges.emplace_back(w[(k + 1) % 3], w[k]);
+      }
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<size_t> row(W + 1, 0);
+  for (const auto& e : edges) ++row[e.first + 1];
+  for (size_t i = 0; i < W; ++i) row[i + 1] += row[i];
+  std::vector<double> elen(edges.size());
+  for (size_t i = 0; i < edges.size(); ++i)
+    elen[i] = dist(m.positions + 3 * size_t(first[edges[i].first]), m.positions + 3 * size_t(first[edges[i].second]));
+
+  const double smax = std::max({double(sigma[0]), double(sigma[1]), double(sigma[2])});
+  std::vector<double> blurred(3 * 3 * W, 0.0);  // [channel][welded vertex][xyz]
+  if (smax > 0.0) {
+    const double cutoff = 3.0 * smax;
+    std::vector<double> best(W, INFINITY);
+    std::vector<uint32_t> touched;
+    using Item = std::pair<double, uint32_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    for (size_t s = 0; s < W; ++s) {
+      double acc[3][3] = {};
+      best[s] = 0.0;
+      touched.push_back(uint32_t(s));
+      queue.emplace(0.0, uint32_t(s));
+      while (!queue.empty()) {
+        const auto [d, v] = queue.top();
+        queue.pop();
+        if (d > best[v]) continue;  // stale entry
+        for (int c = 0; c < 3; ++c) {
+          const double sg = sigma[c];
+          if (sg <= 0.0 || d > 3.0 * sg) continue;
+          const double w = area[v] * std::exp(-d * d / (2.0 * sg * sg));
+          for (int a = 0; a < 3; ++a) acc[c][a] += w * nrm[3 * v + a];
+        }
+        for (size_t e = row[v]; e < row[v + 1]; ++e) {
+          const uint32_t u = edges[e].second;
+          const double nd = d + elen[e];
+          if (nd <= cutoff && nd < best[u]) {
+            if (best[u] == INFINITY) touched.push_back(u);
+            best[u] = nd;
+            queue.emplace(nd, u);
+          }
+        }
+      }
+      for (uint32_t t : touched) best[t] = INFINITY;
+      touched.clear();
+      for (int c = 0; c < 3; ++c)
+        for (int a = 0; a < 3; ++a) blurred[(c * W + s) * 3 + a] = acc[c][a];
+    }
+  }
+
+  for (int c = 0; c < 3; ++c) {
+    out.channel[c].resize(3 * V);
+    for (size_t v = 0; v < V; ++v) {
+      const float* n = m.normals + 3 * v;
+      float* o = out.channel[c].data() + 3 * v;
+      const double* b = blurred.data() + (c * W + rep[v]) * 3;
+      const double len = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+      if (sigma[c] <= 0.0f || !(len > 1e-300)) {
+        std::copy(n, n + 3, o);  // radius 0, or the neighbourhood's normals cancel: keep the input
+        continue;
+      }
+      for (int a = 0; a < 3; ++a) o[a] = float(b[a] / len);
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace pelt::shading

@@ -1,0 +1,366 @@
+#include "fur/dynamics.h"
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "tests/fur/test_meshes.h"
+#include "tools/io/builtin_meshes.h"
+
+namespace pelt::fur {
+namespace {
+
+constexpr uint32_t kS = 16;
+constexpr float kSeg = 0.1f;
+const float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// One chain (N = 1) from `root` along unit `dir`, kS nodes kSeg apart.
+std::vector<glm::vec3> chain(glm::vec3 dir, glm::vec3 root = glm::vec3(0.3f, -0.2f, 0.5f)) {
+  std::vector<glm::vec3> p(kS);
+  for (uint32_t k = 0; k < kS; ++k) p[k] = root + dir * (kSeg * float(k));
+  return p;
+}
+
+std::vector<glm::vec3> gravity(const std::vector<glm::vec3>& rest, GravityParams g,
+                               GravityLaw law = GravityLaw::lever) {
+  std::vector<glm::vec3> out(rest.size());
+  apply_gravity(rest, 1, kS, g, law, out, 0, 1);
+  return out;
+}
+
+bool all_finite(const std::vector<glm::vec3>& p) {
+  for (const glm::vec3& v : p)
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) return false;
+  return true;
+}
+
+void expect_segments_kept(const std::vector<glm::vec3>& rest, const std::vector<glm::vec3>& out,
+                          uint32_t N = 1) {
+  for (size_t i = 0; i < N; ++i)
+    for (uint32_t k = 0; k + 1 < rest.size() / N; ++k)
+      EXPECT_NEAR(glm::length(out[i + (k + 1) * N] - out[i + k * N]),
+                  glm::length(rest[i + (k + 1) * N] - rest[i + k * N]), 1e-5)
+          << "vertex " << i << " segment " << k;
+}
+
+glm::vec3 random_unit(std::mt19937& rng) {
+  std::normal_distribution<float> n;
+  glm::vec3 v;
+  do v = {n(rng), n(rng), n(rng)};
+  while (glm::length(v) < 1e-3f);
+  return glm::normalize(v);
+}
+
+TEST(Gravity, KeepsSegmentLengths) {
+  std::mt19937 rng(11);
+  for (GravityLaw law : {GravityLaw::lever, GravityLaw::seed_dot}) {
+    for (int k = 0; k < 200; ++k) {
+      const std::vector<glm::vec3> rest = chain(random_unit(rng));
+      GravityParams g;
+      g.direction = random_unit(rng) * 3.0f;
+      g.strength = std::uniform_real_distribution<float>(0.0f, 5.0f)(rng);
+      g.stability = std::uniform_real_distribution<float>(0.5f, 500.0f)(rng);
+      const auto out = gravity(rest, g, law);
+      ASSERT_TRUE(all_finite(out));
+      EXPECT_EQ(out[0], rest[0]);  // the root stays on the surface
+      expect_segments_kept(rest, out);
+    }
+  }
+}
+
+TEST(Gravity, NoBendAlongGravityOrWithHugeStability) {
+  for (GravityLaw law : {GravityLaw::lever, GravityLaw::seed_dot}) {
+    GravityParams g;
+    g.stability = 1.0f;
+    g.strength = 10.0f;
+    for (glm::vec3 dir : {glm::vec3(0, -1, 0), glm::vec3(0, 1, 0)}) {
+      const auto rest = chain(dir);
+      EXPECT_EQ(gravity(rest, g, law), rest);
+    }
+    g.stability = 1e30f;
+    const auto rest = chain(glm::normalize(glm::vec3(1, 0.3f, 0.2f)));
+    const auto out = gravity(rest, g, law);
+    for (uint32_t k = 0; k < kS; ++k) EXPECT_NEAR(glm::length(out[k] - rest[k]), 0.0f, 1e-6);
+    g.stability = std::numeric_limits<float>::infinity();
+    EXPECT_EQ(gravity(rest, g, law), rest);
+  }
+}
+
+TEST(Gravity, BendsMoreFurtherAlongTheChain) {
+  GravityParams g;
+  g.stability = 100.0f;
+  const auto rest = chain({1, 0, 0});  // horizontal strand
+  const auto out = gravity(rest, g);
+  float prev_disp = 0.0f, prev_angle = 0.0f;
+  for (uint32_t k = 1; k < kS; ++k) {
+    const float disp = glm::length(out[k] - rest[k]);
+    EXPECT_GT(disp, prev_disp) << k;
+    prev_disp = disp;
+    const glm::vec3 seg = glm::normalize(out[k] - out[k - 1]);
+    const float angle = std::acos(std::clamp(glm::dot(seg, glm::vec3(1, 0, 0)), -1.0f, 1.0f));
+    EXPECT_GE(angle, prev_angle - 1e-6f) << k;
+    prev_angle = angle;
+    EXPECT_LT(out[k].y, rest[k].y);  // toward gravity
+  }
+  // Node 0's rotation uses RN = 15 nodes: theta = 1 * 1 * 15 / 100 (lever, sin = 1).
+  const glm::vec3 seg0 = glm::normalize(out[1] - out[0]);
+  EXPECT_NEAR(std::atan2(-seg0.y, seg0.x), 0.15f, 1e-5);
+  // Stiffer fur bends less.
+  g.stability = 400.0f;
+  const auto stiff = gravity(rest, g);
+  EXPECT_LT(glm::length(stiff[kS - 1] - rest[kS - 1]), glm::length(out[kS - 1] - rest[kS - 1]));
+}
+
+TEST(Gravity, SeedDotLawFollowsTheFormulaAsPrinted) {
+  GravityParams g;
+  g.stability = 100.0f;
+  // Horizontal: dot(V, G) = 0, no bend.
+  EXPECT_EQ(gravity(chain({1, 0, 0}), g, GravityLaw::seed_dot), chain({1, 0, 0}));
+  // Pointing up at 45 degrees: dot < 0 clamps to no bend.
+  const auto up = chain(glm::normalize(glm::vec3(1, 1, 0)));
+  EXPECT_EQ(gravity(up, g, GravityLaw::seed_dot), up);
+  // Pointing down at 45 degrees: theta = cos(45) * 15 / 100 at the root.
+  const auto down = chain(glm::normalize(glm::vec3(1, -1, 0)));
+  const auto out = gravity(down, g, GravityLaw::seed_dot);
+  const glm::vec3 seg0 = glm::normalize(out[1] - out[0]);
+  const float angle = std::atan2(-seg0.y, seg0.x);
+  EXPECT_NEAR(angle - 0.785398163f, std::sqrt(0.5f) * 15.0f / 100.0f, 1e-5);
+}
+
+TEST(Gravity, NoNaNForDegenerateInputs) {
+  for (GravityLaw law : {GravityLaw::lever, GravityLaw::seed_dot}) {
+    for (glm::vec3 dir : {glm::vec3(0, -1, 0), glm::vec3(0, 1, 0), glm::vec3(1, 0, 0),
+                          glm::normalize(glm::vec3(1, -1e-8f, 0))}) {
+      const auto rest = chain(dir);
+      GravityParams g;
+      g.stability = 0.0f;  // no restoring force: hangs straight down
+      auto out = gravity(rest, g, law);
+      ASSERT_TRUE(all_finite(out));
+      expect_segments_kept(rest, out);
+      g.direction = glm::vec3(0.0f);  // G = 0: no force
+      g.stability = 10.0f;
+      out = gravity(rest, g, law);
+      EXPECT_EQ(out, rest);
+      g.direction = {0, -1, 0};
+      g.strength = 1e30f;
+      out = gravity(rest, g, law);
+      ASSERT_TRUE(all_finite(out));
+      expect_segments_kept(rest, out);
+      g.stability = kNaN;
+      ASSERT_TRUE(all_finite(gravity(rest, g, law)));
+      g.stability = 1.0f;
+      g.strength = kNaN;
+      EXPECT_EQ(gravity(rest, g, law), rest);
+    }
+    // Zero-length chain (fur length 0).
+    const std::vector<glm::vec3> point(kS, glm::vec3(1, 2, 3));
+    GravityParams g;
+    g.stability = 0.0f;
+    EXPECT_EQ(gravity(point, g, law), point);
+  }
+  // With stability 0 a sideways strand hangs along G.
+  GravityParams g;
+  g.stability = 0.0f;
+  const auto out = gravity(chain({1, 0, 0}), g);
+  for (uint32_t k = 0; k + 1 < kS; ++k)
+    EXPECT_GT(glm::dot(glm::normalize(out[k + 1] - out[k]), glm::vec3(0, -1, 0)), 0.9999f);
+}
+
+TEST(Gravity, RangesAndInPlaceGiveTheSameResult) {
+  FurParams p;
+  p.length = 0.3f;
+  FurGeometry geo;
+  ASSERT_FALSE(build_fur_geometry(io::make_builtin_mesh("box:3"), p, geo).has_value());
+  const uint32_t N = geo.base_vertex_count, S = geo.layers;
+  GravityParams g;
+  g.stability = 50.0f;
+  std::vector<glm::vec3> whole(geo.positions.size()), split(geo.positions.size());
+  apply_gravity(geo.positions, N, S, g, GravityLaw::lever, whole, 0, N);
+  apply_gravity(geo.positions, N, S, g, GravityLaw::lever, split, 0, N / 3);
+  apply_gravity(geo.positions, N, S, g, GravityLaw::lever, split, N / 3, N);
+  EXPECT_EQ(whole, split);
+  std::vector<glm::vec3> in_place = geo.positions;
+  apply_gravity(in_place, N, S, g, GravityLaw::lever, in_place, 0, N);
+  EXPECT_EQ(whole, in_place);
+  expect_segments_kept(geo.positions, whole, N);
+  for (uint32_t i = 0; i < N; ++i) EXPECT_EQ(whole[i], geo.positions[i]);  // roots fixed
+}
+
+// ---- wind ----
+
+std::vector<glm::vec3> wind(const std::vector<glm::vec3>& pose, glm::vec3 n, glm::vec3 force) {
+  std::vector<glm::vec3> out(pose.size());
+  const glm::vec3 normals[1] = {n};
+  const glm::vec3 forces[1] = {force};
+  apply_wind(pose, normals, forces, 1, kS, out, 0, 1);
+  return out;
+}
+
+float angle(glm::vec3 a, glm::vec3 b) {
+  return std::acos(std::clamp(glm::dot(glm::normalize(a), glm::normalize(b)), -1.0f, 1.0f));
+}
+
+TEST(Wind, RotatesTheWholeChainOnceTowardTheForce) {
+  const glm::vec3 n(0, 1, 0);
+  const auto rest = chain(n);
+  const glm::vec3 F(2.0f, 0.0f, 0.0f);
+  const auto out = wind(rest, n, F);
+  ASSERT_TRUE(all_finite(out));
+  EXPECT_EQ(out[0], rest[0]);
+  expect_segments_kept(rest, out);
+  // One rigid rotation: every segment has the same direction, theta = phi (1 - e^-|F|).
+  const float theta = 1.5707963f * (1.0f - std::exp(-2.0f));
+  for (uint32_t k = 0; k + 1 < kS; ++k) {
+    const glm::vec3 seg = glm::normalize(out[k + 1] - out[k]);
+    EXPECT_NEAR(angle(seg, n), theta, 1e-5);
+    EXPECT_NEAR(angle(seg, n) + angle(seg, F), angle(n, F), 1e-5);  // between n and F
+  }
+  // A stronger force bends further, never past the force.
+  float prev = 0.0f;
+  for (float m : {0.1f, 0.5f, 1.0f, 3.0f, 8.0f, 1e20f}) {
+    const auto o = wind(rest, n, glm::vec3(m, 0, 0));
+    const float a = angle(o[kS - 1] - o[0], n);
+    if (m < 1e3f) {
+      EXPECT_GT(a, prev) << m;
+    }
+    EXPECT_LE(a, angle(n, F) + 1e-6f);
+    prev = a;
+  }
+}
+
+TEST(Wind, NoRotationOrNaNForDegenerateForces) {
+  const glm::vec3 n(0, 1, 0);
+  const auto rest = chain(n);
+  for (glm::vec3 F : {glm::vec3(0.0f), glm::vec3(0, 5, 0), glm::vec3(0, -5, 0),
+                      glm::vec3(kNaN, 0, 0), glm::vec3(std::numeric_limits<float>::infinity(), 0, 0)}) {
+    EXPECT_EQ(wind(rest, n, F), rest);
+  }
+  // A zero normal (never produced by the geometry) does not poison the output either.
+  EXPECT_EQ(wind(rest, glm::vec3(0.0f), glm::vec3(1, 0, 0)), rest);
+  // Random forces on random chains: finite, lengths kept.
+  std::mt19937 rng(3);
+  for (int k = 0; k < 200; ++k) {
+    const glm::vec3 nn = random_unit(rng);
+    const auto r = chain(nn);
+    const auto o = wind(r, nn, random_unit(rng) * std::uniform_real_distribution<float>(0, 10)(rng));
+    ASSERT_TRUE(all_finite(o));
+    expect_segments_kept(r, o);
+  }
+}
+
+TEST(Wind, FieldIsUniformWithoutGustsAndTravelsWithThem) {
+  FurParams p;
+  FurGeometry geo;
+  ASSERT_FALSE(build_fur_geometry(io::make_builtin_mesh("box:3"), p, geo).has_value());
+  const uint32_t N = geo.base_vertex_count;
+  WindParams w;
+  w.direction = {0, 0, 2};
+  w.strength = 1.5f;
+  w.gust_scale = 0.0f;
+  std::vector<glm::vec3> f(N);
+  make_wind_field(geo, w).forces(3.7, f, 0, N);
+  for (const glm::vec3& v : f) EXPECT_EQ(v, glm::vec3(0, 0, 1.5f));
+  w.gust_scale = 0.5f;
+  w.gust_frequency = 2.0f;
+  const WindField field = make_wind_field(geo, w);
+  std::vector<glm::vec3> f0(N), f1(N), fq(N);
+  field.forces(1.0, f0, 0, N);
+  field.forces(1.5, f1, 0, N);   // one full period later
+  field.forces(1.125, fq, 0, N);  // a quarter period later
+  bool moved = false;
+  for (uint32_t i = 0; i < N; ++i) {
+    const float m = glm::length(f0[i]);
+    EXPECT_GE(m, 1.5f * 0.5f - 1e-5f);
+    EXPECT_LE(m, 1.5f * 1.5f + 1e-5f);
+    EXPECT_NEAR(glm::length(f0[i] - f1[i]), 0.0f, 1e-4);
+    EXPECT_NEAR(glm::dot(glm::normalize(f0[i]), glm::vec3(0, 0, 1)), 1.0f, 1e-6);
+    moved |= std::fabs(glm::length(fq[i]) - m) > 0.1f;
+  }
+  EXPECT_TRUE(moved);
+  // Varies over the surface at one instant.
+  float lo = 1e9f, hi = 0.0f;
+  for (const glm::vec3& v : f0) lo = std::min(lo, glm::length(v)), hi = std::max(hi, glm::length(v));
+  EXPECT_GT(hi - lo, 0.3f);
+}
+
+// ---- animation ----
+
+TEST(Animation, LerpEndpointsAreThePoses) {
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> u(-10, 10);
+  std::vector<glm::vec3> a(1000), b(1000), out(1000);
+  for (size_t k = 0; k < a.size(); ++k) a[k] = {u(rng), u(rng), u(rng)}, b[k] = {u(rng), u(rng), u(rng)};
+  lerp_poses(a, b, 0.0f, out);
+  EXPECT_EQ(out, a);
+  lerp_poses(a, b, 1.0f, out);
+  EXPECT_EQ(out, b);
+  lerp_poses(a, b, 0.25f, out);
+  for (size_t k = 0; k < a.size(); ++k) EXPECT_NEAR(glm::length(out[k] - (0.75f * a[k] + 0.25f * b[k])), 0.0f, 1e-5);
+}
+
+TEST(Animation, TimeCurveSwingsBetweenThePoses) {
+  EXPECT_EQ(animation_t(0, 120), 0.0f);
+  EXPECT_NEAR(animation_t(60, 120), 1.0f, 1e-6);
+  EXPECT_NEAR(animation_t(30, 120), 0.5f, 1e-6);
+  EXPECT_NEAR(animation_t(120 * 1000 + 60, 120), 1.0f, 1e-6);
+  for (int f = 0; f < 500; ++f) {
+    const float t = animation_t(f, 77.0);
+    EXPECT_GE(t, 0.0f);
+    EXPECT_LE(t, 1.0f);
+  }
+  EXPECT_EQ(animation_t(10, 0), 0.0f);
+  EXPECT_EQ(animation_t(10, kNaN), 0.0f);
+  EXPECT_EQ(llvmpipe_animation_t(0), 0.5f);
+  EXPECT_NEAR(llvmpipe_animation_t(5), 0.5f + 0.5f * std::sin(0.5f), 1e-7);
+}
+
+TEST(Animation, TangentsFollowTheDeformedChain) {
+  const glm::vec3 dir = glm::normalize(glm::vec3(1, 2, 3));
+  const auto straight = chain(dir);
+  const glm::vec3 growth[1] = {glm::vec3(0, 1, 0)};
+  std::vector<glm::vec3> t(kS);
+  strand_tangents(straight, growth, 1, kS, t, 0, 1);
+  for (const glm::vec3& v : t) EXPECT_NEAR(glm::length(v - dir), 0.0f, 1e-6);
+  GravityParams g;
+  g.stability = 30.0f;
+  const auto bent = gravity(chain({1, 0, 0}), g);
+  strand_tangents(bent, growth, 1, kS, t, 0, 1);
+  for (uint32_t k = 0; k < kS; ++k) EXPECT_NEAR(glm::length(t[k]), 1.0f, 1e-6);
+  for (uint32_t k = 1; k + 1 < kS; ++k) EXPECT_GT(glm::dot(t[k], glm::normalize(bent[k + 1] - bent[k - 1])), 0.99999f);
+  EXPECT_LT(t[kS - 1].y, t[0].y);  // tip points further down than the root
+  const std::vector<glm::vec3> point(kS, glm::vec3(1.0f));
+  strand_tangents(point, growth, 1, kS, t, 0, 1);
+  for (const glm::vec3& v : t) EXPECT_EQ(v, growth[0]);
+}
+
+TEST(Animation, LlvmpipePosesFollowTheHarness) {
+  FurParams p;  // 16 shells, length 0.1 R
+  FurGeometry geo;
+  ASSERT_FALSE(build_fur_geometry(io::make_builtin_mesh("box:7"), p, geo).has_value());
+  const size_t V = geo.positions.size();
+  std::vector<glm::vec3> p0(V), p1(V);
+  llvmpipe_poses(geo, p0, p1);
+  const uint32_t N = geo.base_vertex_count;
+  const float R = std::sqrt(3.0f);
+  for (uint32_t i = 0; i < N; ++i) {
+    EXPECT_EQ(p0[i], geo.positions[i]);  // bend 0 at the root
+    EXPECT_EQ(p1[i], geo.positions[i]);
+    const glm::vec3 n = geo.base_normals[i];
+    const glm::vec3 q = geo.positions[i] - geo.bounds.centre;
+    const float bend = 0.1f * R;  // s = 15
+    const size_t I = i + 15 * size_t(N);
+    const glm::vec3 g(0, -1, 0), w = glm::normalize(glm::vec3(1, 0.2f, 0.6f));
+    const glm::vec3 want0 = geo.positions[I] + (g - n * glm::dot(g, n)) * 0.4f * bend;
+    const float gust = 0.75f + 0.25f * std::sin(3.0f * (q.x + q.z) / R);
+    const glm::vec3 want1 = geo.positions[I] + (w - n * glm::dot(w, n)) * 0.8f * bend * gust;
+    EXPECT_NEAR(glm::length(p0[I] - want0), 0.0f, 1e-5);
+    EXPECT_NEAR(glm::length(p1[I] - want1), 0.0f, 1e-5);
+  }
+}
+
+}  // namespace
+}  // namespace pelt::fur

@@ -1,0 +1,289 @@
+#include "fur/fur_geometry.h"
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <set>
+#include <utility>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "tests/fur/test_meshes.h"
+#include "tools/io/builtin_meshes.h"
+
+namespace pelt::fur {
+namespace {
+
+FurGeometry build(const Mesh& m, const FurParams& p) {
+  FurGeometry g;
+  auto e = build_fur_geometry(m, p, g);
+  EXPECT_FALSE(e.has_value()) << e->field << ": " << e->reason;
+  return g;
+}
+
+FurParams shells(int s) {
+  FurParams p;
+  p.shells = s;
+  return p;
+}
+
+TEST(FurGeometry, TetrahedronCountsAndLayout) {
+  const Mesh m = test::tetrahedron();
+  const FurGeometry g = build(m, shells(4));
+  EXPECT_EQ(g.counts.base_vertices, 4u);
+  EXPECT_EQ(g.counts.shell_vertices, 16u);
+  EXPECT_EQ(g.counts.fin_vertices, 16u);
+  EXPECT_EQ(g.counts.total_vertices, 20u);
+  EXPECT_EQ(g.counts.base_faces, 4u);
+  EXPECT_EQ(g.counts.shell_faces, 16u);
+  EXPECT_EQ(g.counts.edges, 6u);
+  EXPECT_EQ(g.counts.fin_faces, 2u * 6u * 3u);
+  EXPECT_EQ(g.counts.total_faces, 4u + 16u + 36u);
+  EXPECT_EQ(g.positions.size(), 16u);
+  EXPECT_EQ(g.shell_indices.size(), 3u * 16u);
+  EXPECT_EQ(g.fin_indices.size(), 3u * 36u);
+  // Shell triangle s*F + f is base triangle f shifted to layer s.
+  for (uint32_t s = 0; s < 4; ++s)
+    for (size_t k = 0; k < m.indices.size(); ++k)
+      EXPECT_EQ(g.shell_indices[s * m.indices.size() + k], m.indices[k] + s * 4);
+}
+
+TEST(FurGeometry, PositionsFollowEquationOneExactly) {
+  for (const Mesh& m : {test::tetrahedron(), test::quad()}) {
+    FurParams p = shells(7);
+    p.length = 0.25f;
+    const FurGeometry g = build(m, p);
+    const BoundingSphere b = bounding_sphere(m);
+    const float sld = p.length * b.radius / float(p.shells - 1);
+    EXPECT_EQ(g.layer_distance, sld);
+    const size_t N = m.positions.size();
+    for (int s = 0; s < p.shells; ++s) {
+      for (size_t i = 0; i < N; ++i) {
+        const glm::vec3 n = m.normals[i];
+        const glm::vec3 want = m.positions[i] + n * (sld * float(s));
+        EXPECT_EQ(g.positions[i + s * N], want) << "i=" << i << " s=" << s;
+        // Layer s is s * SL_D from the base along the unit normal.
+        EXPECT_NEAR(glm::length(g.positions[i + s * N] - m.positions[i]), sld * s, 1e-6);
+        EXPECT_EQ(g.layer[i + s * N], s);
+        EXPECT_EQ(g.shell_uvs[i + s * N], m.uvs[i]);
+        EXPECT_FLOAT_EQ(g.fin_uvs[i + s * N].y, float(s) / float(p.shells - 1));
+        EXPECT_EQ(g.fin_uvs[i + s * N].x, g.fin_uvs[i].x);  // u depends on the base vertex only
+      }
+    }
+  }
+}
+
+TEST(FurGeometry, EdgesAreSortedUniqueWithTheirFaces) {
+  const FurGeometry tet = build(test::tetrahedron(), shells(3));
+  ASSERT_EQ(tet.edges.size(), 6u);
+  for (size_t k = 0; k < tet.edges.size(); ++k) {
+    const FurEdge& e = tet.edges[k];
+    EXPECT_LT(e.a, e.b);
+    EXPECT_NE(e.face0, kNoFace);
+    EXPECT_NE(e.face1, kNoFace);  // closed mesh: every edge has two faces
+    EXPECT_NE(e.face0, e.face1);
+    if (k > 0) {
+      EXPECT_LT(std::make_pair(tet.edges[k - 1].a, tet.edges[k - 1].b), std::make_pair(e.a, e.b));
+    }
+  }
+  const FurGeometry q = build(test::quad(), shells(3));
+  ASSERT_EQ(q.edges.size(), 5u);
+  int boundary = 0;
+  for (const FurEdge& e : q.edges) boundary += e.face1 == kNoFace;
+  EXPECT_EQ(boundary, 4);
+  // Edge (0,2) is the diagonal shared by both triangles.
+  EXPECT_EQ(q.edges[1].a, 0u);
+  EXPECT_EQ(q.edges[1].b, 2u);
+  EXPECT_EQ(q.edges[1].face0, 0u);
+  EXPECT_EQ(q.edges[1].face1, 1u);
+}
+
+TEST(FurGeometry, FinQuadsUseTheSharedVerticesInLayerThenEdgeOrder) {
+  const Mesh m = test::quad();
+  const FurGeometry g = build(m, shells(5));
+  const uint32_t N = 4, E = uint32_t(g.edges.size());
+  for (uint32_t s = 0; s + 1 < 5; ++s) {
+    for (uint32_t e = 0; e < E; ++e) {
+      const size_t q = size_t(s) * E + e;
+      const uint32_t a = g.edges[e].a, b = g.edges[e].b;
+      const uint32_t* t = &g.fin_indices[q * 6];
+      EXPECT_EQ(t[0], a + s * N);
+      EXPECT_EQ(t[1], b + s * N);
+      EXPECT_EQ(t[2], b + (s + 1) * N);
+      EXPECT_EQ(t[3], a + s * N);
+      EXPECT_EQ(t[4], b + (s + 1) * N);
+      EXPECT_EQ(t[5], a + (s + 1) * N);
+      EXPECT_EQ(&g.fin_edge(q), &g.edges[e]);
+    }
+  }
+  for (uint32_t idx : g.fin_indices) EXPECT_LT(idx, g.positions.size());
+}
+
+TEST(FurGeometry, CombingBlendsTheGrowthDirection) {
+  const Mesh m = test::quad();  // normals +y
+  FurParams p = shells(4);
+  p.comb = CombParams{{2.0f, 0.0f, 0.0f}, 1.0f};
+  FurGeometry g = build(m, p);
+  for (const glm::vec3& d : g.growth) EXPECT_EQ(d, glm::vec3(1, 0, 0));
+  p.comb->weight = 0.5f;
+  g = build(m, p);
+  for (const glm::vec3& d : g.growth) {
+    EXPECT_NEAR(d.x, std::sqrt(0.5f), 1e-6);
+    EXPECT_NEAR(d.y, std::sqrt(0.5f), 1e-6);
+  }
+  // Layers move along the combed direction.
+  EXPECT_NEAR(glm::length(g.positions[4 * 3] - m.positions[0]), 3 * g.layer_distance, 1e-6);
+  EXPECT_NEAR(g.positions[4 * 3].x - m.positions[0].x, 3 * g.layer_distance * std::sqrt(0.5f), 1e-6);
+  // Opposite direction at weight 0.5 cancels: the normal is kept, never NaN.
+  p.comb = CombParams{{0.0f, -1.0f, 0.0f}, 0.5f};
+  g = build(m, p);
+  for (const glm::vec3& d : g.growth) EXPECT_EQ(d, glm::vec3(0, 1, 0));
+  p.comb->weight = 0.0f;
+  g = build(m, p);
+  for (const glm::vec3& d : g.growth) EXPECT_EQ(d, glm::vec3(0, 1, 0));
+}
+
+TEST(FurGeometry, MissingNormalsAndUvsAreComputed) {
+  Mesh m = test::tetrahedron();
+  const Mesh with = m;
+  m.normals.clear();
+  m.uvs.clear();
+  const FurGeometry g = build(m, shells(3));
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_NEAR(glm::length(g.base_normals[i] - with.normals[i]), 0.0f, 1e-6);
+    EXPECT_TRUE(std::isfinite(g.shell_uvs[i].x) && std::isfinite(g.shell_uvs[i].y));
+  }
+  EXPECT_NE(g.shell_uvs[0], g.shell_uvs[1]);
+}
+
+TEST(FurGeometry, BadMeshesAreRejectedByField) {
+  FurGeometry g;
+  Mesh m = test::tetrahedron();
+  m.indices[5] = 9;
+  auto e = build_fur_geometry(m, shells(3), g);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "mesh.indices");
+  m = test::tetrahedron();
+  m.indices.pop_back();
+  e = build_fur_geometry(m, shells(3), g);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "mesh.indices");
+  m = test::tetrahedron();
+  m.normals.pop_back();
+  e = build_fur_geometry(m, shells(3), g);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "mesh.normals");
+  m = test::tetrahedron();
+  m.normals[2] = {0, 0, 0};
+  e = build_fur_geometry(m, shells(3), g);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "mesh.normals");
+  m = test::tetrahedron();
+  m.uvs.resize(2);
+  e = build_fur_geometry(m, shells(3), g);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "mesh.uvs");
+  m = test::tetrahedron();
+  m.positions[1].x = std::numeric_limits<float>::quiet_NaN();
+  e = build_fur_geometry(m, shells(3), g);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "mesh.positions");
+  e = build_fur_geometry(Mesh{}, shells(3), g);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "mesh.positions");
+  e = build_fur_geometry(test::tetrahedron(), shells(1), g);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "shells");
+}
+
+// Seed Table 1, exactly.
+TEST(FurGeometry, Box7MatchesSeedTable1) {
+  const FurGeometry g = build(io::make_builtin_mesh("box:7"), shells(16));
+  EXPECT_EQ(g.counts.base_vertices, 296u);
+  EXPECT_EQ(g.counts.shell_vertices, 4736u);
+  EXPECT_EQ(g.counts.fin_vertices, 4736u);
+  EXPECT_EQ(g.counts.total_vertices, 5032u);
+  EXPECT_EQ(g.counts.base_faces, 588u);
+  EXPECT_EQ(g.counts.shell_faces, 9408u);
+  EXPECT_EQ(g.counts.fin_faces, 26460u);
+  EXPECT_EQ(g.counts.total_faces, 36456u);
+  EXPECT_EQ(g.counts.edges, 882u);
+  EXPECT_EQ(g.fin_indices.size(), 3u * 26460u);
+  EXPECT_EQ(g.shell_indices.size(), 3u * 9408u);
+  // The llvmpipe harness's fur: R = sqrt(3), outermost layer 0.1 R from the surface.
+  EXPECT_NEAR(g.bounds.radius, std::sqrt(3.0f), 1e-6);
+  EXPECT_NEAR(g.layer_distance, 0.1f * std::sqrt(3.0f) / 15.0f, 1e-7);
+}
+
+// The llvmpipe README's teapot counts (seed Tables 2 and 3 list 302 and 882 base
+// vertices; the tessellation welds to 301 and 821, see the README).
+TEST(FurGeometry, TeapotCountsMatchTheLlvmpipeHarness) {
+  const FurGeometry t3 = build(io::make_builtin_mesh("teapot:3"), shells(16));
+  EXPECT_EQ(t3.counts.base_vertices, 301u);
+  EXPECT_EQ(t3.counts.shell_vertices, 4816u);
+  EXPECT_EQ(t3.counts.total_vertices, 5117u);
+  EXPECT_EQ(t3.counts.base_faces, 552u);
+  EXPECT_EQ(t3.counts.shell_faces, 8832u);
+  EXPECT_EQ(t3.counts.fin_faces, 25560u);
+  EXPECT_EQ(t3.counts.total_faces, 34944u);
+  EXPECT_EQ(t3.counts.edges, 852u);
+  const FurGeometry t5 = build(io::make_builtin_mesh("teapot:5"), shells(16));
+  EXPECT_EQ(t5.counts.base_vertices, 821u);
+  EXPECT_EQ(t5.counts.shell_vertices, 13136u);
+  EXPECT_EQ(t5.counts.total_vertices, 13957u);
+  EXPECT_EQ(t5.counts.base_faces, 1560u);
+  EXPECT_EQ(t5.counts.shell_faces, 24960u);
+  EXPECT_EQ(t5.counts.fin_faces, 71400u);
+  EXPECT_EQ(t5.counts.total_faces, 97920u);
+  EXPECT_EQ(t5.counts.edges, 2380u);
+  int boundary = 0;
+  for (const FurEdge& e : t5.edges) boundary += e.face1 == kNoFace;
+  EXPECT_EQ(boundary, 80);
+}
+
+TEST(FinWeight, ModesAndSilhouetteShape) {
+  const glm::vec3 up(0, 1, 0), side(1, 0, 0);
+  EXPECT_EQ(fin_weight(up, up, side, FinMode::off), 0.0f);
+  EXPECT_EQ(fin_weight(up, up, up, FinMode::all), 1.0f);
+  // Both faces facing the viewer: no fin.
+  EXPECT_EQ(fin_weight(up, up, up, FinMode::silhouette), 0.0f);
+  EXPECT_EQ(fin_weight(up, up, -up, FinMode::silhouette), 0.0f);
+  // Edge-on: full fin.
+  EXPECT_EQ(fin_weight(up, up, side, FinMode::silhouette), 1.0f);
+  // True silhouette: one face toward, one away.
+  const glm::vec3 a = glm::normalize(glm::vec3(1, 1, 0)), b = glm::normalize(glm::vec3(-1, 1, 0));
+  EXPECT_EQ(fin_weight(a, b, side, FinMode::silhouette), 1.0f);
+  // Boundary edge uses its one face.
+  EXPECT_EQ(fin_weight(up, std::nullopt, side, FinMode::silhouette), 1.0f);
+  EXPECT_EQ(fin_weight(up, std::nullopt, up, FinMode::silhouette), 0.0f);
+  // Fades monotonically as the face turns toward the viewer; gone at |n.v| = 0.5.
+  float prev = 1.0f;
+  for (int k = 0; k <= 90; ++k) {
+    const float ang = float(k) * 3.14159265f / 180.0f;  // angle between v and the face plane
+    const glm::vec3 v(std::cos(ang), std::sin(ang), 0.0f);
+    const float w = fin_weight(up, up, v, FinMode::silhouette);
+    EXPECT_LE(w, prev + 1e-7f);
+    prev = w;
+    if (std::sin(ang) >= 0.5f + 1e-6f) {
+      EXPECT_EQ(w, 0.0f);
+    }
+  }
+  EXPECT_NEAR(fin_weight(up, up, glm::vec3(1, std::tan(3.14159265f / 12), 0), FinMode::silhouette),
+              0.5f, 0.15f);
+  // Degenerate view: the fin is shown, never NaN.
+  EXPECT_EQ(fin_weight(up, up, glm::vec3(0), FinMode::silhouette), 1.0f);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(fin_weight(up, up, glm::vec3(nan, 0, 0), FinMode::silhouette), 1.0f);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1, 1);
+  for (int k = 0; k < 1000; ++k) {
+    glm::vec3 na(u(rng), u(rng), u(rng)), nb(u(rng), u(rng), u(rng)), v(u(rng), u(rng), u(rng));
+    const float w = fin_weight(glm::normalize(na), glm::normalize(nb), v, FinMode::silhouette);
+    EXPECT_GE(w, 0.0f);
+    EXPECT_LE(w, 1.0f);
+  }
+}
+
+}  // namespace
+}  // namespace pelt::fur

@@ -1,0 +1,99 @@
+#include "fur/fur_params.h"
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+namespace pelt::fur {
+namespace {
+
+std::string bad_field(const FurParams& p) {
+  auto e = validate(p);
+  if (!e) return "<accepted>";
+  EXPECT_FALSE(e->reason.empty()) << e->field;
+  return e->field;
+}
+
+TEST(FurParams, DefaultsAreValidAndAsDocumented) {
+  FurParams p;
+  EXPECT_FALSE(validate(p).has_value());
+  EXPECT_EQ(p.shells, 16);
+  EXPECT_EQ(p.texture_size, 256);
+  EXPECT_EQ(p.fins, FinMode::silhouette);
+  EXPECT_FALSE(p.gravity.has_value());
+  EXPECT_FALSE(p.wind.has_value());
+  EXPECT_FALSE(p.comb.has_value());
+  p.gravity = GravityParams{};
+  p.wind = WindParams{};
+  p.comb = CombParams{};
+  EXPECT_FALSE(validate(p).has_value());
+}
+
+TEST(FurParams, EachBadFieldIsNamedByItsKeyPath) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  auto with = [](auto edit) {
+    FurParams p;
+    p.gravity = GravityParams{};
+    p.wind = WindParams{};
+    p.comb = CombParams{};
+    edit(p);
+    return p;
+  };
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.shells = 1; })), "shells");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.shells = 129; })), "shells");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.length = 0.0f; })), "length");
+  EXPECT_EQ(bad_field(with([&](FurParams& p) { p.length = nan; })), "length");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.density = 0.0f; })), "density");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.density = 100.5f; })), "density");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.density = 0.0001f; })), "density");  // < 1 strand
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.texture_size = 100; })), "texture_size");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.texture_size = 8; })), "texture_size");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.texture_size = 8192; })), "texture_size");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.fins = FinMode(7); })), "fins");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.root_color.z = 1.5f; })), "root_color[2]");
+  EXPECT_EQ(bad_field(with([&](FurParams& p) { p.tip_color.x = nan; })), "tip_color[0]");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.gravity->direction = {0, 0, 0}; })),
+            "gravity.direction");
+  EXPECT_EQ(bad_field(with([&](FurParams& p) { p.gravity->direction.y = inf; })),
+            "gravity.direction[1]");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.gravity->strength = -1.0f; })),
+            "gravity.strength");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.gravity->stability = 0.0f; })),
+            "gravity.stability");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.wind->direction = {0, 0, 0}; })),
+            "wind.direction");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.wind->strength = -0.1f; })), "wind.strength");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.wind->gust_frequency = -2.0f; })),
+            "wind.gust_frequency");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.wind->gust_scale = 1.5f; })), "wind.gust_scale");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.comb->direction = {0, 0, 0}; })),
+            "comb.direction");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.comb->weight = -0.25f; })), "comb.weight");
+}
+
+TEST(FurParams, ReasonSaysWhatWasWrong) {
+  FurParams p;
+  p.gravity = GravityParams{};
+  p.gravity->stability = -3.0f;
+  auto e = validate(p);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "gravity.stability");
+  EXPECT_NE(e->reason.find("-3"), std::string::npos) << e->reason;
+}
+
+TEST(FurParams, FinModeStringsRoundTrip) {
+  for (FinMode m : {FinMode::off, FinMode::all, FinMode::silhouette}) {
+    auto back = fin_mode_from_string(to_string(m));
+    ASSERT_TRUE(back.has_value());
+    EXPECT_EQ(*back, m);
+  }
+  EXPECT_EQ(to_string(FinMode::silhouette), "silhouette");
+  EXPECT_FALSE(fin_mode_from_string("Silhouette").has_value());
+  EXPECT_FALSE(fin_mode_from_string("").has_value());
+  EXPECT_FALSE(fin_mode_from_string("on").has_value());
+}
+
+}  // namespace
+}  // namespace pelt::fur

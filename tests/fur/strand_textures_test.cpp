@@ -1,0 +1,233 @@
+#include "fur/strand_textures.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+namespace pelt::fur {
+namespace {
+
+StrandTextures grow(const FurParams& p) {
+  StrandTextures t;
+  auto e = generate_strand_textures(p, t);
+  EXPECT_FALSE(e.has_value()) << e->field << ": " << e->reason;
+  return t;
+}
+
+size_t covered(const LayerTextures& t, int s) {
+  size_t n = 0;
+  const uint8_t* p = t.layer(s);
+  for (size_t k = 0; k < size_t(t.size) * t.size; ++k) n += p[4 * k + 3] > 0;
+  return n;
+}
+
+uint8_t to8(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+
+TEST(StrandTextures, LayoutAndFormat) {
+  FurParams p;
+  p.shells = 5;
+  p.texture_size = 64;
+  const StrandTextures t = grow(p);
+  EXPECT_EQ(t.shells.size, 64);
+  EXPECT_EQ(t.shells.layers, 5);
+  EXPECT_EQ(t.shells.rgba.size(), 5u * 64 * 64 * 4);
+  EXPECT_EQ(t.fin.size, 64);
+  EXPECT_EQ(t.fin.layers, 1);
+  EXPECT_EQ(t.fin.rgba.size(), 64u * 64 * 4);
+}
+
+TEST(StrandTextures, DensityIsWithinTwoPercentOfTheRequest) {
+  for (float density : {15.0f, 30.0f, 2.5f}) {
+    for (int size : {64, 256}) {
+      FurParams p;
+      p.density = density;
+      p.texture_size = size;
+      p.seed = 77;
+      const StrandTextures t = grow(p);
+      const double area = double(size) * size;
+      const double want = density / 100.0;
+      const double roots = double(t.strands.size()) / area;
+      const double measured = double(covered(t.shells, 0)) / area;  // root texels
+      EXPECT_NEAR(roots / want, 1.0, 0.02) << "density " << density << " size " << size;
+      EXPECT_NEAR(measured / want, 1.0, 0.02) << "density " << density << " size " << size;
+    }
+  }
+}
+
+TEST(StrandTextures, SameSeedSameTexturesOtherSeedDifferent) {
+  FurParams p;
+  p.texture_size = 128;
+  p.seed = 1234;
+  const StrandTextures a = grow(p), b = grow(p);
+  EXPECT_EQ(a.shells.rgba, b.shells.rgba);
+  EXPECT_EQ(a.fin.rgba, b.fin.rgba);
+  p.seed = 1235;
+  const StrandTextures c = grow(p);
+  EXPECT_NE(a.shells.rgba, c.shells.rgba);
+  EXPECT_NE(a.fin.rgba, c.fin.rgba);
+}
+
+TEST(StrandTextures, AlphaFallsFromRootToTipAlongEachStrand) {
+  FurParams p;
+  p.texture_size = 256;
+  p.density = 3.0f;  // sparse, so most strands are alone
+  p.seed = 9;
+  const StrandTextures t = grow(p);
+  const int S = p.shells, N = p.texture_size;
+  size_t exact = 0, total = 0, slanted = 0;
+  for (const ShellStrand& st : t.strands) {
+    EXPECT_GE(st.seed.y, 2.0f);  // large up component
+    float prev_alpha = 2.0f;
+    int x0, y0, xs, ys;
+    strand_texel(st, 0, S, N, x0, y0);
+    EXPECT_EQ(x0, st.root_x);
+    EXPECT_EQ(y0, st.root_y);
+    for (int s = 0; s < S; ++s) {
+      const float h = float(s) / float(S - 1);
+      const float a = strand_alpha(st, h);
+      if (a <= 0.0f) {
+        EXPECT_GT(h, st.length);
+        continue;
+      }
+      EXPECT_LT(a, prev_alpha);
+      prev_alpha = a;
+      int x, y;
+      strand_texel(st, s, S, N, x, y);
+      const uint8_t tex_a = t.shells.texel(s, x, y)[3];
+      EXPECT_GE(tex_a, to8(a));  // the largest alpha wins where strands meet
+      exact += tex_a == to8(a);
+      ++total;
+    }
+    strand_texel(st, S - 1, S, N, xs, ys);
+    slanted += (xs != x0 || ys != y0);
+  }
+  EXPECT_GT(double(exact) / double(total), 0.9);
+  EXPECT_GT(slanted, t.strands.size() / 2);  // strands slant with their seed vectors
+  // Over the whole texture: mean strand alpha per layer falls from root to tip, and fewer
+  // strands reach the upper layers.
+  double prev_mean = 256.0;
+  size_t first_count = 0;
+  for (int s = 0; s < S; ++s) {
+    double sum = 0;
+    size_t n = 0;
+    const uint8_t* l = t.shells.layer(s);
+    for (size_t k = 0; k < size_t(N) * N; ++k)
+      if (l[4 * k + 3]) sum += l[4 * k + 3], ++n;
+    ASSERT_GT(n, 0u);
+    EXPECT_LT(sum / n, prev_mean) << "layer " << s;
+    prev_mean = sum / n;
+    if (s == 0) first_count = n;
+    if (s == S - 1) {
+      EXPECT_LT(n, first_count / 3);  // lengths in [0.6, 1]: a fifth of the strands reach the top
+    }
+  }
+}
+
+TEST(StrandTextures, ColourRunsFromRootToTip) {
+  FurParams p;
+  p.texture_size = 64;
+  p.root_color = {0.0f, 0.0f, 1.0f};
+  p.tip_color = {1.0f, 0.0f, 0.0f};
+  const StrandTextures t = grow(p);
+  // Empty texels carry the layer colour (brightness 1) so filtering stays in colour.
+  const uint8_t* bottom = t.shells.layer(0);
+  const uint8_t* top = t.shells.layer(p.shells - 1);
+  for (size_t k = 0; k < 64 * 64; ++k) {
+    if (bottom[4 * k + 3] == 0) {
+      EXPECT_EQ(bottom[4 * k + 0], 0);
+      EXPECT_EQ(bottom[4 * k + 2], 255);
+    }
+    if (top[4 * k + 3] == 0) {
+      EXPECT_EQ(top[4 * k + 0], 255);
+      EXPECT_EQ(top[4 * k + 2], 0);
+    }
+  }
+}
+
+TEST(StrandTextures, FinShowsStrandsFromTheSide) {
+  FurParams p;
+  p.texture_size = 128;
+  p.density = 30.0f;
+  const StrandTextures t = grow(p);
+  const int N = 128;
+  auto row_stats = [&](int y, double& mean, size_t& count) {
+    double sum = 0;
+    count = 0;
+    for (int x = 0; x < N; ++x) {
+      const uint8_t a = t.fin.texel(0, x, y)[3];
+      if (a) sum += a, ++count;
+    }
+    mean = count ? sum / count : 0.0;
+  };
+  double m0, m_mid, m_top;
+  size_t c0, c_mid, c_top;
+  row_stats(0, m0, c0);
+  row_stats(N / 2, m_mid, c_mid);
+  row_stats(N - 1, m_top, c_top);
+  EXPECT_GT(c0, size_t(N / 4));  // roots along the bottom row
+  EXPECT_GT(m0, m_mid);          // alpha fades toward the tip
+  // A fifth of the strands reach the top row.
+  EXPECT_GT(c_top, 0u);
+  EXPECT_LT(c_top, c0 / 2);
+  EXPECT_GT(c_mid, c_top);
+}
+
+TEST(StrandTextures, RejectsBadParams) {
+  FurParams p;
+  p.texture_size = 300;
+  StrandTextures t;
+  auto e = generate_strand_textures(p, t);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "texture_size");
+}
+
+// Spot checks against the llvmpipe README's formulas, recomputed here from its words.
+TEST(StrandTextures, MatchLlvmpipeReproducesTheHarnessFormulas) {
+  const StrandTextures t = match_llvmpipe_textures();
+  ASSERT_EQ(t.shells.size, 256);
+  ASSERT_EQ(t.shells.layers, 16);
+  ASSERT_EQ(t.fin.size, 256);
+  const float fur[3] = {0.80f, 0.58f, 0.36f};
+  std::mt19937 gen(2008);
+  auto next = [&] { return double(gen()) / 4294967296.0; };
+  // Texels are generated row by row; check the first 300 texels of row 0 and 1 fully.
+  size_t strands = 0;
+  for (int k = 0; k < 300; ++k) {
+    const int x = k % 256, y = k / 256;
+    const bool strand = next() < 0.30;
+    const float bright = float(0.75 + 0.5 * next());
+    strands += strand;
+    for (int s : {0, 7, 15}) {
+      const float f = float(s) / 15.0f;
+      const uint8_t* p = t.shells.texel(s, x, y);
+      const float shade = (0.45f + 0.55f * f) * (strand ? bright : 1.0f);
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(p[c], to8(fur[c] * shade)) << k << " " << s;
+      EXPECT_EQ(p[3], strand ? to8(1.0f - 0.8f * f) : 0) << k << " " << s;
+    }
+  }
+  EXPECT_GT(strands, 60u);
+  EXPECT_LT(strands, 120u);
+  // About 30% strand roots overall; alpha 1.0 -> 0.2 from layer 0 to 15.
+  const double frac = double(covered(t.shells, 0)) / (256.0 * 256.0);
+  EXPECT_NEAR(frac, 0.30, 0.01);
+  EXPECT_EQ(covered(t.shells, 0), covered(t.shells, 15));
+  std::mt19937 fgen(7600);
+  auto fnext = [&] { return double(fgen()) / 4294967296.0; };
+  for (int x = 0; x < 20; ++x) {
+    const bool strand = fnext() < 0.30;
+    const float bright = float(0.75 + 0.5 * fnext());
+    const float len = float(0.6 + 0.4 * fnext());
+    for (int y : {0, 100, 160, 200, 255}) {
+      const float v = (y + 0.5f) / 256.0f;
+      const uint8_t* p = t.fin.texel(0, x, y);
+      const float shade = (0.45f + 0.55f * v) * (strand ? bright : 1.0f);
+      EXPECT_EQ(p[0], to8(fur[0] * shade));
+      EXPECT_EQ(p[3], (strand && v <= len) ? to8(1.0f - 0.8f * v) : 0) << x << " " << y;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace pelt::fur

@@ -1,0 +1,121 @@
+// Properties with known answers of the double-precision reference terms.
+#include "shading/skin_reference.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace pelt::shading::ref {
+namespace {
+
+TEST(SkinReference, FresnelNormalIncidenceAndRange) {
+  for (double eta : {0.5, 0.8, 1.0, 1.4, 2.5, 4.0}) {
+    const double r0 = (eta - 1) / (eta + 1);
+    EXPECT_NEAR(fresnel_exact(1.0, eta), r0 * r0, 1e-15) << eta;
+    for (double c = 0.0; c <= 1.0; c += 1.0 / 512) {
+      const double F = fresnel_exact(c, eta);
+      EXPECT_GE(F, 0.0);
+      EXPECT_LE(F, 1.0);
+    }
+    EXPECT_EQ(fresnel_exact(0.0, eta), 1.0) << "grazing incidence reflects everything";
+  }
+}
+
+TEST(SkinReference, FresnelIsTheSameFromBothSides) {
+  // Reflectance from outside at cos_i equals reflectance from inside at the refracted cos_t.
+  for (double eta : {1.2, 1.4, 2.0})
+    for (double c = 0.05; c <= 1.0; c += 0.05) {
+      double ct;
+      ASSERT_TRUE(refract_cos(c, eta, ct));
+      EXPECT_NEAR(fresnel_exact(c, eta), fresnel_exact(ct, 1.0 / eta), 1e-12);
+    }
+}
+
+TEST(SkinReference, TotalInternalReflectionBeyondTheCriticalAngle) {
+  const double eta = 1.0 / 1.4;
+  const double critical = std::sqrt(1.0 - eta * eta);
+  EXPECT_EQ(fresnel_exact(critical - 1e-6, eta), 1.0);
+  EXPECT_LT(fresnel_exact(critical + 1e-3, eta), 1.0);
+}
+
+TEST(SkinReference, PaperFresnelIsNeverPositiveAndEfresnelHidesIt) {
+  for (double eta : {0.7, 1.0, 1.4, 3.0})
+    for (double c = 0.0; c <= 1.0; c += 1.0 / 1000) {
+      const double kr = fresnel_paper(c, eta);
+      EXPECT_LE(kr, 0.0) << "c " << c << " eta " << eta;
+      EXPECT_EQ(efresnel(kr), 0.0) << "the listing's Kr through smoothstep is always 0";
+    }
+  // At Brewster's angle (tan = eta, r_p = 0) the listing divides by zero.
+  const double eta = 1.4, cb = 1.0 / std::sqrt(1.0 + eta * eta);
+  EXPECT_LT(fresnel_paper(cb, eta), -1e6);
+}
+
+TEST(SkinReference, HenyeyGreensteinIntegratesToOne) {
+  for (double g : {-0.9, -0.5, 0.0, 0.5, 0.8, 0.95}) {
+    // 2 pi * integral over mu in [-1, 1], composite Simpson on a fine grid.
+    const int n = 200000;
+    const double h = 2.0 / n;
+    double sum = hg_phase(-1.0, g) + hg_phase(1.0, g);
+    for (int i = 1; i < n; ++i) sum += (i % 2 ? 4.0 : 2.0) * hg_phase(-1.0 + i * h, g);
+    EXPECT_NEAR(2.0 * kPi * sum * h / 3.0, 1.0, 1e-6) << g;
+  }
+}
+
+TEST(SkinReference, PhaseFunctionsStayWithinTheirBounds) {
+  for (double g : {-1.0, -0.999999, -0.8, 0.0, 0.8, 0.999999, 1.0}) {
+    EXPECT_TRUE(std::isfinite(hg_bound(g)));
+    for (double c = -1.0; c <= 1.0; c += 1.0 / 4096) {
+      const double p = hg_phase(c, g), q = hg_phase_paper(c, g);
+      ASSERT_TRUE(std::isfinite(p) && std::isfinite(q));
+      EXPECT_GT(p, 0.0);
+      EXPECT_LE(p, hg_bound(g) * (1 + 1e-12));
+      EXPECT_GE(q, 0.0);
+      EXPECT_LE(q, hg_paper_bound(g) * (1 + 1e-12));
+    }
+  }
+  // Where the listing's base 1 - g^2 - 2 g cos is negative (a NaN in the paper) the guard holds it
+  // at the bound.
+  EXPECT_NEAR(hg_phase_paper(1.0, 0.8), hg_paper_bound(0.8), 1e-9);
+  EXPECT_EQ(clamp_g(1.0), double(kMaxAbsG));
+  EXPECT_EQ(clamp_g(-1.0), -double(kMaxAbsG));
+}
+
+TEST(SkinReference, SingleScatteringBoundAndLimits) {
+  for (double ci : {1e-9, 0.01, 0.3, 1.0})
+    for (double co : {0.0, 1e-9, 0.2, 1.0})
+      for (double d : {0.0, 1e-3, 1.0, 1e6}) {
+        const double s = single_scattering(ci, co, 0.3, 0.8, d);
+        ASSERT_TRUE(std::isfinite(s));
+        EXPECT_GE(s, 0.0);
+        const double bound = 0.8 * 0.3 * std::min(1.0 / (ci + co), d / (ci * std::max(co, 1e-300)));
+        EXPECT_LE(s, bound * (1 + 1e-12));
+      }
+  EXPECT_EQ(single_scattering(0.5, 0.5, 0.3, 0.8, 0.0), 0.0);
+  // Thin layer: 1 - exp(-x) ~ x, so f ~ a p d (1/ci + 1/co) / (ci + co) = a p d / (ci co).
+  EXPECT_NEAR(single_scattering(0.5, 0.25, 0.3, 0.8, 1e-9), 0.8 * 0.3 * 1e-9 / (0.5 * 0.25), 1e-16);
+}
+
+TEST(SkinReference, EpidermisFakeAndSpecularLobe) {
+  EXPECT_DOUBLE_EQ(epidermis_fake(0.0, 0.5, 0.0), 0.5 / kClampFloor);
+  EXPECT_DOUBLE_EQ(epidermis_fake(-0.5, 0.5, 0.5), 0.5);
+  EXPECT_EQ(specular_lobe(0.0, 20.0), 0.0);
+  EXPECT_EQ(specular_lobe(-0.5, 20.0), 0.0);
+  EXPECT_DOUBLE_EQ(specular_lobe(1.0, 20.0), 1.0);
+  EXPECT_DOUBLE_EQ(specular_lobe(0.5, 2.0), 0.25);
+}
+
+TEST(SkinReference, DipoleTotalReflectance) {
+  EXPECT_EQ(dipole_total_rd(0.0, 1.4), 0.0);
+  double prev = 0.0;
+  for (double a = 0.05; a <= 1.0; a += 0.05) {
+    const double rd = dipole_total_rd(a, 1.3);
+    EXPECT_GT(rd, prev) << "Rd grows with albedo";
+    EXPECT_LE(rd, a);
+    prev = rd;
+  }
+  // alpha' = 1 (no absorption): Rd = 1/2 (1 + 1) = 1.
+  EXPECT_NEAR(dipole_total_rd(1.0, 1.3), 1.0, 1e-15);
+}
+
+}  // namespace
+}  // namespace pelt::shading::ref

@@ -1,0 +1,204 @@
+#include "tools/io/image_io.h"
+
+#include <cstdint>
+#include <vector>
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "tests/tools/io/temp_dir.h"
+#include "tools/io/input_error.h"
+#include "tools/io/srgb.h"
+
+namespace pelt::io {
+namespace {
+
+std::vector<float> ramp(int w, int h, int c) {
+  std::vector<float> v(static_cast<size_t>(w) * h * c);
+  for (size_t i = 0; i < v.size(); ++i) v[i] = static_cast<float>((i * 37) % 101) / 100.0f;
+  return v;
+}
+
+// Reads a file back with OIIO in its own stored type, values as stored (no multiplying
+// by alpha on read).
+template <class T>
+std::vector<T> read_back(const std::filesystem::path& p, OIIO::TypeDesc type, OIIO::ImageSpec& spec) {
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(p.string(), &config);
+  EXPECT_TRUE(in) << OIIO::geterror();
+  if (!in) return {};
+  spec = in->spec();
+  std::vector<T> data(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
+  EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, type, data.data()));
+  return data;
+}
+
+size_t files_in(const std::filesystem::path& dir) {
+  size_t n = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++n;
+  return n;
+}
+
+TEST(ImageIo, PngFromLinearFloatIsExactSrgb) {
+  TempDir dir;
+  const auto f = dir.path() / "out.png";
+  const auto px = ramp(7, 5, 4);
+  write_image_atomic(f, 7, 5, 4, PixelType::f32, px.data());
+  OIIO::ImageSpec spec;
+  const auto bytes = read_back<uint8_t>(f, OIIO::TypeDesc::UINT8, spec);
+  ASSERT_EQ(spec.width, 7);
+  ASSERT_EQ(spec.height, 5);
+  ASSERT_EQ(spec.nchannels, 4);
+  EXPECT_EQ(spec.format, OIIO::TypeDesc::UINT8);
+  for (size_t i = 0; i < px.size(); ++i)
+    ASSERT_EQ(bytes[i], i % 4 == 3 ? linear_to_unorm8(px[i]) : linear_to_srgb8(px[i])) << i;
+  EXPECT_EQ(files_in(dir.path()), 1u);  // no temporary left
+}
+
+TEST(ImageIo, TiffEightBitAndUint32AndFloat) {
+  TempDir dir;
+  const auto rgb = ramp(4, 3, 3);
+  write_image_atomic(dir.path() / "c.tif", 4, 3, 3, PixelType::f32, rgb.data());
+  OIIO::ImageSpec spec;
+  const auto bytes = read_back<uint8_t>(dir.path() / "c.tif", OIIO::TypeDesc::UINT8, spec);
+  EXPECT_EQ(spec.format, OIIO::TypeDesc::UINT8);
+  for (size_t i = 0; i < rgb.size(); ++i) ASSERT_EQ(bytes[i], linear_to_srgb8(rgb[i]));
+
+  std::vector<uint32_t> ids = {0, 1, 70000, 4000000000u, 5, 6};
+  write_image_atomic(dir.path() / "id.tiff", 3, 2, 1, PixelType::u32, ids.data());
+  const auto back = read_back<uint32_t>(dir.path() / "id.tiff", OIIO::TypeDesc::UINT32, spec);
+  EXPECT_EQ(spec.format, OIIO::TypeDesc::UINT32);
+  EXPECT_EQ(back, ids);
+
+  std::vector<float> depth = {0.5f, 1e-7f, 123456.75f, -2.0f};
+  write_image_atomic(dir.path() / "d.tif", 2, 2, 1, PixelType::f32, depth.data());
+  const auto dback = read_back<float>(dir.path() / "d.tif", OIIO::TypeDesc::FLOAT, spec);
+  EXPECT_EQ(spec.format, OIIO::TypeDesc::FLOAT);
+  EXPECT_EQ(dback, depth);
+}
+
+TEST(ImageIo, ExrFloatRgbaAndOneChannel) {
+  TempDir dir;
+  const auto rgba = ramp(5, 4, 4);
+  std::vector<float> hdr = rgba;
+  hdr[0] = 1234.5f;
+  write_image_atomic(dir.path() / "c.exr", 5, 4, 4, PixelType::f32, hdr.data());
+  OIIO::ImageSpec spec;
+  EXPECT_EQ(read_back<float>(dir.path() / "c.exr", OIIO::TypeDesc::FLOAT, spec), hdr);
+  EXPECT_EQ(spec.nchannels, 4);
+  EXPECT_EQ(spec.format, OIIO::TypeDesc::FLOAT);
+  std::vector<float> z = {0.25f, 3.0e10f, 7.0f, 0.0f, 1.0f, 2.0f};
+  write_image_atomic(dir.path() / "z.exr", 3, 2, 1, PixelType::f32, z.data());
+  EXPECT_EQ(read_back<float>(dir.path() / "z.exr", OIIO::TypeDesc::FLOAT, spec), z);
+  EXPECT_EQ(spec.nchannels, 1);
+}
+
+TEST(ImageIo, OverwritesAnExistingFileWhole) {
+  TempDir dir;
+  const auto f = dir.path() / "o.exr";
+  const auto a = ramp(8, 8, 4);
+  write_image_atomic(f, 8, 8, 4, PixelType::f32, a.data());
+  std::vector<float> b = {1, 2, 3, 4};
+  write_image_atomic(f, 1, 1, 4, PixelType::f32, b.data());
+  OIIO::ImageSpec spec;
+  EXPECT_EQ(read_back<float>(f, OIIO::TypeDesc::FLOAT, spec), b);
+  EXPECT_EQ(files_in(dir.path()), 1u);
+}
+
+void expect_write_error(const std::filesystem::path& f, int channels, PixelType type, const void* px,
+                        const std::string& reason_part) {
+  try {
+    write_image_atomic(f, 2, 2, channels, type, px);
+    FAIL() << f;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, f.string());
+    EXPECT_NE(e.reason.find(reason_part), std::string::npos) << e.what();
+  }
+}
+
+TEST(ImageIo, FailedWritesLeaveNothingBehind) {
+  TempDir dir;
+  const auto px = ramp(2, 2, 4);
+  expect_write_error(dir.path() / "missing" / "out.png", 4, PixelType::f32, px.data(), "cannot create");
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "missing"));
+  EXPECT_EQ(files_in(dir.path()), 0u);
+  if (::geteuid() != 0) {  // root ignores permission bits
+    std::filesystem::create_directories(dir.path() / "ro");
+    ::chmod((dir.path() / "ro").c_str(), 0555);
+    expect_write_error(dir.path() / "ro" / "out.exr", 4, PixelType::f32, px.data(), "cannot create");
+    EXPECT_EQ(files_in(dir.path() / "ro"), 0u);
+    ::chmod((dir.path() / "ro").c_str(), 0755);
+  }
+  // The target is a folder: the temporary is written, the rename fails, and both the
+  // folder and the folder's parent are left as they were.
+  std::filesystem::create_directories(dir.path() / "taken.png" / "inside");
+  expect_write_error(dir.path() / "taken.png", 4, PixelType::f32, px.data(), "cannot move");
+  EXPECT_TRUE(std::filesystem::is_directory(dir.path() / "taken.png" / "inside"));
+  EXPECT_EQ(files_in(dir.path()), 1u);
+}
+
+TEST(ImageIo, RejectsUnknownExtensionsAndUnsupportedCombinations) {
+  TempDir dir;
+  const auto px = ramp(2, 2, 4);
+  std::vector<uint32_t> ids(4, 1);
+  expect_write_error(dir.path() / "o.jpg", 4, PixelType::f32, px.data(), "unsupported image extension `.jpg`");
+  expect_write_error(dir.path() / "o", 4, PixelType::f32, px.data(), "unsupported image extension");
+  expect_write_error(dir.path() / "id.png", 1, PixelType::u32, ids.data(), "cannot write 32-bit unsigned");
+  expect_write_error(dir.path() / "id.exr", 1, PixelType::u32, ids.data(), "cannot write 32-bit unsigned");
+  expect_write_error(dir.path() / "c.tif", 4, PixelType::u32, ids.data(), "cannot write 32-bit unsigned");
+  expect_write_error(dir.path() / "c.exr", 4, PixelType::u8, ids.data(), "cannot write 8-bit");
+  EXPECT_EQ(files_in(dir.path()), 0u);
+}
+
+TEST(ImageIo, ReadRgbaDecodesSrgbBytes) {
+  TempDir dir;
+  std::vector<uint8_t> grey = {0, 64, 128, 255};
+  write_image_atomic(dir.path() / "g.png", 2, 2, 1, PixelType::u8, grey.data());
+  const ImageRGBA img = read_image_rgba(dir.path() / "g.png");
+  ASSERT_EQ(img.width, 2);
+  ASSERT_EQ(img.height, 2);
+  for (int i = 0; i < 4; ++i) {
+    const float* p = img.pixel(i % 2, i / 2);
+    EXPECT_EQ(p[0], srgb8_to_linear(grey[i]));
+    EXPECT_EQ(p[1], p[0]);
+    EXPECT_EQ(p[2], p[0]);
+    EXPECT_EQ(p[3], 1.0f);
+  }
+  const ImageRGBA lin = read_image_rgba(dir.path() / "g.png", ColorEncoding::linear);
+  EXPECT_FLOAT_EQ(lin.pixel(1, 0)[0], 64.0f / 255.0f);
+  // Float files are linear already.
+  const auto rgba = ramp(3, 2, 4);
+  write_image_atomic(dir.path() / "f.exr", 3, 2, 4, PixelType::f32, rgba.data());
+  EXPECT_EQ(read_image_rgba(dir.path() / "f.exr").rgba, rgba);
+}
+
+TEST(ImageIo, ReadShippedColourMap) {
+  const char* root = std::getenv("PELT_SOURCE_DIR");
+  const auto f = std::filesystem::path(root ? root : ".") / "tools/data/BoxTextured-glTF/CesiumLogoFlat.png";
+  const ImageRGBA img = read_image_rgba(f);
+  EXPECT_EQ(img.width, 211);
+  EXPECT_EQ(img.height, 211);
+}
+
+TEST(ImageIo, ReadErrorsNameTheFile) {
+  TempDir dir;
+  const auto bad = dir.write("bad.png", "not a png at all");
+  try {
+    read_image_rgba(bad);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, bad.string());
+  }
+  try {
+    read_image_rgba(dir.path() / "none.png");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.reason, "image file not found");
+  }
+}
+
+}  // namespace
+}  // namespace pelt::io

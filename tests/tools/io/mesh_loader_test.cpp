@@ -1,0 +1,291 @@
+#include "tools/io/mesh_loader.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "tests/tools/io/mesh_checks.h"
+#include "tests/tools/io/temp_dir.h"
+#include "tools/io/input_error.h"
+
+namespace pelt::io {
+namespace {
+
+std::filesystem::path data_dir() {
+  const char* root = std::getenv("PELT_SOURCE_DIR");
+  return std::filesystem::path(root ? root : ".") / "tools" / "data";
+}
+
+void expect_unit_normals(const Mesh& m) {
+  ASSERT_EQ(m.normals.size(), m.positions.size());
+  EXPECT_LT(testing::max_normal_length_error(m), 1e-5);
+}
+
+TEST(MeshLoader, BunnyObj) {
+  const LoadedMesh l = load_mesh_file(data_dir() / "bunny.obj");
+  EXPECT_EQ(l.mesh.vertex_count(), 1839u);
+  EXPECT_EQ(l.mesh.triangle_count(), 3674u);
+  EXPECT_TRUE(l.mesh.uvs.empty());
+  expect_unit_normals(l.mesh);
+  EXPECT_FALSE(l.warnings.empty());  // normals were computed, and the user is told so
+  for (const auto& [edge, uses] : testing::edge_use(l.mesh)) ASSERT_EQ(uses, 2);
+  EXPECT_EQ(testing::winding_conflicts(l.mesh), 0);
+  EXPECT_GT(testing::signed_volume(l.mesh), 0.0);
+  EXPECT_FALSE(l.color_map.present());
+}
+
+TEST(MeshLoader, LeePerrySmithGlbAndObjAgree) {
+  const LoadedMesh glb = load_mesh_file(data_dir() / "LeePerrySmith" / "LeePerrySmith.glb");
+  const LoadedMesh obj = load_mesh_file(data_dir() / "LeePerrySmith" / "LeePerrySmith.obj");
+  EXPECT_EQ(glb.mesh.triangle_count(), 17684u);
+  EXPECT_EQ(glb.mesh.vertex_count(), 9279u);
+  EXPECT_EQ(obj.mesh.triangle_count(), 17684u);
+  EXPECT_EQ(obj.mesh.vertex_count(), 9279u);
+  ASSERT_EQ(glb.mesh.uvs.size(), glb.mesh.vertex_count());
+  ASSERT_EQ(obj.mesh.uvs.size(), obj.mesh.vertex_count());
+  expect_unit_normals(glb.mesh);
+  expect_unit_normals(obj.mesh);
+  // The OBJ is a value-for-value conversion of the GLB's accessors: the same triangles'
+  // corners carry the same positions, normals and uvs. The GLB's node scales y and z by
+  // 1.0000001192 (one float step), which moves positions by an ulp or two.
+  for (size_t k = 0; k < glb.mesh.indices.size(); k += 97) {
+    const uint32_t a = glb.mesh.indices[k], b = obj.mesh.indices[k];
+    EXPECT_LT(glm::distance(glb.mesh.positions[a], obj.mesh.positions[b]), 1e-6f) << k;
+    EXPECT_EQ(glb.mesh.uvs[a], obj.mesh.uvs[b]) << k;
+    EXPECT_NEAR(glm::dot(glb.mesh.normals[a], obj.mesh.normals[b]), 1.0f, 1e-5f) << k;
+  }
+  // Bounding box from the data README: +-4.28 x +-3.97 x +-2.59 (to the printed digits).
+  glm::vec3 lo(1e9f), hi(-1e9f);
+  for (const auto& p : glb.mesh.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  EXPECT_NEAR(hi.x - lo.x, 2 * 4.28, 0.02);
+  EXPECT_NEAR(hi.y - lo.y, 2 * 3.97, 0.02);
+  EXPECT_NEAR(hi.z - lo.z, 2 * 2.59, 0.02);
+  EXPECT_FALSE(glb.color_map.present());  // the GLB's material is a plain colour
+}
+
+void expect_box_textured(const LoadedMesh& l) {
+  EXPECT_EQ(l.mesh.triangle_count(), 12u);
+  EXPECT_EQ(l.mesh.vertex_count(), 24u);
+  ASSERT_EQ(l.mesh.uvs.size(), 24u);
+  expect_unit_normals(l.mesh);
+  // The file's box is [-0.5,0.5]^3 under a root matrix rotating -90 deg about X: a vertex
+  // at (x, y, z) lands at (x, z, -y). The rotation maps the cube onto itself, so check a
+  // normal instead: normals must stay perpendicular to their face after the transform,
+  // i.e. each normal points along the axis where |position| is largest.
+  for (size_t i = 0; i < l.mesh.positions.size(); ++i) {
+    const glm::vec3 p = l.mesh.positions[i], n = l.mesh.normals[i];
+    EXPECT_NEAR(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}), 0.5f, 1e-6f);
+    EXPECT_NEAR(glm::dot(n, p), 0.5f, 1e-5f) << i;  // outward unit normal of a face at distance 0.5
+  }
+  for (size_t k = 0; k < l.mesh.indices.size(); k += 3) {
+    const glm::vec3 a = l.mesh.positions[l.mesh.indices[k]], b = l.mesh.positions[l.mesh.indices[k + 1]],
+                    c = l.mesh.positions[l.mesh.indices[k + 2]];
+    const glm::vec3 face_n = glm::cross(b - a, c - a);
+    EXPECT_GT(glm::dot(face_n, l.mesh.normals[l.mesh.indices[k]]), 0.0f) << "triangle " << k / 3;
+  }
+  float umax = 0;
+  for (const auto& uv : l.mesh.uvs) umax = std::max(umax, uv.x);
+  EXPECT_NEAR(umax, 6.0f, 1e-5f);  // repeat wrapping: u runs 0 to 6
+}
+
+TEST(MeshLoader, BoxTexturedGlbAppliesTheRootMatrix) {
+  const LoadedMesh l = load_mesh_file(data_dir() / "BoxTextured.glb");
+  expect_box_textured(l);
+  // Only the rotation distinguishes these: the untransformed file has the face with
+  // normal (0,0,1) where the transformed one has (0,-1,0)... Check the face whose uvs
+  // span u in [0,6] on a known vertex: the first vertex of the file is (-0.5,-0.5,0.5)
+  // with normal (0,0,1); after the -90 deg X rotation it is (-0.5,0.5,0.5), normal (0,1,0).
+  EXPECT_NEAR(glm::distance(l.mesh.positions[0], glm::vec3(-0.5f, 0.5f, 0.5f)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::distance(l.mesh.normals[0], glm::vec3(0.0f, 1.0f, 0.0f)), 0.0f, 1e-6f);
+  // Embedded PNG: decoded pixels, no path.
+  EXPECT_TRUE(l.color_map.path.empty());
+  EXPECT_EQ(l.color_map.pixels.width, 211);
+  EXPECT_EQ(l.color_map.pixels.height, 211);
+  EXPECT_FALSE(l.normal_map.present());
+}
+
+TEST(MeshLoader, BoxTexturedGltfResolvesRelativeUris) {
+  const auto file = data_dir() / "BoxTextured-glTF" / "BoxTextured.gltf";
+  const LoadedMesh l = load_mesh_file(file);
+  expect_box_textured(l);
+  EXPECT_EQ(l.color_map.path, file.parent_path() / "CesiumLogoFlat.png");
+  EXPECT_TRUE(std::filesystem::exists(l.color_map.path));
+  const LoadedMesh glb = load_mesh_file(data_dir() / "BoxTextured.glb");
+  EXPECT_EQ(l.mesh.positions, glb.mesh.positions);
+  EXPECT_EQ(l.mesh.indices, glb.mesh.indices);
+}
+
+// --- bad files -------------------------------------------------------------------
+
+void expect_load_error(const std::filesystem::path& file, const std::string& field,
+                       const std::string& reason_part) {
+  try {
+    load_mesh_file(file);
+    FAIL() << file << " was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, file.string());
+    EXPECT_EQ(e.field, field) << e.what();
+    EXPECT_NE(e.reason.find(reason_part), std::string::npos) << e.what();
+  }
+}
+
+TEST(MeshLoader, ObjNanPosition) {
+  TempDir dir;
+  const auto f = dir.write("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");
+  expect_load_error(f, "v 3", "position is NaN");
+}
+
+TEST(MeshLoader, ObjInfinitePosition) {
+  TempDir dir;
+  const auto f = dir.write("inf.obj", "v 0 0 0\nv 1e999 0 0\nv 0 1 0\nf 1 2 3\n");
+  expect_load_error(f, "v 2", "position is infinite");
+}
+
+TEST(MeshLoader, ObjMalformedNumber) {
+  TempDir dir;
+  const auto f = dir.write("word.obj", "v 0 0 0\nvn 0 0 1\nvn 0 zero 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  expect_load_error(f, "vn 2", "`zero` is not a number (line 3)");
+}
+
+TEST(MeshLoader, ObjIndexOutOfRange) {
+  TempDir dir;
+  const auto f = dir.write("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n");
+  expect_load_error(f, "f 2", "vertex index 9 out of range (3 vertices)");
+}
+
+TEST(MeshLoader, ObjNoFaces) {
+  TempDir dir;
+  const auto f = dir.write("empty.obj", "v 0 0 0\nv 1 0 0\n");
+  expect_load_error(f, "", "no faces");
+}
+
+TEST(MeshLoader, ObjQuadIsTriangulatedAndUvsKept) {
+  TempDir dir;
+  const auto f = dir.write("quad.obj",
+                           "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                           "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
+                           "f 1/1/1 2/2/1 3/3/1 4/4/1\n");
+  const LoadedMesh l = load_mesh_file(f);
+  EXPECT_EQ(l.mesh.triangle_count(), 2u);
+  EXPECT_EQ(l.mesh.vertex_count(), 4u);
+  for (size_t i = 0; i < 4; ++i)  // uv = xy for this square
+    EXPECT_EQ(l.mesh.uvs[i], glm::vec2(l.mesh.positions[i]));
+  EXPECT_EQ(l.mesh.normals[0], glm::vec3(0, 0, 1));
+  EXPECT_TRUE(l.warnings.empty());
+}
+
+TEST(MeshLoader, ObjSplitsVerticesByTriple) {
+  // One position used with two different uvs: two vertices.
+  TempDir dir;
+  const auto f = dir.write("split.obj",
+                           "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.5\n"
+                           "f 1/1 2/2 3/3\nf 2/2 4/4 3/4\n");
+  const LoadedMesh l = load_mesh_file(f);
+  EXPECT_EQ(l.mesh.vertex_count(), 5u);
+  EXPECT_EQ(l.mesh.positions[2], l.mesh.positions[4]);
+  EXPECT_NE(l.mesh.uvs[2], l.mesh.uvs[4]);
+}
+
+TEST(MeshLoader, ObjMaterialTexturesResolvedRelativeToTheFile) {
+  TempDir dir;
+  dir.write("m.mtl", "newmtl skin\nmap_Kd tex/albedo.png\nnorm tex/normal.png\n");
+  const auto f = dir.write("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl skin\nf 1 2 3\n");
+  const LoadedMesh l = load_mesh_file(f);
+  EXPECT_EQ(l.color_map.path, dir.path() / "tex/albedo.png");
+  EXPECT_EQ(l.normal_map.path, dir.path() / "tex/normal.png");
+}
+
+TEST(MeshLoader, MissingAndUnsupportedFiles) {
+  TempDir dir;
+  expect_load_error(dir.path() / "nope.obj", "", "file not found");
+  expect_load_error(dir.write("mesh.ply", "ply\n"), "", "unsupported mesh file extension `.ply`");
+  expect_load_error(dir.path(), "", "is a folder");
+}
+
+TEST(MeshLoader, MalformedGltf) {
+  TempDir dir;
+  expect_load_error(dir.write("bad.gltf", "{ this is not json"), "", "malformed glTF");
+  expect_load_error(dir.write("bad.glb", "glTF but not really"), "", "malformed glTF");
+}
+
+// A one-triangle glTF whose buffer is a data URI, with a chosen position and index.
+std::string tiny_gltf(float x0, uint16_t i2) {
+  // 3 float3 positions (36 bytes) then 3 uint16 indices (6 bytes, padded to 8).
+  float pos[9] = {x0, 0, 0, 1, 0, 0, 0, 1, 0};
+  uint16_t idx[4] = {0, 1, i2, 0};
+  std::string bytes(reinterpret_cast<const char*>(pos), sizeof pos);
+  bytes.append(reinterpret_cast<const char*>(idx), sizeof idx);
+  static const char* b64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string enc;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    uint32_t v = static_cast<uint8_t>(bytes[i]) << 16;
+    if (i + 1 < bytes.size()) v |= static_cast<uint8_t>(bytes[i + 1]) << 8;
+    if (i + 2 < bytes.size()) v |= static_cast<uint8_t>(bytes[i + 2]);
+    enc += b64[(v >> 18) & 63];
+    enc += b64[(v >> 12) & 63];
+    enc += i + 1 < bytes.size() ? b64[(v >> 6) & 63] : '=';
+    enc += i + 2 < bytes.size() ? b64[v & 63] : '=';
+  }
+  return R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],
+  "nodes":[{"mesh":0,"translation":[10,0,0],"scale":[2,2,2]}],
+  "meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],
+  "buffers":[{"byteLength":44,"uri":"data:application/octet-stream;base64,)" +
+         enc + R"("}],
+  "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],
+  "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},
+               {"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
+}
+
+TEST(MeshLoader, GltfTrsAndComputedNormals) {
+  TempDir dir;
+  const LoadedMesh l = load_mesh_file(dir.write("ok.gltf", tiny_gltf(0.0f, 2)));
+  ASSERT_EQ(l.mesh.triangle_count(), 1u);
+  EXPECT_EQ(l.mesh.positions[1], glm::vec3(12, 0, 0));  // scale 2 then translate 10
+  EXPECT_EQ(l.mesh.normals[0], glm::vec3(0, 0, 1));
+  EXPECT_FALSE(l.warnings.empty());
+}
+
+TEST(MeshLoader, GltfNanPosition) {
+  TempDir dir;
+  expect_load_error(dir.write("nan.gltf", tiny_gltf(NAN, 2)), "meshes[0].primitives[0].attributes.POSITION[0]",
+                    "position is NaN");
+}
+
+TEST(MeshLoader, GltfIndexOutOfRange) {
+  TempDir dir;
+  expect_load_error(dir.write("idx.gltf", tiny_gltf(0.0f, 7)), "meshes[0].primitives[0].indices[2]",
+                    "index 7 out of range (3 vertices)");
+}
+
+TEST(MeshLoader, ValidateMeshNamesTheElement) {
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  m.indices = {0, 1, 2};
+  EXPECT_NO_THROW(validate_mesh(m, "m"));
+  m.positions[1].y = INFINITY;
+  try {
+    validate_mesh(m, "m");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "m: vertex 1: position is infinite");
+  }
+  m.positions[1].y = 0;
+  m.indices[2] = 3;
+  try {
+    validate_mesh(m, "m");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "m: triangle 0: index 3 out of range (3 vertices)");
+  }
+  m.indices.clear();
+  EXPECT_THROW(validate_mesh(m, "m"), InputError);
+}
+
+}  // namespace
+}  // namespace pelt::io

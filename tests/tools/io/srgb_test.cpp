@@ -1,0 +1,75 @@
+#include "tools/io/srgb.h"
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace pelt::io {
+namespace {
+
+TEST(Srgb, ReferenceValues) {
+  EXPECT_EQ(linear_to_srgb8(0.0f), 0);
+  EXPECT_EQ(linear_to_srgb8(-1.0f), 0);
+  EXPECT_EQ(linear_to_srgb8(NAN), 0);
+  EXPECT_EQ(linear_to_srgb8(1.0f), 255);
+  EXPECT_EQ(linear_to_srgb8(INFINITY), 255);
+  EXPECT_EQ(linear_to_srgb8(0.5f), 188);     // 255 * 0.735357 = 187.52
+  EXPECT_EQ(linear_to_srgb8(0.0031308f), 10);  // 255 * 0.04045 = 10.31
+  EXPECT_EQ(linear_to_srgb8(0.18f), 118);    // 255 * 0.461356 = 117.65
+  EXPECT_EQ(linear_to_unorm8(0.5f), 128);    // 127.5 rounds half up
+  EXPECT_EQ(linear_to_unorm8(0.2f), 51);
+}
+
+TEST(Srgb, DecodeInvertsEncode) {
+  for (int b = 0; b < 256; ++b) EXPECT_EQ(linear_to_srgb8(srgb8_to_linear(static_cast<uint8_t>(b))), b) << b;
+  EXPECT_EQ(srgb8_to_linear(0), 0.0f);
+  EXPECT_EQ(srgb8_to_linear(255), 1.0f);
+}
+
+TEST(Srgb, FastMatchesExactAtEveryByteBoundary) {
+  for (int b = 0; b < 255; ++b) {
+    const float t = srgb8_threshold(b);
+    const float below = std::nextafter(t, 0.0f);
+    EXPECT_EQ(linear_to_srgb8(t), b + 1) << b;
+    EXPECT_EQ(linear_to_srgb8(below), b) << b;
+    EXPECT_EQ(linear_to_srgb8_fast(t), b + 1) << b;
+    EXPECT_EQ(linear_to_srgb8_fast(below), b) << b;
+  }
+}
+
+TEST(Srgb, FastMatchesExactOnADenseSweep) {
+  // Every 13th float bit pattern in [0, 1] (about 82 million values), plus the
+  // special values around it.
+  const uint32_t one = std::bit_cast<uint32_t>(1.0f);
+  size_t mismatches = 0;
+  for (uint32_t bits = 0; bits <= one; bits += 13) {
+    const float x = std::bit_cast<float>(bits);
+    mismatches += linear_to_srgb8_fast(x) != linear_to_srgb8(x);
+  }
+  EXPECT_EQ(mismatches, 0u);
+  for (float x : {-0.0f, -1e-30f, std::nextafter(1.0f, 2.0f), 2.0f, NAN, -INFINITY, INFINITY,
+                  std::numeric_limits<float>::denorm_min()})
+    EXPECT_EQ(linear_to_srgb8_fast(x), linear_to_srgb8(x)) << x;
+}
+
+TEST(Srgb, EncodeRowsHandlesAlphaAndStrides) {
+  // 2 rows of 2 RGBA pixels, source rows padded to 10 floats, destination to 9 bytes.
+  std::vector<float> src = {0.5f, 0.18f, 1.0f, 0.5f, 0.0f, 2.0f, -1.0f, 0.2f, 9, 9,
+                            0.25f, 0.75f, 0.0031308f, 1.0f, 1.0f, 0.0f, 0.5f, 0.0f, 9, 9};
+  std::vector<uint8_t> dst(18, 7);
+  encode_srgb8_rows(src.data(), 10, dst.data(), 9, 2, 2, 4);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 2; ++x)
+      for (int c = 0; c < 4; ++c) {
+        const float v = src[y * 10 + x * 4 + c];
+        EXPECT_EQ(dst[y * 9 + x * 4 + c], c == 3 ? linear_to_unorm8(v) : linear_to_srgb8(v));
+      }
+  EXPECT_EQ(dst[8], 7);  // padding untouched
+  EXPECT_EQ(dst[17], 7);
+}
+
+}  // namespace
+}  // namespace pelt::io

@@ -1,0 +1,364 @@
+// glTF 2.0 (.gltf with external or data-URI buffers, and .glb) through tinygltf.
+#include <cmath>
+#include <cstring>
+#include <functional>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+
+#include <tiny_gltf.h>
+
+#include "tools/io/input_error.h"
+#include "tools/io/mesh_loader_detail.h"
+#include "tools/io/pixels.h"
+
+namespace pelt::io::detail {
+namespace {
+
+constexpr int kMaxNodeDepth = 256;  // deeper than any real scene; stops runaway recursion
+
+class GltfReader {
+ public:
+  GltfReader(const tinygltf::Model& model, std::string file, std::filesystem::path dir)
+      : model_(model), file_(std::move(file)), dir_(std::move(dir)) {}
+
+  LoadedMesh read() {
+    const std::vector<int> roots = scene_roots();
+    std::vector<int> on_path(model_.nodes.size(), 0);
+    for (int root : roots) visit(root, glm::dmat4(1.0), 0, on_path);
+    if (out_.mesh.indices.empty())
+      throw InputError(file_, "", "the default scene has no triangles");
+    if (!all_uvs_) {
+      if (any_uvs_) out_.warnings.push_back("some primitives have no TEXCOORD_0: uvs dropped");
+      out_.mesh.uvs.clear();
+    }
+    finish_normals(out_, all_normals_);
+    return std::move(out_);
+  }
+
+ private:
+  std::vector<int> scene_roots() const {
+    if (!model_.scenes.empty()) {
+      const int s = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+      if (s >= static_cast<int>(model_.scenes.size()))
+        throw InputError(file_, "scene", "default scene " + std::to_string(s) + " does not exist");
+      return model_.scenes[s].nodes;
+    }
+    // No scene: every node that is nobody's child is a root.
+    std::vector<bool> is_child(model_.nodes.size(), false);
+    for (const auto& n : model_.nodes)
+      for (int c : n.children)
+        if (c >= 0 && c < static_cast<int>(is_child.size())) is_child[c] = true;
+    std::vector<int> roots;
+    for (size_t i = 0; i < is_child.size(); ++i)
+      if (!is_child[i]) roots.push_back(static_cast<int>(i));
+    return roots;
+  }
+
+  glm::dmat4 local_transform(const tinygltf::Node& n, const std::string& where) const {
+    if (n.matrix.size() == 16) {
+      glm::dmat4 m;
+      std::memcpy(glm::value_ptr(m), n.matrix.data(), sizeof(double) * 16);  // column-major
+      for (int k = 0; k < 16; ++k)
+        if (!std::isfinite(n.matrix[k])) throw InputError(file_, where + ".matrix", "value is not finite");
+      return m;
+    }
+    if (!n.matrix.empty()) throw InputError(file_, where + ".matrix", "must have 16 numbers");
+    glm::dmat4 m(1.0);
+    if (n.translation.size() == 3)
+      m[3] = glm::dvec4(n.translation[0], n.translation[1], n.translation[2], 1.0);
+    glm::dmat4 r(1.0);
+    if (n.rotation.size() == 4) {
+      // glTF stores (x, y, z, w); glm's constructor takes (w, x, y, z).
+      const glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
+      if (!(glm::length(q) > 0.0)) throw InputError(file_, where + ".rotation", "zero quaternion");
+      r = glm::mat4_cast(glm::normalize(q));
+    }
+    glm::dmat4 s(1.0);
+    if (n.scale.size() == 3) {
+      s[0][0] = n.scale[0];
+      s[1][1] = n.scale[1];
+      s[2][2] = n.scale[2];
+    }
+    const glm::dmat4 result = m * r * s;
+    for (int c = 0; c < 4; ++c)
+      for (int k = 0; k < 4; ++k)
+        if (!std::isfinite(result[c][k])) throw InputError(file_, where, "transform is not finite");
+    return result;
+  }
+
+  void visit(int node, const glm::dmat4& parent, int depth, std::vector<int>& on_path) {
+    const std::string where = "nodes[" + std::to_string(node) + "]";
+    if (node < 0 || node >= static_cast<int>(model_.nodes.size()))
+      throw InputError(file_, where, "node does not exist");
+    if (on_path[node]) throw InputError(file_, where, "node is its own ancestor (cycle)");
+    if (depth > kMaxNodeDepth) throw InputError(file_, where, "node hierarchy is too deep");
+    const tinygltf::Node& n = model_.nodes[node];
+    const glm::dmat4 world = parent * local_transform(n, where);
+    if (n.mesh >= 0) add_mesh(n.mesh, world);
+    on_path[node] = 1;
+    for (int c : n.children) visit(c, world, depth + 1, on_path);
+    on_path[node] = 0;
+  }
+
+  // A view of one accessor's elements: base pointer, stride, count, components.
+  struct View {
+    const uint8_t* data;
+    size_t stride;
+    size_t count;
+    int components;
+    int component_type;
+    bool normalized;
+  };
+
+  View view_of(int accessor_index, const std::string& where) const {
+    if (accessor_index < 0 || accessor_index >= static_cast<int>(model_.accessors.size()))
+      throw InputError(file_, where, "accessor " + std::to_string(accessor_index) + " does not exist");
+    const tinygltf::Accessor& a = model_.accessors[accessor_index];
+    const std::string aw = "accessors[" + std::to_string(accessor_index) + "]";
+    if (a.sparse.isSparse) throw InputError(file_, aw, "sparse accessors are not supported");
+    if (a.bufferView < 0 || a.bufferView >= static_cast<int>(model_.bufferViews.size()))
+      throw InputError(file_, aw, "has no valid bufferView");
+    const tinygltf::BufferView& bv = model_.bufferViews[a.bufferView];
+    if (bv.buffer < 0 || bv.buffer >= static_cast<int>(model_.buffers.size()))
+      throw InputError(file_, aw, "bufferView refers to a missing buffer");
+    const auto& buf = model_.buffers[bv.buffer].data;
+    const int comps = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+    const int csize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
+    if (comps <= 0 || csize <= 0) throw InputError(file_, aw, "unknown type or componentType");
+    const size_t elem = static_cast<size_t>(comps) * csize;
+    const size_t stride = bv.byteStride ? bv.byteStride : elem;
+    if (stride < elem) throw InputError(file_, aw, "byteStride is smaller than one element");
+    if (bv.byteOffset + bv.byteLength > buf.size())
+      throw InputError(file_, aw, "bufferView runs past the end of its buffer");
+    if (a.count > 0 && a.byteOffset + (a.count - 1) * stride + elem > bv.byteLength)
+      throw InputError(file_, aw, "accessor runs past the end of its bufferView");
+    return View{buf.data() + bv.byteOffset + a.byteOffset, stride, a.count, comps, a.componentType,
+                a.normalized};
+  }
+
+  // Reads component k of element i as a float (floats as is; normalized integers mapped
+  // to [0,1] as the glTF spec says for TEXCOORD).
+  static float component(const View& v, size_t i, int k) {
+    const uint8_t* p = v.data + i * v.stride;
+    switch (v.component_type) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+        float f;
+        std::memcpy(&f, p + 4 * k, 4);
+        return f;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return p[k] / 255.0f;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        uint16_t s;
+        std::memcpy(&s, p + 2 * k, 2);
+        return s / 65535.0f;
+      }
+      default: return NAN;  // rejected by the callers' type checks before we get here
+    }
+  }
+
+  uint32_t index_at(const View& v, size_t i) const {
+    const uint8_t* p = v.data + i * v.stride;
+    switch (v.component_type) {
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return p[0];
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        uint16_t s;
+        std::memcpy(&s, p, 2);
+        return s;
+      }
+      default: {
+        uint32_t u;
+        std::memcpy(&u, p, 4);
+        return u;
+      }
+    }
+  }
+
+  void add_mesh(int mesh_index, const glm::dmat4& world) {
+    const std::string mw = "meshes[" + std::to_string(mesh_index) + "]";
+    if (mesh_index >= static_cast<int>(model_.meshes.size()))
+      throw InputError(file_, mw, "mesh does not exist");
+    const glm::dmat3 normal_matrix = glm::inverseTranspose(glm::dmat3(world));
+    const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
+    const auto& prims = model_.meshes[mesh_index].primitives;
+    for (size_t pi = 0; pi < prims.size(); ++pi) {
+      const tinygltf::Primitive& prim = prims[pi];
+      const std::string pw = mw + ".primitives[" + std::to_string(pi) + "]";
+      if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+          prim.mode != TINYGLTF_MODE_TRIANGLE_FAN && prim.mode != -1)
+        throw InputError(file_, pw + ".mode", "only triangles, strips and fans are supported, got mode " +
+                                                  std::to_string(prim.mode));
+      const auto pos_it = prim.attributes.find("POSITION");
+      if (pos_it == prim.attributes.end()) throw InputError(file_, pw, "has no POSITION attribute");
+      const std::string posw = pw + ".attributes.POSITION";
+      const View pos = view_of(pos_it->second, posw);
+      if (pos.components != 3 || pos.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT)
+        throw InputError(file_, posw, "must be VEC3 of FLOAT");
+
+      Mesh& m = out_.mesh;
+      const auto base = static_cast<uint32_t>(m.positions.size());
+      for (size_t i = 0; i < pos.count; ++i) {
+        const glm::dvec3 p(component(pos, i, 0), component(pos, i, 1), component(pos, i, 2));
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+          throw InputError(file_, posw + "[" + std::to_string(i) + "]",
+                           std::string("position is ") + (std::isnan(p.x + p.y + p.z) ? "NaN" : "infinite"));
+        m.positions.emplace_back(glm::dvec3(world * glm::dvec4(p, 1.0)));
+      }
+
+      if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
+        const std::string nw = pw + ".attributes.NORMAL";
+        const View nv = view_of(it->second, nw);
+        if (nv.components != 3 || nv.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || nv.count != pos.count)
+          throw InputError(file_, nw, "must be VEC3 of FLOAT with one normal per position");
+        for (size_t i = 0; i < nv.count; ++i) {
+          const glm::dvec3 n(component(nv, i, 0), component(nv, i, 1), component(nv, i, 2));
+          if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z))
+            throw InputError(file_, nw + "[" + std::to_string(i) + "]", "normal is not finite");
+          m.normals.emplace_back(normal_matrix * n);
+        }
+      } else {
+        all_normals_ = false;
+        m.normals.resize(m.positions.size(), glm::vec3(0.0f));
+      }
+
+      if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
+        const std::string tw = pw + ".attributes.TEXCOORD_0";
+        const View tv = view_of(it->second, tw);
+        const bool ok_type = tv.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+                             (tv.normalized && (tv.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                                tv.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
+        if (tv.components != 2 || !ok_type || tv.count != pos.count)
+          throw InputError(file_, tw, "must be VEC2 of FLOAT (or normalized UNSIGNED_BYTE/SHORT) with one uv per position");
+        for (size_t i = 0; i < tv.count; ++i) {
+          const glm::vec2 t(component(tv, i, 0), component(tv, i, 1));
+          if (!std::isfinite(t.x) || !std::isfinite(t.y))
+            throw InputError(file_, tw + "[" + std::to_string(i) + "]", "uv is not finite");
+          m.uvs.push_back(t);
+        }
+        any_uvs_ = true;
+      } else {
+        all_uvs_ = false;
+        m.uvs.resize(m.positions.size(), glm::vec2(0.0f));
+      }
+
+      std::vector<uint32_t> idx;
+      if (prim.indices >= 0) {
+        const std::string iw = pw + ".indices";
+        const View iv = view_of(prim.indices, iw);
+        if (iv.components != 1 || (iv.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+                                   iv.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                                   iv.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
+          throw InputError(file_, iw, "must be SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
+        idx.resize(iv.count);
+        for (size_t i = 0; i < iv.count; ++i) {
+          idx[i] = index_at(iv, i);
+          if (idx[i] >= pos.count)
+            throw InputError(file_, iw + "[" + std::to_string(i) + "]",
+                             "index " + std::to_string(idx[i]) + " out of range (" +
+                                 std::to_string(pos.count) + " vertices)");
+        }
+      } else {
+        idx.resize(pos.count);
+        for (size_t i = 0; i < pos.count; ++i) idx[i] = static_cast<uint32_t>(i);
+      }
+      append_triangles(prim.mode, idx, base, mirrored);
+      take_textures(prim.material);
+    }
+  }
+
+  void append_triangles(int mode, const std::vector<uint32_t>& idx, uint32_t base, bool mirrored) {
+    auto& out = out_.mesh.indices;
+    const auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
+      if (mirrored) std::swap(b, c);  // a mirroring transform turns the winding inside out
+      out.insert(out.end(), {base + a, base + b, base + c});
+    };
+    if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+      for (size_t i = 2; i < idx.size(); ++i)
+        (i % 2 == 0) ? emit(idx[i - 2], idx[i - 1], idx[i]) : emit(idx[i - 1], idx[i - 2], idx[i]);
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+      for (size_t i = 2; i < idx.size(); ++i) emit(idx[0], idx[i - 1], idx[i]);
+    } else {
+      for (size_t i = 0; i + 2 < idx.size(); i += 3) emit(idx[i], idx[i + 1], idx[i + 2]);
+    }
+  }
+
+  void take_textures(int material) {
+    if (material < 0 || material >= static_cast<int>(model_.materials.size())) return;
+    const tinygltf::Material& mat = model_.materials[material];
+    const std::string mw = "materials[" + std::to_string(material) + "]";
+    if (!out_.color_map.present())
+      resolve_texture(mat.pbrMetallicRoughness.baseColorTexture.index, ColorEncoding::srgb,
+                      mw + ".pbrMetallicRoughness.baseColorTexture", out_.color_map);
+    if (!out_.normal_map.present())
+      resolve_texture(mat.normalTexture.index, ColorEncoding::linear, mw + ".normalTexture",
+                      out_.normal_map);
+  }
+
+  void resolve_texture(int texture, ColorEncoding encoding, const std::string& where, TextureRef& ref) {
+    if (texture < 0) return;
+    if (texture >= static_cast<int>(model_.textures.size()))
+      throw InputError(file_, where, "texture " + std::to_string(texture) + " does not exist");
+    const int source = model_.textures[texture].source;
+    if (source < 0 || source >= static_cast<int>(model_.images.size()))
+      throw InputError(file_, where, "texture has no valid image source");
+    const tinygltf::Image& img = model_.images[source];
+    if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0) {
+      ref.path = dir_ / decode_uri(img.uri);
+      return;
+    }
+    ref.pixels = pixels_to_rgba(img.image.data(), img.width, img.height, img.component, img.bits, encoding);
+    if (ref.pixels.empty())
+      throw InputError(file_, "images[" + std::to_string(source) + "]",
+                       "embedded image could not be decoded");
+  }
+
+  static std::string decode_uri(const std::string& uri) {
+    std::string out;
+    for (size_t i = 0; i < uri.size(); ++i) {
+      if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+          std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+        out.push_back(static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16)));
+        i += 2;
+      } else {
+        out.push_back(uri[i]);
+      }
+    }
+    return out;
+  }
+
+  const tinygltf::Model& model_;
+  std::string file_;
+  std::filesystem::path dir_;
+  LoadedMesh out_;
+  bool all_normals_ = true, all_uvs_ = true, any_uvs_ = false;
+};
+
+std::string trim(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == '\r' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+}  // namespace
+
+LoadedMesh load_gltf(const std::filesystem::path& path, bool binary) {
+  const std::string file = path.string();
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  std::string err, warn;
+  const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, file)
+                         : loader.LoadASCIIFromFile(&model, &err, &warn, file);
+  if (!ok) {
+    err = trim(err);
+    throw InputError(file, "", "malformed glTF: " + (err.empty() ? std::string("load failed") : err));
+  }
+  GltfReader reader(model, file, path.parent_path());
+  LoadedMesh out = reader.read();
+  if (!trim(warn).empty()) out.warnings.push_back(trim(warn));
+  return out;
+}
+
+}  // namespace pelt::io::detail

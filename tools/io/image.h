@@ -1,0 +1,26 @@
+// Plain decoded image, the hand-off from loaders to texture code.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace pelt::io {
+
+// Linear float RGBA, 4 floats a pixel, rows top to bottom (the first row is the top of
+// the image as stored in the file), no padding.
+struct ImageRGBA {
+  int width = 0;
+  int height = 0;
+  std::vector<float> rgba;
+
+  bool empty() const { return rgba.empty(); }
+  const float* pixel(int x, int y) const {
+    return rgba.data() + (static_cast<size_t>(y) * width + x) * 4;
+  }
+};
+
+// How 8/16-bit integer channels are turned into linear values: colour maps are sRGB
+// encoded, data maps (normal maps, masks) are not.
+enum class ColorEncoding { srgb, linear };
+
+}  // namespace pelt::io

@@ -1,0 +1,162 @@
+#include "tools/io/image_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include <unistd.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include "tools/io/input_error.h"
+#include "tools/io/pixels.h"
+#include "tools/io/srgb.h"
+
+namespace pelt::io {
+namespace {
+
+enum class FileKind { png, tiff, exr };
+
+FileKind kind_of(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".png") return FileKind::png;
+  if (ext == ".tif" || ext == ".tiff") return FileKind::tiff;
+  if (ext == ".exr") return FileKind::exr;
+  throw InputError(path.string(), "", "unsupported image extension `" + path.extension().string() +
+                                          "` (expected .png, .tif, .tiff or .exr)");
+}
+
+const char* type_name(PixelType t) {
+  switch (t) {
+    case PixelType::u8: return "8-bit";
+    case PixelType::u32: return "32-bit unsigned";
+    case PixelType::f32: return "float";
+  }
+  return "?";
+}
+
+// Removes the temporary unless released: every early exit leaves no file behind.
+class TempFile {
+ public:
+  explicit TempFile(std::filesystem::path p) : path_(std::move(p)) {}
+  ~TempFile() {
+    if (!released_) {
+      std::error_code ec;
+      std::filesystem::remove(path_, ec);
+    }
+  }
+  const std::filesystem::path& path() const { return path_; }
+  void release() { released_ = true; }
+
+ private:
+  std::filesystem::path path_;
+  bool released_ = false;
+};
+
+}  // namespace
+
+void write_image_atomic(const std::filesystem::path& path, int width, int height, int channels,
+                        PixelType type, const void* pixels) {
+  const std::string file = path.string();
+  const FileKind kind = kind_of(path);
+  if (width <= 0 || height <= 0) throw InputError(file, "", "image size must be positive");
+  if (channels < 1 || channels > 4) throw InputError(file, "", "channels must be 1..4");
+  if (!pixels) throw InputError(file, "", "no pixel data");
+
+  // Decide what goes into the file, converting float colour to sRGB bytes where needed.
+  OIIO::TypeDesc file_type;
+  const void* data = pixels;
+  std::vector<uint8_t> encoded;
+  const bool float_as_srgb8 = type == PixelType::f32 &&
+                              (kind == FileKind::png || (kind == FileKind::tiff && channels > 1));
+  if (float_as_srgb8) {
+    encoded.resize(static_cast<size_t>(width) * height * channels);
+    encode_srgb8_rows(static_cast<const float*>(pixels), static_cast<size_t>(width) * channels, encoded.data(),
+                      static_cast<size_t>(width) * channels, width, height, channels);
+    data = encoded.data();
+    file_type = OIIO::TypeDesc::UINT8;
+  } else if (type == PixelType::u8 && kind != FileKind::exr) {
+    file_type = OIIO::TypeDesc::UINT8;
+  } else if (type == PixelType::u32 && kind == FileKind::tiff && channels == 1) {
+    file_type = OIIO::TypeDesc::UINT32;
+  } else if (type == PixelType::f32 && (kind == FileKind::exr || kind == FileKind::tiff)) {
+    file_type = OIIO::TypeDesc::FLOAT;
+  } else {
+    throw InputError(file, "", std::string("cannot write ") + type_name(type) + " pixels with " +
+                                   std::to_string(channels) + " channel(s) to this file type " +
+                                   "(32-bit unsigned needs one channel and .tif; .exr needs float)");
+  }
+
+  const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  TempFile tmp(dir / ("." + path.filename().string() + ".tmp-" + std::to_string(::getpid())));
+
+  // create() picks the writer from the target's extension; open() then writes to the
+  // temporary name, whose own extension means nothing to OIIO.
+  auto out = OIIO::ImageOutput::create(file);
+  if (!out) throw InputError(file, "", "no image writer for this extension: " + OIIO::geterror());
+  OIIO::ImageSpec spec(width, height, channels, file_type);
+  if (kind == FileKind::exr) {
+    if (channels == 1) spec.channelnames = {"Y"};
+    else if (channels == 2) spec.channelnames = {"Y", "A"};
+  }
+  if (channels == 2 || channels == 4) {
+    spec.alpha_channel = channels - 1;
+    // The values are stored exactly as given; without this OIIO's PNG writer would divide
+    // the (already sRGB-encoded) colour by alpha.
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+  }
+  if (file_type == OIIO::TypeDesc::UINT8) spec.attribute("oiio:ColorSpace", "sRGB");
+  else if (file_type == OIIO::TypeDesc::FLOAT) spec.attribute("oiio:ColorSpace", "Linear");
+  if (!out->open(tmp.path().string(), spec))
+    throw InputError(file, "", "cannot create the image file: " + out->geterror());
+  const bool wrote = out->write_image(file_type, data);
+  const std::string write_error = wrote ? std::string() : out->geterror();
+  const bool closed = out->close();
+  if (!wrote) throw InputError(file, "", "writing the image failed: " + write_error);
+  if (!closed) throw InputError(file, "", "finishing the image file failed: " + out->geterror());
+  std::error_code ec;
+  std::filesystem::rename(tmp.path(), path, ec);
+  if (ec) throw InputError(file, "", "cannot move the finished image into place: " + ec.message());
+  tmp.release();
+}
+
+ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encoding) {
+  const std::string file = path.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw InputError(file, "", "image file not found");
+  // Keep stored values: by default OIIO multiplies PNG colour by alpha on read.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(file, &config);
+  if (!in) throw InputError(file, "", "cannot read the image: " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    throw InputError(file, "", "the image is empty");
+  if (spec.depth > 1) throw InputError(file, "", "volume images are not supported");
+  const int channels = std::min(spec.nchannels, 4);
+  int bits = 32;
+  OIIO::TypeDesc read_type = OIIO::TypeDesc::FLOAT;
+  if (spec.format == OIIO::TypeDesc::UINT8) {
+    bits = 8;
+    read_type = OIIO::TypeDesc::UINT8;
+  } else if (spec.format == OIIO::TypeDesc::UINT16) {
+    bits = 16;
+    read_type = OIIO::TypeDesc::UINT16;
+  }
+  std::vector<uint8_t> buffer(static_cast<size_t>(spec.width) * spec.height * channels * (bits / 8));
+  if (!in->read_image(0, 0, 0, channels, read_type, buffer.data()))
+    throw InputError(file, "", "reading the pixels failed: " + in->geterror());
+  in->close();
+  ImageRGBA img = pixels_to_rgba(buffer.data(), spec.width, spec.height, channels, bits, encoding);
+  for (float v : img.rgba)
+    if (!std::isfinite(v)) throw InputError(file, "", "the image holds non-finite values");
+  return img;
+}
+
+}  // namespace pelt::io

@@ -1,0 +1,40 @@
+// Image files through OpenImageIO: atomic writes of rendered images and AOVs, and
+// colour-map reads.
+#pragma once
+
+#include <filesystem>
+
+#include "tools/io/image.h"
+
+namespace pelt::io {
+
+// Type of the pixel values handed to write_image_atomic.
+enum class PixelType {
+  u8,   // bytes, written as they are
+  u32,  // 32-bit unsigned integers (the id AOV)
+  f32,  // linear floats
+};
+
+// Writes `width` x `height` pixels of `channels` (1..4) interleaved values of `type`,
+// rows top to bottom, to `path`, choosing the file type by extension:
+//   .png          u8 as is; f32 encoded to 8-bit sRGB (alpha, with 2 or 4 channels,
+//                 linear), bit-exact with linear_to_srgb8.
+//   .tif / .tiff  u8 as is; u32 with 1 channel as 32-bit unsigned; f32 with 1 channel as
+//                 32-bit float; f32 with 2..4 channels as 8-bit sRGB like .png.
+//   .exr          f32 as 32-bit float channels (1 = "Y", 3 = RGB, 4 = RGBA).
+// Colour is written as given, with straight (unassociated) alpha: a caller holding
+// premultiplied colour divides by alpha first.
+// The data go first to `.NAME.tmp-PID` in the target's folder, which is renamed over
+// `path` only after the whole write succeeded; on any failure the temporary is removed
+// and InputError(path, "", reason) is thrown, leaving no partial output. An unknown
+// extension or an unsupported (type, channels) for the extension is an InputError too.
+void write_image_atomic(const std::filesystem::path& path, int width, int height, int channels,
+                        PixelType type, const void* pixels);
+
+// Reads an image as linear float RGBA (grey is replicated, a missing alpha is 1), colour
+// as stored (straight alpha for PNG; nothing is multiplied by alpha).
+// 8 and 16-bit integer files are decoded with `encoding` (sRGB for colour maps); float
+// and half files are taken as linear. Throws InputError naming the file.
+ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encoding = ColorEncoding::srgb);
+
+}  // namespace pelt::io

@@ -1,0 +1,36 @@
+// The one exception type for bad user input (scene files, meshes, images, CLI values).
+// The CLI maps it to exit code 2; everything else that throws is a bug.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace pelt::io {
+
+// A bad input, located as precisely as we can: the file it came from, the field inside
+// it (a JSON path such as `objects[1].transform.scale`, or an element such as
+// `vertex 12`; empty when the whole file is at fault) and why it was rejected.
+// what() reads "FILE: FIELD: REASON" (or "FILE: REASON" when field is empty) so a
+// user can act on the message without a debugger.
+struct InputError : std::runtime_error {
+  InputError(std::string file_, std::string field_, std::string reason_)
+      : std::runtime_error(compose(file_, field_, reason_)),
+        file(std::move(file_)),
+        field(std::move(field_)),
+        reason(std::move(reason_)) {}
+
+  std::string file;
+  std::string field;
+  std::string reason;
+
+ private:
+  static std::string compose(const std::string& file, const std::string& field,
+                             const std::string& reason) {
+    std::string s = file.empty() ? std::string("<input>") : file;
+    if (!field.empty()) s += ": " + field;
+    s += ": " + reason;
+    return s;
+  }
+};
+
+}  // namespace pelt::io

@@ -1,0 +1,98 @@
+#include "tools/io/mesh_loader.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <system_error>
+
+#include <glm/geometric.hpp>
+
+#include "tools/io/input_error.h"
+#include "tools/io/mesh_loader_detail.h"
+
+namespace pelt::io {
+namespace {
+
+const char* non_finite_name(float a, float b, float c = 0.0f) {
+  for (float v : {a, b, c}) {
+    if (std::isnan(v)) return "NaN";
+    if (std::isinf(v)) return "infinite";
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+namespace detail {
+
+void finish_normals(LoadedMesh& out, bool has_normals) {
+  Mesh& m = out.mesh;
+  if (has_normals && m.normals.size() == m.positions.size()) {
+    for (auto& n : m.normals) {
+      const float len = glm::length(n);
+      if (!(len > 0.0f)) {
+        has_normals = false;
+        break;
+      }
+      n /= len;
+    }
+    if (has_normals) return;
+    out.warnings.push_back("some normals have zero length: all normals computed from the triangles");
+  } else {
+    out.warnings.push_back("not every vertex has a normal: normals computed from the triangles");
+  }
+  compute_vertex_normals(m);
+}
+
+}  // namespace detail
+
+void validate_mesh(const Mesh& m, const std::string& file) {
+  const size_t n = m.positions.size();
+  if (!m.normals.empty() && m.normals.size() != n)
+    throw InputError(file, "normals", std::to_string(m.normals.size()) + " normals for " +
+                                          std::to_string(n) + " vertices");
+  if (!m.uvs.empty() && m.uvs.size() != n)
+    throw InputError(file, "uvs", std::to_string(m.uvs.size()) + " uvs for " + std::to_string(n) +
+                                      " vertices");
+  for (size_t i = 0; i < n; ++i) {
+    const std::string where = "vertex " + std::to_string(i);
+    if (const char* bad = non_finite_name(m.positions[i].x, m.positions[i].y, m.positions[i].z))
+      throw InputError(file, where, std::string("position is ") + bad);
+    if (!m.normals.empty())
+      if (const char* bad = non_finite_name(m.normals[i].x, m.normals[i].y, m.normals[i].z))
+        throw InputError(file, where, std::string("normal is ") + bad);
+    if (!m.uvs.empty())
+      if (const char* bad = non_finite_name(m.uvs[i].x, m.uvs[i].y))
+        throw InputError(file, where, std::string("uv is ") + bad);
+  }
+  if (m.indices.size() % 3 != 0)
+    throw InputError(file, "indices", std::to_string(m.indices.size()) +
+                                          " indices is not a whole number of triangles");
+  if (m.indices.empty()) throw InputError(file, "", "the mesh has no triangles");
+  for (size_t k = 0; k < m.indices.size(); ++k)
+    if (m.indices[k] >= n)
+      throw InputError(file, "triangle " + std::to_string(k / 3),
+                       "index " + std::to_string(m.indices[k]) + " out of range (" +
+                           std::to_string(n) + " vertices)");
+}
+
+LoadedMesh load_mesh_file(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw InputError(file, "", "file not found");
+  if (std::filesystem::is_directory(path, ec)) throw InputError(file, "", "is a folder, not a mesh file");
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  LoadedMesh out;
+  if (ext == ".obj") out = detail::load_obj(path);
+  else if (ext == ".gltf") out = detail::load_gltf(path, false);
+  else if (ext == ".glb") out = detail::load_gltf(path, true);
+  else
+    throw InputError(file, "", "unsupported mesh file extension `" + path.extension().string() +
+                                   "` (expected .obj, .gltf or .glb)");
+  validate_mesh(out.mesh, file);
+  return out;
+}
+
+}  // namespace pelt::io

@@ -1,0 +1,54 @@
+// Mesh files: Wavefront OBJ (tinyobjloader) and glTF 2.0 / GLB (tinygltf).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "raster/mesh.h"
+#include "tools/io/image.h"
+
+namespace pelt::io {
+
+// A texture a mesh file refers to: either a file to load (path resolved relative to the
+// mesh file) or pixels decoded from inside the mesh file (GLB buffer view, data URI).
+// Both empty when the file names no such texture.
+struct TextureRef {
+  std::filesystem::path path;
+  ImageRGBA pixels;  // linear: sRGB-decoded for colour maps, as stored for normal maps
+
+  bool present() const { return !path.empty() || !pixels.empty(); }
+};
+
+struct LoadedMesh {
+  Mesh mesh;               // all triangles of the file in one mesh, in file order
+  TextureRef color_map;    // glTF baseColorTexture / OBJ map_Kd
+  TextureRef normal_map;   // glTF normalTexture / OBJ norm (or bump)
+  // Things that were accepted but changed or ignored, to be shown to the user (e.g. "the
+  // file has no normals: computed from the triangles").
+  std::vector<std::string> warnings;
+};
+
+// Loads .obj, .gltf or .glb (by extension, case-insensitive). Normals are used when every
+// vertex has one, otherwise computed with pelt::compute_vertex_normals (and a warning);
+// UVs are kept when every vertex has one.
+//
+// OBJ: triangulated; one vertex per distinct (v, vt, vn) triple, in first-use order.
+// glTF: every mesh instance of the default scene (scene 0 when none is set), with its
+// node's world transform baked into positions and normals (normals by the inverse
+// transpose; triangles flipped under mirroring transforms); triangle lists, strips and
+// fans; indices of any type; TEXCOORD_0. Textures come from the first primitive that has
+// a material with them.
+//
+// Throws InputError naming the file and the first bad element: unreadable or malformed
+// file, unsupported extension, non-finite values (`v 12: position is NaN`, or a glTF
+// accessor path), index out of range, no triangles.
+LoadedMesh load_mesh_file(const std::filesystem::path& path);
+
+// Checks a mesh for the problems every consumer assumes away: attribute arrays of the
+// wrong length, non-finite positions, normals or uvs, indices out of range, an index
+// count not a multiple of 3, no triangles. Elements are named 0-based ("vertex 12",
+// "triangle 3"). Throws InputError(file, element, reason).
+void validate_mesh(const Mesh& mesh, const std::string& file);
+
+}  // namespace pelt::io

@@ -1,0 +1,120 @@
+#include "tools/io/scene_blocks.h"
+
+namespace pelt::io::detail {
+namespace {
+
+using nlohmann::json;
+
+float num(const JsonFields& js, const json& obj, const std::string& path, const char* key, float fallback) {
+  const json* v = JsonFields::find(obj, key);
+  return v ? static_cast<float>(js.number(*v, json_child(path, key))) : fallback;
+}
+
+void num3(const JsonFields& js, const json& obj, const std::string& path, const char* key, float out[3]) {
+  if (const json* v = JsonFields::find(obj, key)) {
+    const auto n = js.numbers(*v, json_child(path, key), 3, 3);
+    for (int k = 0; k < 3; ++k) out[k] = static_cast<float>(n[k]);
+  }
+}
+
+glm::vec3 vec(const JsonFields& js, const json& obj, const std::string& path, const char* key,
+              glm::vec3 fallback) {
+  const json* v = JsonFields::find(obj, key);
+  return v ? js.vec3(*v, json_child(path, key)) : fallback;
+}
+
+template <class Enum>
+void switch_value(const JsonFields& js, const json& obj, const std::string& path, const char* key, Enum& out) {
+  const json* v = JsonFields::find(obj, key);
+  if (!v) return;
+  const std::string field = json_child(path, key);
+  if (auto e = shading::parse(key, js.string(*v, field), out)) js.fail(field, e->reason);
+}
+
+}  // namespace
+
+fur::FurParams parse_fur_block(const JsonFields& js, const json& j, const std::string& path) {
+  js.expect_object(j, path,
+                   {"shells", "length", "density", "texture_size", "seed", "fins", "root_color",
+                    "tip_color", "gravity", "wind", "comb"});
+  fur::FurParams p;
+  if (const json* v = JsonFields::find(j, "shells"))
+    p.shells = static_cast<int>(js.integer(*v, json_child(path, "shells"), -1000000, 1000000));
+  p.length = num(js, j, path, "length", p.length);
+  p.density = num(js, j, path, "density", p.density);
+  if (const json* v = JsonFields::find(j, "texture_size"))
+    p.texture_size = static_cast<int>(js.integer(*v, json_child(path, "texture_size"), -1000000, 1000000));
+  if (const json* v = JsonFields::find(j, "seed"))
+    p.seed = static_cast<uint32_t>(js.integer(*v, json_child(path, "seed"), 0, 4294967295ll));
+  if (const json* v = JsonFields::find(j, "fins")) {
+    const std::string field = json_child(path, "fins");
+    const std::string text = js.string(*v, field);
+    const auto mode = fur::fin_mode_from_string(text);
+    if (!mode) js.fail(field, "must be \"off\", \"all\" or \"silhouette\", got \"" + text + "\"");
+    p.fins = *mode;
+  }
+  p.root_color = vec(js, j, path, "root_color", p.root_color);
+  p.tip_color = vec(js, j, path, "tip_color", p.tip_color);
+  if (const json* v = JsonFields::find(j, "gravity")) {
+    const std::string g = json_child(path, "gravity");
+    js.expect_object(*v, g, {"direction", "strength", "stability"});
+    fur::GravityParams gp;
+    gp.direction = vec(js, *v, g, "direction", gp.direction);
+    gp.strength = num(js, *v, g, "strength", gp.strength);
+    gp.stability = num(js, *v, g, "stability", gp.stability);
+    p.gravity = gp;
+  }
+  if (const json* v = JsonFields::find(j, "wind")) {
+    const std::string w = json_child(path, "wind");
+    js.expect_object(*v, w, {"direction", "strength", "gust_frequency", "gust_scale"});
+    fur::WindParams wp;
+    wp.direction = vec(js, *v, w, "direction", wp.direction);
+    wp.strength = num(js, *v, w, "strength", wp.strength);
+    wp.gust_frequency = num(js, *v, w, "gust_frequency", wp.gust_frequency);
+    wp.gust_scale = num(js, *v, w, "gust_scale", wp.gust_scale);
+    p.wind = wp;
+  }
+  if (const json* v = JsonFields::find(j, "comb")) {
+    const std::string c = json_child(path, "comb");
+    js.expect_object(*v, c, {"direction", "weight"});
+    fur::CombParams cp;
+    cp.direction = vec(js, *v, c, "direction", cp.direction);
+    cp.weight = num(js, *v, c, "weight", cp.weight);
+    p.comb = cp;
+  }
+  if (auto e = fur::validate(p)) js.fail(json_child(path, e->field), e->reason);
+  return p;
+}
+
+shading::SkinParams parse_skin_block(const JsonFields& js, const json& j, const std::string& path) {
+  js.expect_object(j, path,
+                   {"SkinColor", "SheenColor", "Opacity", "AmbientCoeff", "Thickness", "Eta",
+                    "SingleScatteringCoeff", "DiffusionColor", "MultipleScatteringCoeff", "ClampCoeff",
+                    "Power", "Specularity", "g", "single_scattering", "multiple_scattering", "fresnel",
+                    "phase", "specular", "normal_blur_radius", "normal_blur_mix"});
+  shading::SkinParams p;
+  num3(js, j, path, "SkinColor", p.SkinColor);
+  num3(js, j, path, "SheenColor", p.SheenColor);
+  p.Opacity = num(js, j, path, "Opacity", p.Opacity);
+  p.AmbientCoeff = num(js, j, path, "AmbientCoeff", p.AmbientCoeff);
+  p.Thickness = num(js, j, path, "Thickness", p.Thickness);
+  p.Eta = num(js, j, path, "Eta", p.Eta);
+  p.SingleScatteringCoeff = num(js, j, path, "SingleScatteringCoeff", p.SingleScatteringCoeff);
+  num3(js, j, path, "DiffusionColor", p.DiffusionColor);
+  p.MultipleScatteringCoeff = num(js, j, path, "MultipleScatteringCoeff", p.MultipleScatteringCoeff);
+  p.ClampCoeff = num(js, j, path, "ClampCoeff", p.ClampCoeff);
+  p.Power = num(js, j, path, "Power", p.Power);
+  p.Specularity = num(js, j, path, "Specularity", p.Specularity);
+  p.g = num(js, j, path, "g", p.g);
+  switch_value(js, j, path, "single_scattering", p.single_scattering);
+  switch_value(js, j, path, "multiple_scattering", p.multiple_scattering);
+  switch_value(js, j, path, "fresnel", p.fresnel);
+  switch_value(js, j, path, "phase", p.phase);
+  switch_value(js, j, path, "specular", p.specular);
+  num3(js, j, path, "normal_blur_radius", p.normal_blur_radius);
+  num3(js, j, path, "normal_blur_mix", p.normal_blur_mix);
+  if (auto e = shading::validate(p)) js.fail(json_child(path, e->field), e->reason);
+  return p;
+}
+
+}  // namespace pelt::io::detail

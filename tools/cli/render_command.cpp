@@ -91,6 +91,12 @@ int run_render(const RenderOptions& o) {
   render::FrameImage img;
   render::FrameStats st;
   r.render(o.frame, img, st);
+  const std::filesystem::path out_dir = std::filesystem::path(o.output).parent_path();
+  if (!out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec) throw io::InputError(o.output, "-o", "cannot create folder " + out_dir.string() + ": " + ec.message());
+  }
   {
     render::StageTimer t(st, "write");
     write_frame(o.output, img, aov);

@@ -67,7 +67,7 @@ struct AxisTaps {
 };
 
 std::vector<AxisTaps> box_taps(int src, int dst) {
-  std::vector<AxisTaps> taps(size_t(dst));
+  std::vector<AxisTaps> taps(static_cast<size_t>(dst));
   for (int i = 0; i < dst; ++i) {
     // Integer bounds in units of 1/dst source texels keep the overlaps exact.
     const int64_t lo = int64_t(i) * src, hi = int64_t(i + 1) * src;
@@ -128,12 +128,12 @@ struct TextureBuilder {
     levels.clear();
     size_t total = 0;
     for (int w = width, h = height;; w = std::max(1, w / 2), h = std::max(1, h / 2)) {
-      levels.push_back(MipLevel{w, h, total});
-      total += size_t(w) * size_t(h);
+      levels.push_back(MipLevel{w, h, w + 1, total});
+      total += size_t(w + 1) * size_t(h);
       if (w == 1 && h == 1) break;
     }
     texels.assign(total, 0u);
-    std::copy(level0.begin(), level0.end(), texels.begin());
+    store(level0, levels[0], texels);
     // Each level is reduced from the previous one unquantised, so 8-bit rounding does not
     // compound down the chain.
     std::vector<Texel> cur(level0.size());
@@ -142,7 +142,42 @@ struct TextureBuilder {
       const MipLevel& s = levels[k - 1];
       const MipLevel& d = levels[k];
       cur = reduce(cur, s.width, s.height, d.width, d.height);
-      for (size_t i = 0; i < cur.size(); ++i) texels[d.offset + i] = encode(cur[i], enc);
+      std::vector<uint32_t> packed(cur.size());
+      for (size_t i = 0; i < cur.size(); ++i) packed[i] = encode(cur[i], enc);
+      store(packed, d, texels);
+    }
+    fill_transparent(texels, levels);
+    for (const MipLevel& L : levels)
+      for (int y = 0; y < L.height; ++y) {
+        uint32_t* row = texels.data() + L.offset + size_t(y) * size_t(L.stride);
+        row[L.width] = row[0];
+      }
+  }
+
+  // Rows of `width` packed texels into the level's padded rows.
+  static void store(const std::vector<uint32_t>& packed, const MipLevel& L, std::vector<uint32_t>& texels) {
+    for (int y = 0; y < L.height; ++y)
+      std::copy_n(packed.begin() + long(y) * L.width, L.width, texels.begin() + long(L.offset) + long(y) * L.stride);
+  }
+
+  // Pull-push fill, coarse to fine: a texel with alpha 0 takes the colour bytes of the texel
+  // of the next level that covers it (that is the alpha-weighted average of the visible
+  // texels around it, or itself filled from further up). The sampler filters straight
+  // colour; with this fill, a transparent texel next to a visible one carries the colour of
+  // its visible surroundings, so filtering straight colour pulls in no foreign (dark) colour.
+  // Only the colour of invisible texels changes.
+  static void fill_transparent(std::vector<uint32_t>& texels, const std::vector<MipLevel>& levels) {
+    for (size_t k = levels.size() - 1; k-- > 0;) {
+      const MipLevel& L = levels[k];
+      const MipLevel& P = levels[k + 1];
+      for (int y = 0; y < L.height; ++y)
+        for (int x = 0; x < L.width; ++x) {
+          uint32_t& t = texels[L.offset + size_t(y) * size_t(L.stride) + size_t(x)];
+          if ((t >> 24) != 0) continue;
+          const size_t px = size_t(x) * size_t(P.width) / size_t(L.width);
+          const size_t py = size_t(y) * size_t(P.height) / size_t(L.height);
+          t = texels[P.offset + py * size_t(P.stride) + px] & 0x00FFFFFFu;
+        }
     }
   }
 };
@@ -196,7 +231,7 @@ std::optional<TextureError> TextureArray::from_rgba8_layers(int width, int heigh
   if (auto e = check_size(width, height)) return e;
   if (rgba == nullptr) return TextureError{"rgba", "is null"};
   const size_t layer_bytes = size_t(width) * size_t(height) * 4;
-  std::vector<Texture> layers(size_t(count));
+  std::vector<Texture> layers(static_cast<size_t>(count));
   for (int s = 0; s < count; ++s)
     if (auto e = Texture::from_rgba8(width, height, rgba + size_t(s) * layer_bytes, encoding,
                                      layers[size_t(s)])) {
@@ -251,14 +286,11 @@ double texel_coord(float c, int size, Wrap wrap) {
   return std::clamp(x, -2.0, double(size) + 2.0);
 }
 
+// Straight colour and alpha, weighted (the fill makes premultiplication unnecessary).
 struct RefAcc {
-  double pm[3] = {}, plain[3] = {}, alpha = 0;
+  double c[4] = {};
   void add(const Texel& t, double w) {
-    for (int ch = 0; ch < 3; ++ch) {
-      pm[ch] += w * t.c[3] * t.c[ch];
-      plain[ch] += w * t.c[ch];
-    }
-    alpha += w * t.c[3];
+    for (int ch = 0; ch < 4; ++ch) c[ch] += w * t.c[ch];
   }
 };
 
@@ -279,15 +311,19 @@ void ref_bilinear(const Texture& tex, int k, const SamplerState& s, float u, flo
 }
 
 double ref_lod(const Texture& tex, const float* u, const float* v, float bias) {
-  // Mean of the 12 horizontal and 12 vertical neighbour differences of the block.
+  // Mean of the 12 horizontal and 12 vertical neighbour differences of the block; each row's
+  // (column's) three differences telescope to last - first. The sums run in the kernel's
+  // order: with extreme inputs (1e38 next to 1) they cancel catastrophically even in double,
+  // and the order is then part of the definition.
   double d[2][2] = {};  // [x or y][u or v]
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 3; ++c) {
-      d[0][0] += double(u[4 * r + c + 1]) - double(u[4 * r + c]);
-      d[0][1] += double(v[4 * r + c + 1]) - double(v[4 * r + c]);
-      d[1][0] += double(u[4 * (c + 1) + r]) - double(u[4 * c + r]);
-      d[1][1] += double(v[4 * (c + 1) + r]) - double(v[4 * c + r]);
-    }
+  for (int r = 0; r < 4; ++r) {
+    d[0][0] += double(u[4 * r + 3]) - double(u[4 * r]);
+    d[0][1] += double(v[4 * r + 3]) - double(v[4 * r]);
+  }
+  for (int c = 0; c < 4; ++c) {
+    d[1][0] += double(u[12 + c]) - double(u[c]);
+    d[1][1] += double(v[12 + c]) - double(v[c]);
+  }
   const double W = tex.width(), H = tex.height();
   const double lx = std::hypot(d[0][0] * W / 12, d[0][1] * H / 12);
   const double ly = std::hypot(d[1][0] * W / 12, d[1][1] * H / 12);
@@ -319,8 +355,7 @@ void sample_reference(const Texture& tex, const SamplerState& s, const float* u,
       RefAcc acc;
       ref_bilinear(tex, l0, s, u[i], v[i], 1.0 - t, acc);
       if (s.filter == Filter::Trilinear) ref_bilinear(tex, l1, s, u[i], v[i], t, acc);
-      for (int ch = 0; ch < 3; ++ch) out[ch][i] = acc.alpha > 0.0 ? acc.pm[ch] / acc.alpha : acc.plain[ch];
-      out[3][i] = acc.alpha;
+      for (int ch = 0; ch < 4; ++ch) out[ch][i] = acc.c[ch];
     }
   }
 }

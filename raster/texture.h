@@ -3,20 +3,27 @@
 // taken from screen-space derivatives within each 4x4 block of a FragmentBatch.
 //
 // Storage: every mip level is packed RGBA8, one uint32_t per texel (R in the low byte,
-// A in the high byte), row-major, rows of `width` texels, row 0 = v = 0. One 32-bit gather
-// fetches a whole texel, and a 256x256 level with its whole chain is 341 KiB, so a shell
-// layer stays in the 1 MiB L2 of this machine while it is drawn (float RGBA would need 1.3 MiB
-// per layer, and four gathers per texel). Colour channels are stored linear or sRGB-encoded
+// A in the high byte), row-major, row 0 = v = 0, rows of `width` texels plus one padding
+// texel that repeats the row's first texel. One 32-bit gather fetches a whole texel; the
+// padding makes x + 1 a valid neighbour of every x (repeat wraps onto it), so bilinear
+// wraps only its left index. Gathers are the dominant cost of the sampler here (about half of
+// a bilinear sample's time, measured with perf on this Zen 3): RGBA8 needs one gather per
+// texel where float RGBA would need four, and a 256x256 level with its whole chain is 342 KiB,
+// so a shell layer stays in the 1 MiB L2 while it is drawn (float RGBA: 1.4 MiB a layer). Colour channels are stored linear or sRGB-encoded
 // (TexelEncoding); alpha is always linear. sRGB bytes are decoded through a 256-entry float
 // table, so filtering happens in linear space as the colour-map brief asks.
 //
-// Alpha: texels are stored with STRAIGHT alpha (full colour precision at low alpha), but
-// every filter, the mip box filter and the sampler alike, weights colour by alpha (the
-// premultiplied average) and divides by the filtered alpha again: a transparent texel's
-// colour never bleeds into its neighbours, so strands and cut-outs gain no dark (or any
-// other) fringes whatever colour their transparent surroundings carry. Where every texel
-// under the filter has alpha 0, the colour is their plain weighted average instead, so a
-// fully transparent region keeps its own colour (and a constant texture samples to itself).
+// Alpha: texels are stored and filtered with STRAIGHT alpha (full colour precision at low
+// alpha; four multiply-adds per texel, no division per sample). Fringes are prevented at
+// build time instead: (1) the mip box filter averages colour weighted by alpha (the
+// premultiplied average divided by the averaged alpha), so a level's colour is that of its
+// visible texels; (2) a pull-push fill then gives every fully transparent texel (alpha 0) of
+// every level the colour of the coarser-level texel covering it, i.e. the colour of the
+// visible texels around it. Bilinear and trilinear filtering of straight colour between a
+// strand (or cut-out edge) and its transparent neighbours therefore mixes in only similar
+// colours: no dark (or any other) fringes whatever colour the input gave invisible texels.
+// Only the colour bytes of alpha-0 texels differ from the input. A fully transparent texture
+// keeps the plain average of its colours.
 //
 // Level sizes follow OpenGL: level k+1 is max(1, floor(w/2)) x max(1, floor(h/2)) of level
 // k, down to 1x1. The box filter is area-exact: a destination texel averages the source
@@ -57,6 +64,7 @@ struct TextureError {
 struct MipLevel {
   int width = 0;
   int height = 0;
+  int stride = 0;     // texels per row: width + 1 (the padding texel repeats texel 0)
   size_t offset = 0;  // first texel of the level in Texture::data()
 };
 
@@ -69,7 +77,7 @@ class Texture {
   Texture() = default;
 
   // `rgba`: width * height * 4 bytes, R, G, B, A, straight alpha, row 0 = v = 0.
-  // Builds the full mip chain. Allocates: call when a texture is loaded or generated.
+  // Builds the full mip chain and fills transparent texels (see above). Allocates: call when a texture is loaded or generated.
   static std::optional<TextureError> from_rgba8(int width, int height, const uint8_t* rgba,
                                                 TexelEncoding encoding, Texture& out);
   // `rgba`: width * height * 4 linear floats in [0, 1], straight alpha (e.g. io::ImageRGBA).
@@ -89,7 +97,7 @@ class Texture {
   const uint32_t* level_texels(int k) const { return texels_.data() + levels_[size_t(k)].offset; }
   // Packed texel (x, y) of level k: byte c (0 = R .. 3 = A) is (t >> 8c) & 255.
   uint32_t texel(int k, int x, int y) const {
-    return level_texels(k)[size_t(y) * size_t(levels_[size_t(k)].width) + size_t(x)];
+    return level_texels(k)[size_t(y) * size_t(levels_[size_t(k)].stride) + size_t(x)];
   }
   size_t bytes() const { return texels_.size() * sizeof(uint32_t); }
 
@@ -121,7 +129,7 @@ struct SamplerState {
 };
 
 // Samples `tex` at `lanes` points and writes linear straight-alpha r, g, b, a to
-// out[0..3][0..lanes). Texel centres are at ((i + 0.5) / width, (j + 0.5) / height).
+// out[0..3][0..lanes): the filter-weighted sum of the texels' straight colour and alpha. Texel centres are at ((i + 0.5) / width, (j + 0.5) / height).
 //
 // `lanes` is a multiple of 16, laid out as 4x4 blocks (lane l of a block is pixel
 // (l % 4, l / 4), as in FragmentBatch). Trilinear takes ONE level of detail per block:

@@ -12,5 +12,10 @@ using Run = std::function<int()>;
 
 Run add_render_command(CLI::App& app);
 Run add_info_command(CLI::App& app);
+Run add_bench_command(CLI::App& app);
+
+// Subcommands of `bench`, each added to the `bench` app.
+Run add_bench_fps(CLI::App& bench);
+Run add_bench_skin(CLI::App& bench);
 
 }  // namespace pelt::cli

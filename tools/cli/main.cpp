@@ -15,7 +15,8 @@ int main(int argc, char** argv) {
   CLI::App app{"pelt: tiled SIMD rasterizer for fur and skin"};
   app.require_subcommand(1);
   std::map<CLI::App*, pelt::cli::Run> runs;
-  for (auto add : {pelt::cli::add_render_command, pelt::cli::add_info_command}) {
+  for (auto add : {pelt::cli::add_render_command, pelt::cli::add_info_command,
+                   pelt::cli::add_bench_command}) {
     pelt::cli::Run run = add(app);
     runs[app.get_subcommands({}).back()] = std::move(run);
   }

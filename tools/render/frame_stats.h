@@ -21,7 +21,8 @@ inline constexpr const char* kStageNames[] = {
     "gravity",       // the gravity pose (when its inputs change)
     "wind",          // the wind field and wind pose (in frames where the wind changes)
     "fur_pose",      // lerp of the two poses, strand tangents, fur varyings
-    "fins",          // view-dependent fin weights
+    "fur_lighting",  // strand lighting per fur vertex (when pose, view or lights change)
+    "fins",          // view-dependent fin weights and the list of visible fins
     "raster_front",  // transform, clip, set-up, binning
     "raster_tiles",  // rasterize, shade, blend, resolve
     "write",         // image output

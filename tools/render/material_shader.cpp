@@ -25,6 +25,13 @@ MaterialShader::MaterialShader(const MaterialDesc& desc, std::vector<shading::Li
                                glm::vec3 eye, SkinLayer layer)
     : desc_(desc), lights_(std::move(lights)), eye_{eye.x, eye.y, eye.z}, layer_(layer) {}
 
+void MaterialShader::set_view(const std::vector<shading::Light>& lights, const glm::vec3& eye) {
+  lights_ = lights;
+  eye_[0] = eye.x;
+  eye_[1] = eye.y;
+  eye_[2] = eye.z;
+}
+
 void MaterialShader::shade(const raster::FragmentBatch& b) const {
   Scratch& s = tls_scratch;
   const size_t n = size_t{b.blocks} * raster::kBlockLanes;

@@ -31,6 +31,8 @@ class MaterialShader final : public raster::Shader {
   MaterialShader(const MaterialDesc& desc, std::vector<shading::Light> lights, glm::vec3 eye,
                  SkinLayer layer = SkinLayer::all);
   void shade(const raster::FragmentBatch& batch) const override;
+  // Lights and eye for the next frames; call between renders, never during one.
+  void set_view(const std::vector<shading::Light>& lights, const glm::vec3& eye);
 
  private:
   MaterialDesc desc_;

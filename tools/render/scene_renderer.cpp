@@ -14,6 +14,7 @@ struct SceneRenderer::Object {
   bool translucent = false;
   uint32_t id_base = 0;
   std::unique_ptr<MaterialShader> shader;
+  std::unique_ptr<FurObject> fur;
 };
 
 namespace {
@@ -78,6 +79,26 @@ SceneRenderer::SceneRenderer(const io::Scene& scene, const RenderSettings& setti
     StageTimer t(setup_stats_, "meshes");
     meshes = io::load_scene_meshes(scene);
   }
+  build(std::move(meshes));
+}
+
+SceneRenderer::SceneRenderer(const io::Scene& scene, std::vector<io::SceneMesh> meshes,
+                             const RenderSettings& settings)
+    : scene_(scene),
+      settings_(settings),
+      width_(settings.width > 0 ? settings.width : scene.image.width),
+      height_(settings.height > 0 ? settings.height : scene.image.height),
+      renderer_(settings.threads),
+      lights_(convert_lights(scene.lights)) {
+  setup_stats_.frame = -1;
+  if (meshes.size() != scene.objects.size())
+    throw std::invalid_argument("SceneRenderer: one mesh per scene object expected");
+  build(std::move(meshes));
+}
+
+void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
+  const io::Scene& scene = scene_;
+  const RenderSettings& settings = settings_;
   uint32_t id_base = 0;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const io::SceneObject& so = scene.objects[i];
@@ -110,6 +131,11 @@ SceneRenderer::SceneRenderer(const io::Scene& scene, const RenderSettings& setti
     }
     obj->shader = std::make_unique<MaterialShader>(obj->material, lights_, scene.camera.eye,
                                                    layer_of(settings.aov));
+    if (so.fur) {
+      const std::string name = so.name.empty() ? "objects[" + std::to_string(i) + "]" : so.name;
+      obj->fur = std::make_unique<FurObject>(obj->mesh, *so.fur, settings.match_llvmpipe,
+                                              settings.fur_lighting, name, setup_stats_);
+    }
     objects_.push_back(std::move(obj));
   }
 }
@@ -124,9 +150,18 @@ uint64_t SceneRenderer::base_triangles() const {
   return n;
 }
 
-uint64_t SceneRenderer::fur_triangles() const { return 0; }
+uint64_t SceneRenderer::fur_triangles() const {
+  uint64_t n = 0;
+  for (const auto& o : objects_)
+    if (o->fur) n += o->fur->triangles();
+  return n;
+}
 
-void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats) {
+const fur::FurCounts* SceneRenderer::fur_counts(size_t object) const {
+  return objects_[object]->fur ? &objects_[object]->fur->counts() : nullptr;
+}
+
+void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const io::Camera* camera_override) {
   stats = FrameStats{};
   stats.frame = frame;
   if (!setup_reported_) {
@@ -134,10 +169,27 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats) {
     setup_reported_ = true;
   }
 
+  const io::Camera& camera = camera_override ? *camera_override : scene_.camera;
   const float aspect = float(width_) / float(height_);
-  const glm::mat4 clip_from_world = scene_.camera.projection(aspect) * scene_.camera.view();
-  std::vector<raster::DrawCall> draws;
+  const glm::mat4 clip_from_world = camera.projection(aspect) * camera.view();
+  const double fps = scene_.animation ? scene_.animation->fps : 24.0;
+  const FurSort fur_sort = settings_.fur_sort ? *settings_.fur_sort
+                           : settings_.sort == raster::SortMode::Tile ? FurSort::tile
+                                                                       : FurSort::none;
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    if (!objects_[i]->fur) continue;
+    FurFrame f;
+    f.frame = frame;
+    f.time_seconds = frame / fps;
+    f.eye = camera.eye;
+    f.wind = scene_.objects[i].fur->wind;
+    f.gravity = scene_.objects[i].fur->gravity;
+    objects_[i]->fur->update(f, lights_, stats);
+  }
+  std::vector<raster::DrawCall>& draws = draws_;
+  draws.clear();
   for (const auto& o : objects_) {
+    o->shader->set_view(lights_, camera.eye);
     raster::DrawCall d;
     d.positions = o->mesh.positions.data();
     d.vertex_count = static_cast<uint32_t>(o->mesh.vertex_count());
@@ -154,6 +206,10 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats) {
     }
     draws.push_back(d);
   }
+  // Translucent fur after every opaque draw (the rasterizer shades opaque work first
+  // anyway; this keeps the translucent submission order object by object).
+  for (const auto& o : objects_)
+    if (o->fur) o->fur->append_draws(draws, clip_from_world, fur_sort, lights_, camera.eye);
 
   out.width = width_;
   out.height = height_;
@@ -175,7 +231,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats) {
   }
   raster::RenderOptions opt;
   opt.background = scene_.image.background;
-  opt.sort = settings_.sort;
+  opt.sort = fur_sort == FurSort::tile ? raster::SortMode::Tile : raster::SortMode::None;
   raster::RasterStats rs;
   renderer_.render(draws, opt, target, &rs);
   stats.stage("raster_front") = {true, rs.ms_front};

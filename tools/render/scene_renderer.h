@@ -9,6 +9,7 @@
 #include "raster/renderer.h"
 #include "tools/io/scene.h"
 #include "tools/render/frame_stats.h"
+#include "tools/render/fur_object.h"
 #include "tools/render/material_shader.h"
 
 namespace pelt::render {
@@ -19,7 +20,10 @@ struct RenderSettings {
   int width = 0, height = 0;  // 0: the scene's image size
   int threads = 1;
   raster::SortMode sort = raster::SortMode::Tile;
+  std::optional<FurSort> fur_sort;  // unset: `none` or `tile` after `sort`
   Aov aov = Aov::color;
+  bool match_llvmpipe = false;      // fur as the llvmpipe harness draws it (bench fps)
+  FurLighting fur_lighting = FurLighting::vertex;
 };
 
 // The planes of one rendered frame, row 0 at the top. Only the AOV asked for is filled.
@@ -30,24 +34,29 @@ struct FrameImage {
   std::vector<uint32_t> id;     // scene triangle index + 1, 0 = background
 };
 
-class FurObject;
-
 class SceneRenderer {
  public:
   // Loads meshes and builds everything the scene needs once. Throws io::InputError for
   // bad input. The set-up stages' times are reported in the first frame's stats.
   SceneRenderer(const io::Scene& scene, const RenderSettings& settings);
+  // The same with meshes already loaded (one per scene object, in order): for benchmarks
+  // and tools that generate geometry. Their load time is not reported.
+  SceneRenderer(const io::Scene& scene, std::vector<io::SceneMesh> meshes,
+                const RenderSettings& settings);
   ~SceneRenderer();
 
   // Renders frame `frame` (0-based) of the scene's animation. Deterministic: the same
   // frame gives the same image whatever was rendered before and on any thread count.
-  void render(int frame, FrameImage& out, FrameStats& stats);
+  // `camera` overrides the scene's camera for this frame (benchmarks orbit it).
+  void render(int frame, FrameImage& out, FrameStats& stats, const io::Camera* camera = nullptr);
 
   int width() const { return width_; }
   int height() const { return height_; }
   int frame_count() const;
   uint64_t base_triangles() const;
   uint64_t fur_triangles() const;
+  // Fur vertex and face counts of object i (nullptr when it has no fur).
+  const fur::FurCounts* fur_counts(size_t object) const;
 
  private:
   struct Object;
@@ -57,6 +66,8 @@ class SceneRenderer {
   raster::Renderer renderer_;
   std::vector<shading::Light> lights_;
   std::vector<std::unique_ptr<Object>> objects_;
+  std::vector<raster::DrawCall> draws_;  // reused every frame
+  void build(std::vector<io::SceneMesh> meshes);
   FrameStats setup_stats_;  // stages run by the constructor, reported once
   bool setup_reported_ = false;
 };

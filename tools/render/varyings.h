@@ -14,8 +14,17 @@ struct SurfaceVaryings {
   static constexpr int kCountBlurred = 17;
 };
 
-// Fur shells and fins.
+// Fur shells and fins, lit per vertex (the default): the strand lighting is smooth across
+// a shell, so it is evaluated once per fur vertex and only the texture varies per pixel.
 struct FurVaryings {
+  static constexpr int kUv = 0;        // shell uv (shells) or fin uv (fins), 2
+  static constexpr int kDiffuse = 2;   // light that multiplies the strand colour, 3
+  static constexpr int kSpecular = 5;  // light added on top, 3
+  static constexpr int kCount = 8;
+};
+
+// Fur lit per pixel (Kajiya-Kay evaluated per fragment).
+struct FurPixelVaryings {
   static constexpr int kPos = 0;      // world position of the deformed fur vertex, 3
   static constexpr int kTangent = 3;  // strand tangent from the deformed chain, 3
   static constexpr int kUv = 6;       // shell uv (shells) or fin uv (fins), 2

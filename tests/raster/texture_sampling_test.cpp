@@ -1,0 +1,212 @@
+// The Highway sampler against the double-precision reference, for every compiled target,
+// every filter and wrap pair, on random and on hard inputs.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "raster/texture.h"
+#include "tests/raster/texture_test_helpers.h"
+
+namespace pelt::raster::test {
+namespace {
+
+constexpr Filter kFilters[] = {Filter::Nearest, Filter::Bilinear, Filter::Trilinear};
+constexpr Wrap kWraps[] = {Wrap::Repeat, Wrap::Clamp};
+
+struct Coords {
+  std::vector<float> u, v;
+};
+
+// Blocks whose u, v are affine in the pixel (as a rasterizer interpolates them) with
+// derivatives from 2^-14 to 2^6 texture widths per pixel, randomly rotated, some with a
+// perspective-like bend, and blocks of independent random values (random LOD).
+Coords random_coords(size_t blocks, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> base(-3.0f, 3.0f), unit(-1.0f, 1.0f), e(-14.0f, 6.0f);
+  Coords c;
+  for (size_t b = 0; b < blocks; ++b) {
+    const float u0 = base(rng), v0 = base(rng);
+    const float sx = std::exp2(e(rng)), sy = std::exp2(e(rng)), angle = unit(rng) * 3.14159f;
+    const bool independent = b % 5 == 4;
+    const float bend = b % 3 == 0 ? 0.05f * unit(rng) : 0.0f;
+    for (int l = 0; l < 16; ++l) {
+      const float x = float(l % 4), y = float(l / 4);
+      if (independent) {
+        c.u.push_back(base(rng));
+        c.v.push_back(base(rng));
+        continue;
+      }
+      const float w = 1.0f + bend * (x + y);
+      c.u.push_back(u0 + (sx * std::cos(angle) * x - sy * std::sin(angle) * y) / w);
+      c.v.push_back(v0 + (sx * std::sin(angle) * x + sy * std::cos(angle) * y) / w);
+    }
+  }
+  return c;
+}
+
+// Exact 0 and 1, negatives, huge values, float extremes (no NaN or infinity), texel
+// boundaries and centres of a w x h texture and their float neighbours, in blocks that are
+// constant (zero derivative), mixed (huge derivative) or a 1-texel-per-pixel ramp from a
+// boundary.
+Coords hard_coords(int w, int h, uint32_t seed) {
+  std::vector<float> values = {0.0f, -0.0f, 1.0f, -1.0f, 0.5f, 2.0f, -2.5f, 1e6f, -1e6f, 1e6f + 0.5f,
+                               -1e6f - 0.25f, 1e-30f, -1e-30f, FLT_MIN, -FLT_MIN, 1e-45f, FLT_MAX,
+                               -FLT_MAX, 3e9f, -3e9f, 16777216.0f, std::nextafter(1.0f, 0.0f),
+                               std::nextafter(0.0f, -1.0f), std::nextafter(1.0f, 2.0f)};
+  for (int side : {w, h})
+    for (int k = 0; k <= side; ++k)
+      for (float t : {float(k) / float(side), (float(k) + 0.5f) / float(side)})
+        for (float x : {t, std::nextafter(t, -1.0f), std::nextafter(t, 2.0f), t - 1.0f, t + 3.0f})
+          values.push_back(x);
+  std::mt19937 rng(seed);
+  auto pick = [&] { return values[rng() % values.size()]; };
+  Coords c;
+  const size_t blocks = 3 * values.size() / 16 + 8;
+  for (size_t b = 0; b < blocks; ++b) {
+    const int kind = int(b % 3);
+    const float cu = pick(), cv = pick();
+    for (int l = 0; l < 16; ++l) {
+      if (kind == 0) {  // constant: zero derivative
+        c.u.push_back(cu);
+        c.v.push_back(cv);
+      } else if (kind == 1) {  // independent extremes: huge derivative
+        c.u.push_back(pick());
+        c.v.push_back(pick());
+      } else {  // one texel per pixel from a hard value
+        c.u.push_back(cu + float(l % 4) / float(w));
+        c.v.push_back(cv + float(l / 4) / float(h));
+      }
+    }
+  }
+  return c;
+}
+
+// Nearest is discontinuous at texel boundaries: the kernel's float arithmetic can round onto
+// a boundary that the exact value misses. A lane that differs from the reference must then
+// equal the reference at a coordinate the kernel's rounding could have produced: u itself
+// moved by one float ulp (spans the rounding of u * size) or, for repeat, the wrapped float
+// u - floor(u) and its neighbours (spans the rounding of the wrap of a negative u).
+std::vector<float> nearby(float x, Wrap wrap) {
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<float> out = {x, std::nextafter(x, -inf), std::nextafter(x, inf)};
+  if (wrap == Wrap::Repeat) {
+    const float c = x - std::floor(x);
+    out.insert(out.end(), {c, std::nextafter(c, -inf), std::nextafter(c, inf)});
+  }
+  return out;
+}
+
+void expect_nearest_matches(const Texture& tex, const SamplerState& s, const Coords& c,
+                            const Samples& simd, const RefSamples& ref, const std::string& what) {
+  for (size_t i = 0; i < c.u.size(); ++i) {
+    auto equal = [&](const RefSamples& r, size_t j) {
+      for (int ch = 0; ch < 4; ++ch)
+        if (std::abs(double(simd.c[ch][i]) - r.c[ch][j]) > 1e-6) return false;
+      return true;
+    };
+    if (equal(ref, i)) continue;
+    const size_t b = i / 16 * 16;
+    bool found = false;
+    for (float nu : nearby(c.u[i], s.wrap_u))
+      for (float nv : nearby(c.v[i], s.wrap_v)) {
+        if (found) break;
+        std::vector<float> u(c.u.begin() + long(b), c.u.begin() + long(b) + 16);
+        std::vector<float> v(c.v.begin() + long(b), c.v.begin() + long(b) + 16);
+        u[i - b] = nu;
+        v[i - b] = nv;
+        found = equal(run_reference(tex, s, u, v), i - b);
+      }
+    EXPECT_TRUE(found) << what << " nearest lane " << i << " u " << c.u[i] << " v " << c.v[i];
+  }
+}
+
+void compare_all(const Texture& tex, const Coords& c, const std::string& name) {
+  for_each_target([&](const std::string& target) {
+    for (Filter f : kFilters)
+      for (Wrap wu : kWraps)
+        for (Wrap wv : kWraps)
+          for (float bias : {0.0f, -1.5f, 2.25f}) {
+            if (f != Filter::Trilinear && bias != 0.0f) continue;
+            const SamplerState s{f, wu, wv, bias};
+            const std::string what = name + " " + target + " filter " + std::to_string(int(f)) +
+                                     " wrap " + std::to_string(int(wu)) + std::to_string(int(wv)) +
+                                     " bias " + std::to_string(bias);
+            const Samples simd = run_sample(tex, s, c.u, c.v);
+            const RefSamples ref = run_reference(tex, s, c.u, c.v);
+            if (f == Filter::Nearest) {
+              expect_nearest_matches(tex, s, c, simd, ref, what);
+              continue;
+            }
+            const double tol = linear_tolerance(tex);
+            size_t failures = 0;
+            for (size_t i = 0; i < c.u.size() && failures < 5; ++i) {
+              const auto r = lane_matches(simd, ref, i, tol);
+              if (!r) ++failures;
+              EXPECT_TRUE(r) << what;
+            }
+          }
+  });
+}
+
+struct Case {
+  int w, h;
+  TexelEncoding enc;
+};
+
+const Case kCases[] = {{256, 256, TexelEncoding::Linear}, {64, 64, TexelEncoding::Srgb},
+                       {1, 1, TexelEncoding::Linear},     {1, 1, TexelEncoding::Srgb},
+                       {100, 37, TexelEncoding::Linear},  {3, 5, TexelEncoding::Srgb},
+                       {7, 1, TexelEncoding::Linear},     {1, 9, TexelEncoding::Linear}};
+
+std::string case_name(const Case& k) {
+  return std::to_string(k.w) + "x" + std::to_string(k.h) + (k.enc == TexelEncoding::Srgb ? " srgb" : " linear");
+}
+
+TEST(TextureSampling, RandomInputsMatchReferenceOnEveryTarget) {
+  uint32_t seed = 1;
+  for (const Case& k : kCases) {
+    const Texture tex = random_texture(k.w, k.h, k.enc, seed++);
+    compare_all(tex, random_coords(64, seed++), case_name(k) + " random");
+  }
+}
+
+TEST(TextureSampling, HardInputsMatchReferenceOnEveryTarget) {
+  uint32_t seed = 100;
+  for (const Case& k : kCases) {
+    const Texture tex = random_texture(k.w, k.h, k.enc, seed++);
+    compare_all(tex, hard_coords(std::min(k.w, 64), std::min(k.h, 64), seed++), case_name(k) + " hard");
+  }
+}
+
+// 1024-wide levels: the float coordinate error bound grows with the size (see
+// linear_tolerance); this checks that it holds there too.
+TEST(TextureSampling, LargeTextureMatchesReference) {
+  const Texture tex = random_texture(1024, 512, TexelEncoding::Linear, 7);
+  compare_all(tex, random_coords(32, 8), "1024x512 random");
+}
+
+TEST(TextureSampling, RejectsBadArguments) {
+  const Texture tex = random_texture(4, 4, TexelEncoding::Linear, 1);
+  std::vector<float> u(16, 0.5f), v(16, 0.5f), o(16);
+  float* const out[4] = {o.data(), o.data(), o.data(), o.data()};
+  EXPECT_THROW(sample(tex, {}, u.data(), v.data(), 15, out), std::invalid_argument);
+  EXPECT_THROW(sample(Texture{}, {}, u.data(), v.data(), 16, out), std::invalid_argument);
+  EXPECT_THROW(sample(tex, {}, nullptr, v.data(), 16, out), std::invalid_argument);
+  float* const bad_out[4] = {o.data(), nullptr, o.data(), o.data()};
+  EXPECT_THROW(sample(tex, {}, u.data(), v.data(), 16, bad_out), std::invalid_argument);
+  try {
+    sample(tex, {}, u.data(), v.data(), 20, out);
+    ADD_FAILURE() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("lanes"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(sample(tex, {}, u.data(), v.data(), 0, out));
+}
+
+}  // namespace
+}  // namespace pelt::raster::test

@@ -1,0 +1,383 @@
+// Textures: validation, the mip chain (sizes, area-exact box filter, alpha weighting, sRGB)
+// and sampler properties with known answers, on every compiled Highway target.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "raster/texture.h"
+#include "tests/raster/texture_test_helpers.h"
+
+namespace pelt::raster::test {
+namespace {
+
+TEST(Texture, LevelSizesFollowOpenGL) {
+  const Texture t = random_texture(100, 37, TexelEncoding::Linear, 3);
+  const int expect[][2] = {{100, 37}, {50, 18}, {25, 9}, {12, 4}, {6, 2}, {3, 1}, {1, 1}};
+  ASSERT_EQ(t.levels(), 7);
+  size_t offset = 0;
+  for (int k = 0; k < 7; ++k) {
+    EXPECT_EQ(t.level(k).width, expect[k][0]) << k;
+    EXPECT_EQ(t.level(k).height, expect[k][1]) << k;
+    EXPECT_EQ(t.level(k).stride, expect[k][0] + 1) << k;
+    EXPECT_EQ(t.level(k).offset, offset) << k;
+    for (int y = 0; y < expect[k][1]; ++y)  // the padding texel repeats the row's first
+      EXPECT_EQ(t.level_texels(k)[size_t(y) * size_t(t.level(k).stride) + size_t(expect[k][0])], t.texel(k, 0, y));
+    offset += size_t(expect[k][0] + 1) * size_t(expect[k][1]);
+  }
+  EXPECT_EQ(t.bytes(), offset * 4);
+  EXPECT_EQ(random_texture(1, 1, TexelEncoding::Linear, 1).levels(), 1);
+  EXPECT_EQ(random_texture(256, 256, TexelEncoding::Linear, 1).levels(), 9);
+  EXPECT_EQ(random_texture(1, 8, TexelEncoding::Linear, 1).levels(), 4);
+}
+
+TEST(Texture, Level0KeepsTheBytesOfVisibleTexels) {
+  std::mt19937 rng(5);
+  std::vector<uint8_t> bytes(13 * 6 * 4);
+  for (auto& b : bytes) b = uint8_t(rng());
+  for (size_t i = 3; i < bytes.size(); i += 12) bytes[i] = 0;  // every third texel transparent
+  for (TexelEncoding enc : {TexelEncoding::Linear, TexelEncoding::Srgb}) {
+    Texture t;
+    ASSERT_FALSE(Texture::from_rgba8(13, 6, bytes.data(), enc, t));
+    for (int y = 0; y < 6; ++y)
+      for (int x = 0; x < 13; ++x) {
+        const uint8_t* in = &bytes[(size_t(y) * 13 + size_t(x)) * 4];
+        EXPECT_EQ(channel(t.texel(0, x, y), 3), in[3]);
+        if (in[3] == 0) continue;
+        for (int ch = 0; ch < 3; ++ch) EXPECT_EQ(channel(t.texel(0, x, y), ch), in[ch]);
+      }
+  }
+}
+
+// Every alpha-0 texel of every level carries the colour of the texel covering it one level
+// up; visible texels keep theirs.
+TEST(Texture, TransparentTexelsTakeTheColourAbove) {
+  const Texture t = random_texture(37, 22, TexelEncoding::Srgb, 17);
+  int filled = 0;
+  for (int k = 0; k + 1 < t.levels(); ++k) {
+    const MipLevel& L = t.level(k);
+    const MipLevel& P = t.level(k + 1);
+    for (int y = 0; y < L.height; ++y)
+      for (int x = 0; x < L.width; ++x) {
+        const uint32_t texel = t.texel(k, x, y);
+        if (channel(texel, 3) != 0) continue;
+        ++filled;
+        const uint32_t above = t.texel(k + 1, x * P.width / L.width, y * P.height / L.height);
+        ASSERT_EQ(texel, above & 0x00FFFFFFu) << "level " << k << " (" << x << ", " << y << ")";
+      }
+  }
+  EXPECT_GT(filled, 100);
+}
+
+TEST(Texture, RejectsBadInputNamingTheField) {
+  Texture t;
+  std::vector<uint8_t> bytes(16, 0);
+  auto e = Texture::from_rgba8(0, 2, bytes.data(), TexelEncoding::Linear, t);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->field, "width");
+  e = Texture::from_rgba8(2, kMaxTextureSide + 1, bytes.data(), TexelEncoding::Linear, t);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->field, "height");
+  e = Texture::from_rgba8(2, 2, nullptr, TexelEncoding::Linear, t);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->field, "rgba");
+  EXPECT_TRUE(t.empty());
+
+  std::vector<float> f(2 * 2 * 4, 0.5f);
+  f[6] = 1.5f;  // texel (1, 0), blue
+  e = Texture::from_linear_float(2, 2, f.data(), TexelEncoding::Srgb, t);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->field, "rgba[6]");
+  EXPECT_NE(e->reason.find("texel (1, 0) channel b"), std::string::npos) << e->reason;
+  f[6] = std::nanf("");
+  EXPECT_TRUE(Texture::from_linear_float(2, 2, f.data(), TexelEncoding::Srgb, t));
+  f[6] = -0.25f;
+  EXPECT_TRUE(Texture::from_linear_float(2, 2, f.data(), TexelEncoding::Linear, t));
+  EXPECT_TRUE(t.empty());
+
+  TextureArray arr;
+  e = TextureArray::from_rgba8_layers(2, 2, 0, bytes.data(), TexelEncoding::Linear, arr);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->field, "count");
+}
+
+TEST(Texture, SrgbFloatsRoundTripToTheirBytes) {
+  // An 8-bit sRGB colour map read as linear floats and stored as Srgb keeps its bytes.
+  const float* table = srgb8_to_linear_table();
+  std::vector<float> f(256 * 4);
+  for (int i = 0; i < 256; ++i) {
+    f[size_t(i) * 4 + 0] = table[i];
+    f[size_t(i) * 4 + 1] = table[255 - i];
+    f[size_t(i) * 4 + 2] = table[i];
+    f[size_t(i) * 4 + 3] = float(std::max(i, 1)) / 255.0f;  // alpha 0 would be filled
+  }
+  Texture t;
+  ASSERT_FALSE(Texture::from_linear_float(256, 1, f.data(), TexelEncoding::Srgb, t));
+  for (int i = 0; i < 256; ++i) {
+    EXPECT_EQ(channel(t.texel(0, i, 0), 0), i);
+    EXPECT_EQ(channel(t.texel(0, i, 0), 1), 255 - i);
+    EXPECT_EQ(channel(t.texel(0, i, 0), 3), std::max(i, 1));
+  }
+  EXPECT_FLOAT_EQ(table[255], 1.0f);
+  EXPECT_EQ(table[0], 0.0f);
+  EXPECT_NEAR(table[128], 0.2158605f, 1e-7);
+}
+
+// Level k of an N-texel-square checkerboard of black and white: squares of N >> k texels
+// while they last, then uniform grey 0.5 (byte 128 by round-half-up).
+TEST(Texture, CheckerboardLevelsAverageCorrectly) {
+  const int size = 64, square = 8;
+  const Texture t = make_texture(size, size, TexelEncoding::Linear, [&](int x, int y) {
+    const uint8_t c = ((x / square + y / square) % 2) ? 255 : 0;
+    return pack(c, c, c, 255);
+  });
+  for (int k = 0; k < t.levels(); ++k) {
+    const MipLevel& L = t.level(k);
+    const int sq = square >> k;
+    for (int y = 0; y < L.height; ++y)
+      for (int x = 0; x < L.width; ++x) {
+        const int expect = sq >= 1 ? (((x / sq + y / sq) % 2) ? 255 : 0) : 128;
+        ASSERT_EQ(channel(t.texel(k, x, y), 0), expect) << "level " << k << " (" << x << ", " << y << ")";
+        ASSERT_EQ(channel(t.texel(k, x, y), 3), 255);
+      }
+  }
+}
+
+// Odd sizes: each texel of level k is the exact area average of the region of level k - 1
+// it covers, [i W / W_k, (i + 1) W / W_k) x [j H / H_k, (j + 1) H / H_k) with W, H the sizes
+// of level k - 1, computed here by midpoint sub-cells of 1 / W_k by 1 / H_k texel (which
+// tile those bounds exactly) from the unrounded values of level k - 1. Every source texel
+// counts: nothing of an odd row or column is dropped.
+TEST(Texture, OddSizedLevelsAreAreaAverages) {
+  for (auto [w0, h0] : {std::pair{7, 5}, std::pair{5, 1}, std::pair{9, 11}, std::pair{3, 3}}) {
+    std::mt19937 rng(uint32_t(w0 * 31 + h0));
+    std::vector<double> prev(size_t(w0) * size_t(h0));
+    for (double& x : prev) x = double(rng() % 256);
+    const Texture t = make_texture(w0, h0, TexelEncoding::Linear, [&](int x, int y) {
+      const uint8_t c = uint8_t(prev[size_t(y) * size_t(w0) + size_t(x)]);
+      return pack(c, uint8_t(255 - c), 7, 255);
+    });
+    for (int k = 1; k < t.levels(); ++k) {
+      const int w = t.level(k - 1).width, h = t.level(k - 1).height;
+      const MipLevel& L = t.level(k);
+      std::vector<double> cur(size_t(L.width) * size_t(L.height));
+      for (int j = 0; j < L.height; ++j)
+        for (int i = 0; i < L.width; ++i) {
+          double sum = 0.0;
+          int count = 0;
+          // Sub-cell a spans [a, a + 1) / W_k source texels; texel i covers a in [i W, (i + 1) W).
+          for (int b = j * h; b < (j + 1) * h; ++b)
+            for (int a = i * w; a < (i + 1) * w; ++a) {
+              const int x0 = int((a + 0.5) / L.width), y0 = int((b + 0.5) / L.height);
+              sum += prev[size_t(y0) * size_t(w) + size_t(x0)];
+              ++count;
+            }
+          const double expect = sum / count;
+          cur[size_t(j) * size_t(L.width) + size_t(i)] = expect;
+          EXPECT_LE(std::abs(channel(t.texel(k, i, j), 0) - expect), 0.5 + 1e-9)
+              << w0 << "x" << h0 << " level " << k << " (" << i << ", " << j << ") expect " << expect;
+          EXPECT_LE(std::abs(channel(t.texel(k, i, j), 1) - (255 - expect)), 0.5 + 1e-9);
+          EXPECT_EQ(channel(t.texel(k, i, j), 2), 7);
+        }
+      prev = std::move(cur);
+    }
+  }
+}
+
+// An opaque red texel beside a transparent black one stays red (plain averaging would give
+// dark red): in the mip chain (alpha-weighted box) and in the sampler (the transparent
+// texel is filled with red).
+TEST(Texture, TransparentTexelsDoNotDarkenTheirNeighbours) {
+  const Texture t = make_texture(2, 1, TexelEncoding::Linear, [](int x, int) {
+    return x == 0 ? pack(255, 0, 0, 255) : pack(0, 0, 0, 0);
+  });
+  ASSERT_EQ(t.levels(), 2);
+  EXPECT_EQ(t.texel(1, 0, 0), pack(255, 0, 0, 128));
+  for_each_target([&](const std::string& target) {
+    std::vector<float> u(16, 0.5f), v(16, 0.5f);  // halfway between the two texel centres
+    const Samples s = run_sample(t, {Filter::Bilinear, Wrap::Clamp, Wrap::Clamp, 0.0f}, u, v);
+    for (size_t i = 0; i < 16; ++i) {
+      EXPECT_NEAR(s.c[0][i], 1.0f, 1e-6) << target;
+      EXPECT_NEAR(s.c[1][i], 0.0f, 1e-6) << target;
+      EXPECT_NEAR(s.c[3][i], 0.5f, 1e-6) << target;
+    }
+  });
+  // A fully transparent footprint keeps its own colour.
+  const Texture clear = make_texture(4, 4, TexelEncoding::Linear, [](int, int) { return pack(40, 80, 120, 0); });
+  EXPECT_EQ(clear.texel(2, 0, 0), pack(40, 80, 120, 0));
+}
+
+// A constant texture samples to its constant with every filter, wrap, LOD and bias, and its
+// whole chain holds the same bytes (sRGB: decoded, averaged and re-encoded exactly).
+TEST(Texture, ConstantTextureSamplesToTheConstant) {
+  const uint32_t colours[] = {pack(200, 100, 30, 255), pack(10, 250, 128, 77), pack(90, 91, 92, 0),
+                              pack(0, 0, 0, 0), pack(255, 255, 255, 255)};
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> any(-50.0f, 50.0f);
+  std::vector<float> u(16 * 32), v(16 * 32);
+  for (size_t i = 0; i < u.size(); ++i) {
+    u[i] = any(rng);
+    v[i] = any(rng);
+  }
+  for (TexelEncoding enc : {TexelEncoding::Linear, TexelEncoding::Srgb})
+    for (auto [w, h] : {std::pair{37, 20}, std::pair{16, 16}, std::pair{1, 1}})
+      for (uint32_t c : colours) {
+        const Texture t = make_texture(w, h, enc, [&](int, int) { return c; });
+        for (int k = 0; k < t.levels(); ++k) ASSERT_EQ(t.texel(k, 0, 0), c) << "level " << k;
+        double expect[4];
+        for (int ch = 0; ch < 3; ++ch)
+          expect[ch] = enc == TexelEncoding::Srgb ? srgb8_to_linear_table()[channel(c, ch)] : channel(c, ch) / 255.0;
+        expect[3] = channel(c, 3) / 255.0;
+        for_each_target([&](const std::string& target) {
+          for (Filter f : {Filter::Nearest, Filter::Bilinear, Filter::Trilinear})
+            for (float bias : {-3.0f, 0.0f, 1.7f, 100.0f}) {
+              const Samples s = run_sample(t, {f, Wrap::Repeat, Wrap::Clamp, bias}, u, v);
+              for (size_t i = 0; i < u.size(); ++i)
+                for (int ch = 0; ch < 4; ++ch)
+                  ASSERT_NEAR(s.c[ch][i], expect[ch], 1e-6) << target << " filter " << int(f) << " lane " << i;
+            }
+        });
+      }
+}
+
+// A 4x4 block whose u advances `du` and v `dv` per pixel in x and y (no rotation).
+void ramp_block(float u0, float v0, float du, float dv, std::vector<float>& u, std::vector<float>& v) {
+  for (int l = 0; l < 16; ++l) {
+    u.push_back(u0 + du * float(l % 4));
+    v.push_back(v0 + dv * float(l / 4));
+  }
+}
+
+TEST(Texture, BlockLodFromDerivatives) {
+  std::vector<float> u, v;
+  ramp_block(0.25f, 0.5f, 4.0f / 256, 1.0f / 256, u, v);  // 4 texels per pixel in x, 1 in y
+  EXPECT_DOUBLE_EQ(block_lod(u.data(), v.data(), 256, 256), 2.0);
+  u.clear();
+  v.clear();
+  ramp_block(0.25f, 0.5f, 0.0f, 0.5f / 64, u, v);  // 0.5 texel per pixel in y only
+  EXPECT_DOUBLE_EQ(block_lod(u.data(), v.data(), 64, 64), -1.0);
+  u.assign(16, 0.3f);
+  v.assign(16, 0.7f);
+  EXPECT_EQ(block_lod(u.data(), v.data(), 64, 64), -std::numeric_limits<double>::infinity());
+}
+
+// With the LOD an exact integer k (from the derivatives, or from the bias), trilinear returns
+// exactly what bilinear returns on level k alone. (Opaque, so that rebuilding level k as a
+// texture of its own does not refill its transparent texels from a different chain.)
+TEST(Texture, TrilinearAtIntegerLodEqualsBilinearOnThatLevel) {
+  std::mt19937 texel_rng(21);
+  const Texture t = make_texture(128, 64, TexelEncoding::Srgb, [&](int, int) { return texel_rng() | 0xFF000000u; });
+  std::mt19937 rng(4);
+  for (int k = 0; k < t.levels(); ++k) {
+    const Texture level = level_as_texture(t, k);
+    std::vector<float> u, v, ub, vb;
+    for (int b = 0; b < 24; ++b) {
+      // Start on multiples of 2^-10 so that every u + du * x is exact in float.
+      const float u0 = float(int(rng() % 4096) - 2048) / 1024.0f, v0 = float(int(rng() % 4096) - 2048) / 1024.0f;
+      ramp_block(u0, v0, std::ldexp(1.0f, k) / 128, 0.0f, u, v);  // 2^k texels per pixel
+      ramp_block(u0, v0, 1.0f / 128, 1.0f / 64, ub, vb);            // 1 texel per pixel
+    }
+    for_each_target([&](const std::string& target) {
+      for (Wrap w : {Wrap::Repeat, Wrap::Clamp}) {
+        const Samples bil = run_sample(level, {Filter::Bilinear, w, w, 0.0f}, u, v);
+        const Samples tri = run_sample(t, {Filter::Trilinear, w, w, 0.0f}, u, v);
+        const Samples bil_b = run_sample(level, {Filter::Bilinear, w, w, 0.0f}, ub, vb);
+        const Samples tri_b = run_sample(t, {Filter::Trilinear, w, w, float(k)}, ub, vb);
+        for (int ch = 0; ch < 4; ++ch) {
+          ASSERT_EQ(tri.c[ch], bil.c[ch]) << target << " level " << k << " channel " << ch;
+          ASSERT_EQ(tri_b.c[ch], bil_b.c[ch]) << target << " bias " << k << " channel " << ch;
+        }
+      }
+    });
+  }
+}
+
+// Beyond the last level the LOD clamps: a huge derivative samples the 1x1 level.
+TEST(Texture, HugeDerivativeClampsToTheLastLevel) {
+  const Texture t = random_texture(32, 8, TexelEncoding::Linear, 9);
+  const uint32_t last = t.texel(t.levels() - 1, 0, 0);
+  std::vector<float> u, v;
+  ramp_block(0.1f, 0.2f, 1e5f, -3e4f, u, v);
+  for_each_target([&](const std::string& target) {
+    const Samples s = run_sample(t, {Filter::Trilinear, Wrap::Repeat, Wrap::Repeat, 0.0f}, u, v);
+    for (size_t i = 0; i < 16; ++i) {
+      ASSERT_NEAR(s.c[3][i], channel(last, 3) / 255.0, 1e-6) << target;
+      if (channel(last, 3) > 0) {
+        ASSERT_NEAR(s.c[0][i], channel(last, 0) / 255.0, 1e-6) << target;
+      }
+    }
+  });
+}
+
+// Repeat is periodic: shifting u and v by whole numbers (exactly, in float) changes nothing,
+// with every filter, including the LOD (the derivatives are unchanged).
+TEST(Texture, RepeatWrappingIsPeriodic) {
+  const Texture t = random_texture(48, 20, TexelEncoding::Linear, 13);
+  std::mt19937 rng(2);
+  std::vector<float> u, v;
+  for (int b = 0; b < 32; ++b)
+    ramp_block(float(rng() % 1024) / 1024.0f, float(rng() % 1024) / 1024.0f,
+               float(int(rng() % 64)) / 1024.0f, float(int(rng() % 64)) / 1024.0f, u, v);
+  for_each_target([&](const std::string& target) {
+    for (Filter f : {Filter::Nearest, Filter::Bilinear, Filter::Trilinear}) {
+      const SamplerState s{f, Wrap::Repeat, Wrap::Repeat, 0.0f};
+      const Samples base = run_sample(t, s, u, v);
+      for (auto [n, m] : {std::pair{1, 0}, std::pair{-1, 3}, std::pair{-7, -2}, std::pair{1000, -1000}}) {
+        std::vector<float> us(u), vs(v);
+        for (auto& x : us) x += float(n);
+        for (auto& x : vs) x += float(m);
+        const Samples shifted = run_sample(t, s, us, vs);
+        for (int ch = 0; ch < 4; ++ch)
+          ASSERT_EQ(shifted.c[ch], base.c[ch]) << target << " filter " << int(f) << " shift " << n << ", " << m;
+      }
+    }
+  });
+}
+
+// Nearest picks the texel whose cell holds the coordinate: texel centres at (i + 0.5) / W.
+TEST(Texture, NearestAndBilinearHitTexelCentres) {
+  const Texture t = make_texture(5, 3, TexelEncoding::Linear, [](int x, int y) {
+    return pack(uint8_t(x * 50), uint8_t(y * 100), 0, 255);
+  });
+  std::vector<float> u, v;
+  for (int l = 0; l < 16; ++l) {
+    const int x = l % 5, y = l % 3;
+    u.push_back((float(x) + 0.5f) / 5.0f);
+    v.push_back((float(y) + 0.5f) / 3.0f);
+  }
+  for_each_target([&](const std::string& target) {
+    for (Filter f : {Filter::Nearest, Filter::Bilinear}) {
+      const Samples s = run_sample(t, {f, Wrap::Clamp, Wrap::Clamp, 0.0f}, u, v);
+      for (int l = 0; l < 16; ++l) {
+        ASSERT_NEAR(s.c[0][size_t(l)], (l % 5) * 50 / 255.0, 2e-6) << target << " filter " << int(f);
+        ASSERT_NEAR(s.c[1][size_t(l)], (l % 3) * 100 / 255.0, 2e-6) << target << " filter " << int(f);
+      }
+    }
+  });
+}
+
+TEST(TextureArray, LayersMatchSingleTextures) {
+  const int w = 16, h = 8, n = 3;
+  std::mt19937 rng(8);
+  std::vector<uint8_t> bytes(size_t(w) * h * 4 * n);
+  for (auto& b : bytes) b = uint8_t(rng());
+  TextureArray arr;
+  ASSERT_FALSE(TextureArray::from_rgba8_layers(w, h, n, bytes.data(), TexelEncoding::Linear, arr));
+  ASSERT_EQ(arr.layers.size(), size_t(n));
+  EXPECT_EQ(arr.width(), w);
+  EXPECT_EQ(arr.height(), h);
+  for (int s = 0; s < n; ++s) {
+    Texture one;
+    ASSERT_FALSE(Texture::from_rgba8(w, h, bytes.data() + size_t(s) * w * h * 4, TexelEncoding::Linear, one));
+    ASSERT_EQ(arr.layers[size_t(s)].levels(), one.levels());
+    for (int k = 0; k < one.levels(); ++k)
+      for (int y = 0; y < one.level(k).height; ++y)
+        for (int x = 0; x < one.level(k).width; ++x)
+          ASSERT_EQ(arr.layers[size_t(s)].texel(k, x, y), one.texel(k, x, y));
+  }
+}
+
+}  // namespace
+}  // namespace pelt::raster::test

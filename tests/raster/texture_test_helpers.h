@@ -1,0 +1,118 @@
+// Shared pieces of the texture tests: texture makers, per-target loops, sampling into
+// vectors, and the SIMD-versus-reference comparison with its error bound.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <hwy/targets.h>
+
+#include "raster/texture.h"
+
+namespace pelt::raster::test {
+
+// Runs fn(target name) with dispatch restricted to each compiled target this CPU supports.
+inline void for_each_target(const std::function<void(const std::string&)>& fn) {
+  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  for (int64_t t : targets) {
+    hwy::SetSupportedTargetsForTest(t);
+    fn(hwy::TargetName(t));
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+inline uint32_t pack(uint8_t r, uint8_t g, uint8_t b, uint8_t a) {
+  return uint32_t{r} | (uint32_t{g} << 8) | (uint32_t{b} << 16) | (uint32_t{a} << 24);
+}
+
+inline uint8_t channel(uint32_t t, int ch) { return uint8_t((t >> (8 * ch)) & 255u); }
+
+// A texture whose texel (x, y) is texel_fn(x, y) (packed RGBA8).
+inline Texture make_texture(int w, int h, TexelEncoding enc,
+                            const std::function<uint32_t(int, int)>& texel_fn) {
+  std::vector<uint8_t> bytes(size_t(w) * size_t(h) * 4);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const uint32_t t = texel_fn(x, y);
+      for (int ch = 0; ch < 4; ++ch) bytes[(size_t(y) * size_t(w) + size_t(x)) * 4 + size_t(ch)] = channel(t, ch);
+    }
+  Texture tex;
+  const auto err = Texture::from_rgba8(w, h, bytes.data(), enc, tex);
+  EXPECT_FALSE(err.has_value()) << (err ? err->message() : "");
+  return tex;
+}
+
+// Random texels; a third of them fully transparent, some fully opaque.
+inline Texture random_texture(int w, int h, TexelEncoding enc, uint32_t seed) {
+  std::mt19937 rng(seed);
+  return make_texture(w, h, enc, [&](int, int) {
+    const uint32_t r = rng();
+    const uint32_t sel = rng() % 6;
+    const uint8_t a = sel < 2 ? 0 : sel == 2 ? 255 : uint8_t(rng() & 255u);
+    return (r & 0x00FFFFFFu) | (uint32_t{a} << 24);
+  });
+}
+
+// Level k of `tex` as a texture of its own (same bytes, same encoding).
+inline Texture level_as_texture(const Texture& tex, int k) {
+  const MipLevel& L = tex.level(k);
+  return make_texture(L.width, L.height, tex.encoding(), [&](int x, int y) { return tex.texel(k, x, y); });
+}
+
+struct Samples {
+  std::vector<float> c[4];
+};
+
+inline Samples run_sample(const Texture& tex, const SamplerState& s, const std::vector<float>& u,
+                          const std::vector<float>& v) {
+  Samples out;
+  for (auto& c : out.c) c.assign(u.size(), -1.0f);
+  float* const ptr[4] = {out.c[0].data(), out.c[1].data(), out.c[2].data(), out.c[3].data()};
+  sample(tex, s, u.data(), v.data(), u.size(), ptr);
+  return out;
+}
+
+struct RefSamples {
+  std::vector<double> c[4];
+};
+
+inline RefSamples run_reference(const Texture& tex, const SamplerState& s, const std::vector<float>& u,
+                                const std::vector<float>& v) {
+  RefSamples out;
+  for (auto& c : out.c) c.assign(u.size(), -1.0);
+  double* const ptr[4] = {out.c[0].data(), out.c[1].data(), out.c[2].data(), out.c[3].data()};
+  sample_reference(tex, s, u.data(), v.data(), u.size(), ptr);
+  return out;
+}
+
+// Bound on |SIMD - reference| for bilinear and trilinear. The kernel forms the texel
+// coordinate u * size - 0.5 in float: repeat's wrap (u - floor(u), exact for u >= 0, one
+// rounding of at most 2^-25 for u < 0) and the product (half an ulp of a value below `size`,
+// at most size * 2^-25) move a bilinear weight by at most size * 2^-24 per axis, and the
+// output by that times the largest texel difference (<= 1). The reference has neither
+// rounding. Float accumulation of at most 8 taps adds < 2e-6.
+// For 256x256 this is 3.3e-5; for textures up to 64x64 it is below 1e-5.
+inline double linear_tolerance(const Texture& tex) {
+  return 2e-6 + double(tex.width() + tex.height()) * std::ldexp(1.0, -24);
+}
+
+// Compares one lane: every channel within `tol`, and finite.
+inline ::testing::AssertionResult lane_matches(const Samples& s, const RefSamples& r, size_t i, double tol) {
+  bool ok = true;
+  for (int ch = 0; ch < 4; ++ch)
+    ok = ok && std::isfinite(s.c[ch][i]) && std::abs(double(s.c[ch][i]) - r.c[ch][i]) <= tol;
+  if (ok) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure()
+         << "lane " << i << " simd (" << s.c[0][i] << ", " << s.c[1][i] << ", " << s.c[2][i] << ", "
+         << s.c[3][i] << ") reference (" << r.c[0][i] << ", " << r.c[1][i] << ", " << r.c[2][i]
+         << ", " << r.c[3][i] << ") tol " << tol;
+}
+
+}  // namespace pelt::raster::test

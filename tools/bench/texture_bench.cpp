@@ -1,0 +1,103 @@
+// Texture sampling throughput: samples per second per filter, Highway target, texture size
+// and encoding, at 1 and 4 texels per pixel (magnified-to-1:1 and minified, the range of the
+// fur shells). Each iteration samples 64K lanes laid out as the 4x4 blocks of a rotated,
+// slightly perspective screen-space mapping, as a FragmentBatch delivers them.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <hwy/aligned_allocator.h>
+#include <hwy/targets.h>
+
+#include "raster/texture.h"
+
+namespace {
+
+using namespace pelt::raster;
+
+constexpr size_t kLanes = 64 * 1024;
+
+Texture make(int size, TexelEncoding enc) {
+  std::mt19937 rng(static_cast<uint32_t>(size));
+  std::vector<uint8_t> bytes(size_t(size) * size_t(size) * 4);
+  for (auto& b : bytes) b = uint8_t(rng());
+  Texture t;
+  if (Texture::from_rgba8(size, size, bytes.data(), enc, t)) std::abort();
+  return t;
+}
+
+const Texture& texture(int size, TexelEncoding enc) {
+  static const Texture t256 = make(256, TexelEncoding::Linear), t1024 = make(1024, TexelEncoding::Linear),
+                       s256 = make(256, TexelEncoding::Srgb);
+  if (enc == TexelEncoding::Srgb) return s256;
+  return size == 256 ? t256 : t1024;
+}
+
+// Blocks of a 256-block-wide screen region, `texels_per_pixel` texels of a size^2 texture
+// per pixel, rotated by 30 degrees, with a mild perspective bend.
+void coords(int size, float texels_per_pixel, std::vector<float>& u, std::vector<float>& v) {
+  u.resize(kLanes);
+  v.resize(kLanes);
+  const float s = texels_per_pixel / float(size), c = std::cos(0.52f), n = std::sin(0.52f);
+  for (size_t b = 0; b < kLanes / 16; ++b) {
+    const float bx = float(b % 256) * 4.0f, by = float(b / 256) * 4.0f;
+    for (int l = 0; l < 16; ++l) {
+      const float x = bx + float(l % 4), y = by + float(l / 4);
+      const float w = 1.0f + 0.0002f * (x + y);
+      u[b * 16 + size_t(l)] = (c * x - n * y) * s / w + 0.3f;
+      v[b * 16 + size_t(l)] = (n * x + c * y) * s / w + 0.7f;
+    }
+  }
+}
+
+void BM_Sample(benchmark::State& state, int64_t target, Filter filter, int size, TexelEncoding enc,
+               float texels_per_pixel) {
+  hwy::SetSupportedTargetsForTest(target);
+  const Texture& tex = texture(size, enc);
+  std::vector<float> u, v;
+  coords(size, texels_per_pixel, u, v);
+  auto o0 = hwy::AllocateAligned<float>(kLanes), o1 = hwy::AllocateAligned<float>(kLanes),
+       o2 = hwy::AllocateAligned<float>(kLanes), o3 = hwy::AllocateAligned<float>(kLanes);
+  float* const out[4] = {o0.get(), o1.get(), o2.get(), o3.get()};
+  const SamplerState s{filter, Wrap::Repeat, Wrap::Repeat, 0.0f};
+  for (auto _ : state) {
+    sample(tex, s, u.data(), v.data(), kLanes, out);
+    benchmark::DoNotOptimize(o3[kLanes - 1]);
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(kLanes));
+  state.counters["texture_KiB"] = double(tex.bytes()) / 1024.0;
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+const char* filter_name(Filter f) {
+  return f == Filter::Nearest ? "nearest" : f == Filter::Bilinear ? "bilinear" : "trilinear";
+}
+
+void register_all() {
+  for (int64_t target : hwy::SupportedAndGeneratedTargets())
+    for (Filter f : {Filter::Nearest, Filter::Bilinear, Filter::Trilinear})
+      for (auto [size, enc] : {std::pair{256, TexelEncoding::Linear}, std::pair{1024, TexelEncoding::Linear},
+                               std::pair{256, TexelEncoding::Srgb}})
+        for (float tpp : {1.0f, 4.0f}) {
+          const std::string name = std::string("Sample/") + hwy::TargetName(target) + "/" + filter_name(f) +
+                                   "/" + std::to_string(size) + (enc == TexelEncoding::Srgb ? "_srgb" : "_rgba8") +
+                                   "/texels_per_pixel:" + std::to_string(int(tpp));
+          benchmark::RegisterBenchmark(name.c_str(), BM_Sample, target, f, size, enc, tpp);
+        }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  register_all();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,106 @@
+#include "tools/render/frame_sequence.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <system_error>
+
+#include "tools/io/input_error.h"
+
+namespace pelt::render {
+namespace {
+
+// A whole decimal number filling all of `text` (no sign, no spaces), or false.
+bool parse_int(std::string_view text, long long& out) {
+  if (text.empty()) return false;
+  for (char c : text)
+    if (c < '0' || c > '9') return false;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), out);
+  return r.ec == std::errc() && r.ptr == text.data() + text.size();
+}
+
+}  // namespace
+
+FrameRange parse_frame_range(const std::string& text, int frame_count, const std::string& option) {
+  const std::string last_frame = std::to_string(frame_count - 1);
+  const std::string scene_has = "the scene has " + std::to_string(frame_count) + " frame(s), 0.." + last_frame;
+  const size_t colon = text.find(':');
+  long long a = 0, b = 0;
+  const bool ok = colon == std::string::npos
+                      ? parse_int(text, a) && (b = a, true)
+                      : parse_int(std::string_view(text).substr(0, colon), a) &&
+                            parse_int(std::string_view(text).substr(colon + 1), b);
+  if (!ok)
+    throw io::InputError("", option, "expected FIRST:LAST or FRAME (whole numbers >= 0), got `" + text + "`");
+  if (a > b)
+    throw io::InputError("", option, "first frame " + std::to_string(a) + " is after last frame " +
+                                         std::to_string(b));
+  if (b >= frame_count)
+    throw io::InputError("", option, "frame " + std::to_string(b) + " is out of range: " + scene_has);
+  return {static_cast<int>(a), static_cast<int>(b)};
+}
+
+Shard parse_shard(const std::string& text) {
+  const size_t slash = text.find('/');
+  long long i = 0, n = 0;
+  if (slash == std::string::npos || !parse_int(std::string_view(text).substr(0, slash), i) ||
+      !parse_int(std::string_view(text).substr(slash + 1), n))
+    throw io::InputError("", "--shard", "expected INDEX/COUNT such as 0/4, got `" + text + "`");
+  if (n < 1 || n > 1000000)
+    throw io::InputError("", "--shard", "shard count must be in [1, 1000000], got " + std::to_string(n));
+  if (i >= n)
+    throw io::InputError("", "--shard", "shard index " + std::to_string(i) + " must be below the count " +
+                                            std::to_string(n) + " (indices are 0-based)");
+  return {static_cast<int>(i), static_cast<int>(n)};
+}
+
+std::vector<int> shard_frames(FrameRange range, Shard shard) {
+  std::vector<int> out;
+  for (long long f = static_cast<long long>(range.first) + shard.index; f <= range.last; f += shard.count)
+    out.push_back(static_cast<int>(f));
+  return out;
+}
+
+OutputPattern::OutputPattern(std::string pattern) : pattern_(std::move(pattern)) {
+  const size_t first = pattern_.find('#');
+  if (first == std::string::npos) return;
+  size_t end = first;
+  while (end < pattern_.size() && pattern_[end] == '#') ++end;
+  if (pattern_.find('#', end) != std::string::npos)
+    throw io::InputError(pattern_, "-o", "holds more than one run of `#`; use one run for the frame number");
+  run_start_ = first;
+  run_length_ = end - first;
+}
+
+std::filesystem::path OutputPattern::path_for(int frame) const {
+  if (run_length_ == 0) return pattern_;
+  std::string digits = std::to_string(frame);
+  if (digits.size() < run_length_) digits.insert(0, run_length_ - digits.size(), '0');
+  std::string p = pattern_;
+  p.replace(run_start_, run_length_, digits);
+  return p;
+}
+
+OutputKind output_kind(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".png") return OutputKind::png;
+  if (ext == ".exr") return OutputKind::exr;
+  if (ext == ".tif" || ext == ".tiff") return OutputKind::tiff;
+  if (ext == ".gif") return OutputKind::gif;
+  throw io::InputError(path.string(), "-o",
+                       "unsupported output extension `" + path.extension().string() +
+                           "` (expected .png, .exr, .tif, .tiff or .gif)");
+}
+
+std::vector<int> frames_without_output(const std::vector<int>& frames, const OutputPattern& out) {
+  std::vector<int> todo;
+  for (int f : frames) {
+    std::error_code ec;
+    if (!std::filesystem::exists(out.path_for(f), ec)) todo.push_back(f);
+  }
+  return todo;
+}
+
+}  // namespace pelt::render

@@ -1,0 +1,366 @@
+#include "tools/render/fur_object.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include <glm/geometric.hpp>
+
+#include "tools/io/input_error.h"
+#include "tools/render/varyings.h"
+
+namespace pelt::render {
+namespace {
+
+// Rows of the per-vertex lighting SoA: inputs, then the kernel's output for a white and
+// for a black texel (their difference is the light that multiplies the strand colour).
+enum SoaRow : int { kPosRow = 0, kTangentRow = 3, kNormalRow = 6, kHeightRow = 9, kOnes = 10,
+                    kZeros = 14, kLitWhite = 18, kLitBlack = 22, kSoaRows = 26 };
+
+// Fins whose fade is below this are not drawn at all (they would round to nothing in
+// 8 bits): most edges are far from a silhouette.
+constexpr float kMinFinWeight = 1.0f / 512.0f;
+
+// Frames for one swing from the gravity pose to the wind pose and back (seed Fig. 12):
+// two seconds at 24 fps.
+constexpr double kSwingFrames = 48.0;
+
+bool same(const std::optional<fur::GravityParams>& a, const std::optional<fur::GravityParams>& b) {
+  if (a.has_value() != b.has_value()) return false;
+  return !a || (a->direction == b->direction && a->strength == b->strength && a->stability == b->stability);
+}
+
+bool same(const std::vector<shading::Light>& a, const std::vector<shading::Light>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (a[i].type != b[i].type || std::memcmp(a[i].vec, b[i].vec, sizeof(a[i].vec)) != 0 ||
+        std::memcmp(a[i].color, b[i].color, sizeof(a[i].color)) != 0)
+      return false;
+  return true;
+}
+
+bool same(const std::optional<fur::WindParams>& a, const std::optional<fur::WindParams>& b) {
+  if (a.has_value() != b.has_value()) return false;
+  return !a || (a->direction == b->direction && a->strength == b->strength &&
+                a->gust_frequency == b->gust_frequency && a->gust_scale == b->gust_scale);
+}
+
+raster::SamplerState fur_sampler(bool fin) {
+  raster::SamplerState s;
+  s.filter = raster::Filter::Trilinear;
+  s.wrap_u = raster::Wrap::Repeat;
+  // Fin texture rows run root (t = 0) to tip (t = 1): clamped, as the harness does.
+  s.wrap_v = fin ? raster::Wrap::Clamp : raster::Wrap::Repeat;
+  return s;
+}
+
+void throw_if(const std::optional<raster::TextureError>& e, const std::string& name) {
+  if (e) throw io::InputError(name, "fur." + e->field, e->reason);
+}
+
+}  // namespace
+
+FurObject::FurObject(const Mesh& base, const fur::FurParams& params, bool match_llvmpipe,
+                     FurLighting lighting, const std::string& name, FrameStats& setup)
+    : params_(params), match_llvmpipe_(match_llvmpipe), lighting_(lighting) {
+  {
+    StageTimer t(setup, "fur_geometry");
+    if (auto e = fur::build_fur_geometry(base, params, geo_)) throw io::InputError(name, "fur." + e->field, e->reason);
+  }
+  {
+    StageTimer t(setup, "fur_textures");
+    fur::StrandTextures tex;
+    if (match_llvmpipe) {
+      tex = fur::match_llvmpipe_textures();
+    } else if (auto e = fur::generate_strand_textures(params, tex)) {
+      throw io::InputError(name, "fur." + e->field, e->reason);
+    }
+    throw_if(raster::TextureArray::from_rgba8_layers(tex.shells.size, tex.shells.size, tex.shells.layers,
+                                                     tex.shells.rgba.data(), raster::TexelEncoding::Linear,
+                                                     shell_tex_),
+             name);
+    throw_if(raster::Texture::from_rgba8(tex.fin.size, tex.fin.size, tex.fin.rgba.data(),
+                                         raster::TexelEncoding::Linear, fin_tex_),
+             name);
+  }
+  const size_t v = geo_.positions.size();
+  pose_ = geo_.positions;
+  gravity_pose_ = geo_.positions;
+  tangents_.resize(v);
+  forces_.resize(geo_.base_vertex_count);
+  const int vc = lighting_ == FurLighting::pixel ? FurPixelVaryings::kCount : FurVaryings::kCount;
+  shell_varyings_.resize(v * vc);
+  fin_varyings_.resize(v * vc);
+  fin_weight_.assign(geo_.edges.size(), 1.0f);
+  if (lighting_ == FurLighting::vertex) {
+    light_soa_.stride = (v + 15) / 16 * 16;
+    light_soa_.storage.assign(light_soa_.stride * kSoaRows + 16, 0.0f);
+    auto addr = reinterpret_cast<uintptr_t>(light_soa_.storage.data());
+    light_soa_.base = light_soa_.storage.data() + ((64 - addr % 64) % 64) / sizeof(float);
+    for (int c = 0; c < 4; ++c) std::fill_n(light_soa_.row(kOnes + c), light_soa_.stride, 1.0f);
+  }
+  // The static parts of the varyings: uvs never change.
+  const int uv = lighting_ == FurLighting::pixel ? FurPixelVaryings::kUv : FurVaryings::kUv;
+  for (size_t i = 0; i < v; ++i) {
+    shell_varyings_[i * vc + uv] = geo_.shell_uvs[i].x;
+    shell_varyings_[i * vc + uv + 1] = geo_.shell_uvs[i].y;
+    fin_varyings_[i * vc + uv] = geo_.fin_uvs[i].x;
+    fin_varyings_[i * vc + uv + 1] = geo_.fin_uvs[i].y;
+  }
+}
+
+uint64_t FurObject::triangles() const {
+  const uint64_t fins = params_.fins == fur::FinMode::off ? 0 : geo_.fin_indices.size() / 3;
+  return geo_.shell_indices.size() / 3 + fins;
+}
+
+void FurObject::rebuild_pose(float t) {
+  const uint32_t n = geo_.base_vertex_count, s = geo_.layers;
+  if (wind_pose_.empty()) {
+    pose_ = gravity_pose_;
+  } else {
+    fur::lerp_poses(gravity_pose_, wind_pose_, t, pose_);
+  }
+  fur::strand_tangents(pose_, geo_.growth, n, s, tangents_, 0, n);
+}
+
+void FurObject::light_vertices(const std::vector<shading::Light>& lights, const glm::vec3& eye) {
+  Soa& a = light_soa_;
+  const uint32_t n = geo_.base_vertex_count;
+  const float inv_top = geo_.layers > 1 ? 1.0f / float(geo_.layers - 1) : 0.0f;
+  for (size_t i = 0; i < pose_.size(); ++i) {
+    const glm::vec3& nrm = geo_.base_normals[i % n];
+    for (int k = 0; k < 3; ++k) {
+      a.row(kPosRow + k)[i] = pose_[i][k];
+      a.row(kTangentRow + k)[i] = tangents_[i][k];
+      a.row(kNormalRow + k)[i] = nrm[k];
+    }
+    a.row(kHeightRow)[i] = float(geo_.layer[i]) * inv_top;
+  }
+  shading::FurSurfaceSoA surf{};
+  surf.n = a.stride;
+  for (int k = 0; k < 3; ++k) {
+    surf.pos[k] = a.row(kPosRow + k);
+    surf.tangent[k] = a.row(kTangentRow + k);
+    surf.normal[k] = a.row(kNormalRow + k);
+  }
+  surf.height = a.row(kHeightRow);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int c = 0; c < 4; ++c) surf.texel[c] = a.row((pass == 0 ? kOnes : kZeros) + c);
+    shading::FurOutSoA out{};
+    for (int c = 0; c < 4; ++c) out.rgba[c] = a.row((pass == 0 ? kLitWhite : kLitBlack) + c);
+    if (match_llvmpipe_) {
+      const glm::vec3 l = glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f));
+      const float dir[3] = {l.x, l.y, l.z};
+      shading::shade_fur_match_llvmpipe(dir, surf, out);
+    } else {
+      const float e[3] = {eye.x, eye.y, eye.z};
+      shading::shade_fur(light_params_, lights.data(), lights.size(), e, surf, out);
+    }
+  }
+}
+
+void FurObject::rebuild_varyings() {
+  const size_t count = pose_.size();
+  if (lighting_ == FurLighting::vertex) {
+    using V = FurVaryings;
+    Soa& a = light_soa_;
+    for (size_t i = 0; i < count; ++i) {
+      float* sv = shell_varyings_.data() + i * V::kCount;
+      float* fv = fin_varyings_.data() + i * V::kCount;
+      for (int c = 0; c < 3; ++c) {
+        const float black = a.row(kLitBlack + c)[i];
+        const float diffuse = a.row(kLitWhite + c)[i] - black;
+        sv[V::kDiffuse + c] = fv[V::kDiffuse + c] = diffuse;
+        sv[V::kSpecular + c] = fv[V::kSpecular + c] = black;
+      }
+    }
+    return;
+  }
+  using P = FurPixelVaryings;
+  const uint32_t n = geo_.base_vertex_count;
+  const float inv_top = geo_.layers > 1 ? 1.0f / float(geo_.layers - 1) : 0.0f;
+  for (size_t i = 0; i < count; ++i) {
+    const glm::vec3& p = pose_[i];
+    const glm::vec3& t = tangents_[i];
+    const glm::vec3& nrm = geo_.base_normals[i % n];
+    const float h = float(geo_.layer[i]) * inv_top;
+    for (float* dst : {shell_varyings_.data() + i * P::kCount, fin_varyings_.data() + i * P::kCount}) {
+      dst[P::kPos] = p.x, dst[P::kPos + 1] = p.y, dst[P::kPos + 2] = p.z;
+      dst[P::kTangent] = t.x, dst[P::kTangent + 1] = t.y, dst[P::kTangent + 2] = t.z;
+      dst[P::kHeight] = h;
+      dst[P::kNormal] = nrm.x, dst[P::kNormal + 1] = nrm.y, dst[P::kNormal + 2] = nrm.z;
+    }
+  }
+}
+
+void FurObject::rebuild_fin_list() {
+  const uint32_t edges = static_cast<uint32_t>(geo_.edges.size());
+  fin_list_.clear();
+  fin_quad_edge_.clear();
+  fin_segment_.assign(geo_.layers, 0);
+  for (uint32_t s = 0; s + 1 < geo_.layers; ++s) {
+    fin_segment_[s] = static_cast<uint32_t>(fin_quad_edge_.size());
+    for (uint32_t e = 0; e < edges; ++e) {
+      if (fin_weight_[e] < kMinFinWeight) continue;
+      const uint32_t* q = geo_.fin_indices.data() + (size_t{s} * edges + e) * 6;
+      fin_list_.insert(fin_list_.end(), q, q + 6);
+      fin_quad_edge_.push_back(e);
+    }
+  }
+  fin_segment_[geo_.layers - 1] = static_cast<uint32_t>(fin_quad_edge_.size());
+}
+
+void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lights,
+                       FrameStats& stats) {
+  const uint32_t n = geo_.base_vertex_count, s = geo_.layers;
+  float t = 0.0f;
+  if (match_llvmpipe_) {
+    if (!gravity_in_) {
+      // The harness's two precomputed arrays (its P0 and P1) stand for both poses.
+      StageTimer st(stats, "gravity");
+      wind_pose_.resize(pose_.size());
+      fur::llvmpipe_poses(geo_, gravity_pose_, wind_pose_);
+      gravity_in_ = std::optional<fur::GravityParams>{};
+      poses_dirty_ = true;
+    }
+    t = fur::llvmpipe_animation_t(f.frame);
+  } else {
+    if (!gravity_in_ || !same(*gravity_in_, f.gravity)) {
+      if (f.gravity) {
+        StageTimer st(stats, "gravity");
+        fur::apply_gravity(geo_.positions, n, s, *f.gravity, fur::GravityLaw::lever, gravity_pose_, 0, n);
+      } else {
+        gravity_pose_ = geo_.positions;
+      }
+      gravity_in_ = f.gravity;
+      wind_in_.reset();  // the wind pose is pushed from the gravity pose
+      poses_dirty_ = true;
+    }
+    if (f.wind) {
+      // A steady wind (no gusts) gives the same field in every frame.
+      const bool gusty = f.wind->gust_scale > 0.0f && f.wind->gust_frequency > 0.0f;
+      const double wt = gusty ? f.time_seconds : 0.0;
+      if (!wind_in_ || !same(wind_in_->first, f.wind) || wind_in_->second != wt) {
+        StageTimer st(stats, "wind");
+        if (!wind_in_ || !same(wind_in_->first, f.wind)) wind_field_ = fur::make_wind_field(geo_, *f.wind);
+        wind_field_->forces(wt, forces_, 0, n);
+        wind_pose_.resize(pose_.size());
+        fur::apply_wind(gravity_pose_, geo_.growth, forces_, n, s, wind_pose_, 0, n);
+        wind_in_ = std::make_pair(f.wind, wt);
+        poses_dirty_ = true;
+      }
+      t = fur::animation_t(f.frame, kSwingFrames);
+    } else if (!wind_pose_.empty()) {
+      wind_pose_.clear();
+      wind_field_.reset();
+      wind_in_.reset();
+      poses_dirty_ = true;
+    }
+  }
+  bool varyings_dirty = false;
+  if (poses_dirty_ || !pose_t_ || *pose_t_ != t) {
+    StageTimer st(stats, "fur_pose");
+    rebuild_pose(t);
+    pose_t_ = t;
+    poses_dirty_ = false;
+    lighting_dirty_ = true;
+    varyings_dirty = true;
+  }
+  if (lighting_ == FurLighting::vertex &&
+      (lighting_dirty_ || !lit_eye_ || *lit_eye_ != f.eye || !lit_lights_ || !same(*lit_lights_, lights))) {
+    StageTimer st(stats, "fur_lighting");
+    light_vertices(lights, f.eye);
+    lit_eye_ = f.eye;
+    lit_lights_ = lights;
+    lighting_dirty_ = false;
+    varyings_dirty = true;
+  }
+  if (varyings_dirty) {
+    StageTimer st(stats, "fur_pose");
+    rebuild_varyings();
+  }
+  if (params_.fins != fur::FinMode::off && (fin_list_dirty_ || !fins_eye_ || *fins_eye_ != f.eye)) {
+    if (params_.fins == fur::FinMode::silhouette) {
+      StageTimer st(stats, "fins");
+      for (size_t e = 0; e < geo_.edges.size(); ++e) {
+        const fur::FurEdge& edge = geo_.edges[e];
+        const glm::vec3 mid = 0.5f * (geo_.positions[edge.a] + geo_.positions[edge.b]);
+        const glm::vec3 view = glm::normalize(f.eye - mid);
+        std::optional<glm::vec3> nb;
+        if (edge.face1 != fur::kNoFace) nb = geo_.face_normals[edge.face1];
+        fin_weight_[e] = fur::fin_weight(geo_.face_normals[edge.face0], nb, view, params_.fins);
+      }
+      rebuild_fin_list();
+    } else if (fin_list_dirty_) {
+      rebuild_fin_list();  // `all`: every fin, once
+    }
+    fins_eye_ = f.eye;
+    fin_list_dirty_ = false;
+  }
+}
+
+void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::mat4& clip_from_world,
+                             FurSort sort, const std::vector<shading::Light>& lights,
+                             const glm::vec3& eye) {
+  const uint32_t faces = static_cast<uint32_t>(geo_.counts.base_faces);
+  const bool fins = params_.fins != fur::FinMode::off && !fin_quad_edge_.empty();
+  // One shader per draw (the layer order splits shells and fins into per-layer draws);
+  // built once per sort mode, only their per-frame inputs change.
+  const size_t want = sort == FurSort::layer ? 2 * geo_.layers - 1 : 2;
+  if (shaders_.size() != want) {
+    shaders_.clear();
+    for (size_t k = 0; k < want; ++k) {
+      FurShaderSetup su;
+      const bool fin = sort == FurSort::layer ? (k % 2 == 1) : (k == 1);
+      su.fins = fin;
+      su.shells = &shell_tex_;
+      su.fin = &fin_tex_;
+      su.sampler = fur_sampler(fin);
+      su.base_faces = faces;
+      su.primitive_offset = (sort == FurSort::layer && !fin) ? uint32_t(k / 2) * faces : 0;
+      su.per_pixel_lighting = lighting_ == FurLighting::pixel;
+      su.match_llvmpipe = match_llvmpipe_;
+      su.llvmpipe_light = glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f));
+      shaders_.push_back(std::make_unique<FurShader>(su));
+    }
+  }
+  const float* weight = params_.fins == fur::FinMode::silhouette ? fin_weight_.data() : nullptr;
+  for (auto& sh : shaders_) {
+    sh->set_view(lights, eye);
+    sh->set_fins(fin_quad_edge_.data(), weight);
+  }
+
+  auto draw = [&](bool fin, uint32_t first_tri, uint32_t count, FurShader* sh) {
+    if (count == 0) return;
+    raster::DrawCall d;
+    d.positions = pose_.data();
+    d.vertex_count = static_cast<uint32_t>(pose_.size());
+    d.indices = (fin ? fin_list_.data() : geo_.shell_indices.data()) + 3 * size_t{first_tri};
+    d.triangle_count = count;
+    d.varyings = fin ? fin_varyings_.data() : shell_varyings_.data();
+    d.varying_count = lighting_ == FurLighting::pixel ? FurPixelVaryings::kCount : FurVaryings::kCount;
+    d.clip_from_object = clip_from_world;
+    d.shader = sh;
+    d.state.blend = raster::BlendMode::AlphaOver;
+    d.state.depth_func = raster::DepthFunc::LessEqual;  // shell 0 lies exactly on the base
+    d.state.depth_write = false;
+    d.state.cull = fin ? raster::CullMode::None : raster::CullMode::Back;
+    draws.push_back(d);
+  };
+  if (sort == FurSort::layer) {
+    for (uint32_t s = 0; s < geo_.layers; ++s) {
+      draw(false, s * faces, faces, shaders_[2 * s].get());
+      if (fins && s + 1 < geo_.layers) {
+        // The fin shader maps its primitives into the whole fin list.
+        FurShader* sh = shaders_[2 * s + 1].get();
+        sh->set_fins(fin_quad_edge_.data() + fin_segment_[s], weight);
+        draw(true, 2 * fin_segment_[s], 2 * (fin_segment_[s + 1] - fin_segment_[s]), sh);
+      }
+    }
+  } else {
+    draw(false, 0, static_cast<uint32_t>(geo_.shell_indices.size() / 3), shaders_[0].get());
+    if (fins) draw(true, 0, static_cast<uint32_t>(fin_list_.size() / 3), shaders_[1].get());
+  }
+}
+
+}  // namespace pelt::render

@@ -1,0 +1,112 @@
+// One furry object: its shared shell/fin vertex array (eq. 1), strand textures, and the
+// poses that animate it. Every piece is built or recomputed only when the scene asks for
+// it and its inputs changed; the frame's stats say which stages ran.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+
+#include "fur/dynamics.h"
+#include "fur/fur_geometry.h"
+#include "fur/fur_params.h"
+#include "fur/strand_textures.h"
+#include "raster/mesh.h"
+#include "raster/pipeline.h"
+#include "raster/texture.h"
+#include "tools/render/frame_stats.h"
+#include "shading/fur_lighting.h"
+#include "tools/render/fur_shader.h"
+
+namespace pelt::render {
+
+// Order of the translucent fur triangles.
+enum class FurSort {
+  none,   // all shells inner to outer, then all fins (the paper's and the harness's order)
+  layer,  // shell s, then the fins between layers s and s+1, for s = 0, 1, ...
+  tile,   // as `none`, then back to front per tile by the rasterizer
+};
+
+// Where strand lighting is evaluated.
+enum class FurLighting {
+  vertex,  // once per fur vertex, interpolated (default: lighting is smooth over a shell)
+  pixel,   // Kajiya-Kay per fragment
+};
+
+// What may change from frame to frame.
+struct FurFrame {
+  int frame = 0;
+  double time_seconds = 0.0;
+  glm::vec3 eye{0.0f};
+  std::optional<fur::WindParams> wind;
+  std::optional<fur::GravityParams> gravity;
+};
+
+class FurObject {
+ public:
+  // `base` is the object's mesh in world space. match_llvmpipe reproduces the llvmpipe
+  // harness's scene (textures, poses, animation, lighting) for side-by-side timing.
+  // Records "fur_geometry" and "fur_textures" in `setup`. Throws io::InputError-free
+  // std::invalid_argument only for programming errors: params were validated on load.
+  FurObject(const Mesh& base, const fur::FurParams& params, bool match_llvmpipe,
+            FurLighting lighting, const std::string& name, FrameStats& setup);
+
+  // Brings poses, tangents, lighting, varyings and fins up to date for `f` seen under
+  // `lights`; records the "gravity", "wind", "fur_pose", "fur_lighting" and "fins" stages
+  // that ran.
+  void update(const FurFrame& f, const std::vector<shading::Light>& lights, FrameStats& stats);
+
+  // Appends the shell and fin draws (after the opaque base) in `sort` order.
+  void append_draws(std::vector<raster::DrawCall>& draws, const glm::mat4& clip_from_world,
+                    FurSort sort, const std::vector<shading::Light>& lights, const glm::vec3& eye);
+
+  const fur::FurCounts& counts() const { return geo_.counts; }
+  uint64_t triangles() const;
+
+ private:
+  void rebuild_pose(float t);
+  void light_vertices(const std::vector<shading::Light>& lights, const glm::vec3& eye);
+  void rebuild_varyings();
+  void rebuild_fin_list();
+
+  fur::FurParams params_;
+  bool match_llvmpipe_;
+  FurLighting lighting_;
+  shading::FurLightParams light_params_;
+  fur::FurGeometry geo_;
+  raster::TextureArray shell_tex_;
+  raster::Texture fin_tex_;
+
+  std::vector<glm::vec3> gravity_pose_, wind_pose_, pose_, tangents_, forces_;
+  std::optional<fur::WindField> wind_field_;
+  std::vector<float> shell_varyings_, fin_varyings_;
+  std::vector<float> fin_weight_;           // per edge
+  // Fins drawn this frame: all of them, or (silhouette) those with a visible weight, in
+  // layer-then-edge order; the edge of each quad, and where each layer segment starts.
+  std::vector<uint32_t> fin_list_, fin_quad_edge_, fin_segment_;
+
+  // Per-vertex lighting: SoA inputs and outputs padded to whole 16-lane batches.
+  struct Soa {
+    std::vector<float> storage;  // over-allocated so rows can start on 64-byte boundaries
+    float* base = nullptr;
+    size_t stride = 0;  // floats per row, a multiple of 16
+    float* row(int k) { return base + size_t(k) * stride; }
+  } light_soa_;
+  std::optional<std::vector<shading::Light>> lit_lights_;
+  std::optional<glm::vec3> lit_eye_;
+  bool lighting_dirty_ = true;
+
+  // The inputs the current arrays were computed from (nullopt: never computed).
+  std::optional<std::optional<fur::GravityParams>> gravity_in_;
+  std::optional<std::pair<std::optional<fur::WindParams>, double>> wind_in_;
+  std::optional<float> pose_t_;
+  std::optional<glm::vec3> fins_eye_;
+  bool fin_list_dirty_ = true;
+  bool poses_dirty_ = true;
+
+  std::vector<std::unique_ptr<FurShader>> shaders_;
+};
+
+}  // namespace pelt::render

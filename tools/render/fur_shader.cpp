@@ -1,0 +1,97 @@
+#include "tools/render/fur_shader.h"
+
+#include <algorithm>
+
+#include "raster/config.h"
+#include "tools/render/varyings.h"
+
+namespace pelt::render {
+namespace {
+
+constexpr size_t kLanes = raster::kMaxBatchLanes;
+
+struct alignas(64) Scratch {
+  alignas(64) float texel[4][kLanes];
+};
+thread_local Scratch tls_scratch;
+
+}  // namespace
+
+void FurShader::set_view(const std::vector<shading::Light>& lights, const glm::vec3& eye) {
+  lights_ = lights;
+  eye_[0] = eye.x;
+  eye_[1] = eye.y;
+  eye_[2] = eye.z;
+}
+
+void FurShader::shade(const raster::FragmentBatch& b) const {
+  Scratch& s = tls_scratch;
+  const size_t n = size_t{b.blocks} * raster::kBlockLanes;
+  const int uv_slot = s_.per_pixel_lighting ? FurPixelVaryings::kUv : FurVaryings::kUv;
+  const float* u = b.varying[uv_slot];
+  const float* v = b.varying[uv_slot + 1];
+
+  // Texture: the fin texture for the whole batch, or per run of blocks on one shell layer
+  // (a block belongs to one triangle, so to one layer).
+  if (s_.fins) {
+    float* const out[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
+    raster::sample(*s_.fin, s_.sampler, u, v, n, out);
+  } else {
+    const uint32_t layers = static_cast<uint32_t>(s_.shells->layers.size());
+    auto layer_of = [&](uint32_t block) {
+      return std::min(layers - 1, (b.primitive[block] + s_.primitive_offset) / s_.base_faces);
+    };
+    uint32_t i = 0;
+    while (i < b.blocks) {
+      const uint32_t layer = layer_of(i);
+      uint32_t j = i + 1;
+      while (j < b.blocks && layer_of(j) == layer) ++j;
+      const size_t off = size_t{i} * raster::kBlockLanes;
+      float* const out[4] = {s.texel[0] + off, s.texel[1] + off, s.texel[2] + off, s.texel[3] + off};
+      raster::sample(s_.shells->layers[layer], s_.sampler, u + off, v + off,
+                     size_t{j - i} * raster::kBlockLanes, out);
+      i = j;
+    }
+  }
+  if (s_.fins && weight_) {
+    for (uint32_t i = 0; i < b.blocks; ++i) {
+      const uint32_t quad = (b.primitive[i] + s_.primitive_offset) / 2;
+      const float w = weight_[quad_edge_[quad]];
+      float* a = s.texel[3] + size_t{i} * raster::kBlockLanes;
+      for (int l = 0; l < raster::kBlockLanes; ++l) a[l] *= w;
+    }
+  }
+
+  if (!s_.per_pixel_lighting) {
+    using V = FurVaryings;
+    for (int c = 0; c < 3; ++c) {
+      const float* d = b.varying[V::kDiffuse + c];
+      const float* sp = b.varying[V::kSpecular + c];
+      const float* t = s.texel[c];
+      float* o = b.out[c];
+      for (size_t i = 0; i < n; ++i) o[i] = t[i] * d[i] + sp[i];
+    }
+    std::copy(s.texel[3], s.texel[3] + n, b.out[3]);
+    return;
+  }
+  using P = FurPixelVaryings;
+  shading::FurSurfaceSoA surf{};
+  surf.n = n;
+  for (int k = 0; k < 3; ++k) {
+    surf.pos[k] = b.varying[P::kPos + k];
+    surf.tangent[k] = b.varying[P::kTangent + k];
+    surf.normal[k] = b.varying[P::kNormal + k];
+  }
+  surf.height = b.varying[P::kHeight];
+  for (int c = 0; c < 4; ++c) surf.texel[c] = s.texel[c];
+  shading::FurOutSoA out{};
+  for (int c = 0; c < 4; ++c) out.rgba[c] = b.out[c];
+  if (s_.match_llvmpipe) {
+    const float l[3] = {s_.llvmpipe_light.x, s_.llvmpipe_light.y, s_.llvmpipe_light.z};
+    shading::shade_fur_match_llvmpipe(l, surf, out);
+  } else {
+    shading::shade_fur(s_.light_params, lights_.data(), lights_.size(), eye_, surf, out);
+  }
+}
+
+}  // namespace pelt::render

@@ -1,0 +1,51 @@
+// Fur shells and fins as a rasterizer shader: samples the strand textures (the layer of
+// each block's triangle, or the fin texture), fades fins by their view weight, and lights
+// the strands: with the per-vertex light the rasterizer interpolated (default), or with
+// Kajiya-Kay per fragment.
+#pragma once
+
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "raster/pipeline.h"
+#include "raster/texture.h"
+#include "shading/fur_lighting.h"
+#include "shading/light.h"
+
+namespace pelt::render {
+
+struct FurShaderSetup {
+  bool fins = false;                         // fin draw (else shells)
+  const raster::TextureArray* shells = nullptr;
+  const raster::Texture* fin = nullptr;
+  raster::SamplerState sampler;
+  uint32_t base_faces = 0;                   // shells: triangles per layer
+  uint32_t primitive_offset = 0;             // first triangle of this draw in the object's list
+  bool per_pixel_lighting = false;           // FurPixelVaryings and Kajiya-Kay per fragment
+  bool match_llvmpipe = false;               // per-pixel: the harness's fixed light term
+  glm::vec3 llvmpipe_light{0.0f, 1.0f, 0.0f};
+  shading::FurLightParams light_params;
+};
+
+class FurShader final : public raster::Shader {
+ public:
+  explicit FurShader(const FurShaderSetup& setup) : s_(setup) {}
+  // Per-frame inputs; call between renders, never during one. Fins: `quad_edge` maps a fin
+  // quad of the object's fin list to its edge, `weight` an edge to its fade (null: 1).
+  void set_view(const std::vector<shading::Light>& lights, const glm::vec3& eye);
+  void set_fins(const uint32_t* quad_edge, const float* weight) {
+    quad_edge_ = quad_edge;
+    weight_ = weight;
+  }
+  void shade(const raster::FragmentBatch& batch) const override;
+
+ private:
+  FurShaderSetup s_;
+  std::vector<shading::Light> lights_;
+  float eye_[3] = {0, 0, 0};
+  const uint32_t* quad_edge_ = nullptr;
+  const float* weight_ = nullptr;
+};
+
+}  // namespace pelt::render

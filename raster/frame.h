@@ -73,6 +73,16 @@ struct alignas(64) TileScratch {
 
   std::vector<TranslucentRef> translucent;
 
+  // SortMode::Exact: the tile's src-over fragments, composited per pixel at the end.
+  struct Fragment {
+    float depth;
+    float rgba[4];
+    uint32_t pixel;  // block-major index in the tile planes
+  };
+  std::vector<Fragment> fragments;
+  std::vector<uint32_t> fragment_order;  // scratch: fragment indices grouped by pixel
+  std::vector<uint32_t> pixel_start;     // kTilePixels + 1
+
   uint64_t fragments_visible = 0, pixels_shaded = 0, fragments_blended = 0;
 };
 

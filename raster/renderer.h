@@ -22,6 +22,7 @@ namespace pelt::raster {
 enum class SortMode : uint8_t {
   None,  // translucent triangles blend in submission order
   Tile,  // per tile, back to front by the triangle's view depth (stable)
+  Exact, // per pixel: every src-over fragment kept, sorted by depth, composited far to near
 };
 
 struct RenderTarget {

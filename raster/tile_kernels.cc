@@ -231,6 +231,7 @@ void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
   for (int c = 0; c < 4; ++c) fb.out[c] = s.out[c];
   draw.shader->shade(fb);
   const bool additive = draw.state.blend == BlendMode::Additive;
+  const bool exact = frame.options.sort == SortMode::Exact;
 
   for (uint32_t i = 0; i < nb; ++i) {
     const uint32_t off = s.batch_offset[i] * kBlockLanes;
@@ -242,6 +243,19 @@ void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
         for (int c = 0; c < 4; ++c) {
           float* dst = s.color[c] + off + g * n;
           hn::Store(hn::IfThenElse(m, hn::Load(df, s.out[c] + lane), hn::Load(df, dst)), df, dst);
+        }
+        continue;
+      }
+      if (exact && !additive) {
+        // Kept for the per-pixel sort at the end of the tile.
+        for (size_t l = 0; l < n; ++l) {
+          const uint32_t lane_in_block = uint32_t(g * n + l);
+          if (!(bits & (1u << lane_in_block))) continue;
+          TileScratch::Fragment f;
+          f.depth = s.lane_depth[lane + l];
+          for (int c = 0; c < 4; ++c) f.rgba[c] = s.out[c][lane + l];
+          f.pixel = off + lane_in_block;
+          s.fragments.push_back(f);
         }
         continue;
       }
@@ -411,11 +425,46 @@ void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& 
   }
 }
 
+// SortMode::Exact: each pixel's fragments, farthest first (submission order among equal
+// depths), composited src-over onto the opaque result. Called per tile, after pass 3.
+void CompositeExact(TileScratch& s) {
+  const size_t count = s.fragments.size();
+  if (count == 0) return;
+  s.pixel_start.assign(kTilePixels + 1, 0);
+  for (const auto& f : s.fragments) ++s.pixel_start[f.pixel + 1];
+  for (uint32_t p = 0; p < kTilePixels; ++p) s.pixel_start[p + 1] += s.pixel_start[p];
+  s.fragment_order.resize(count);
+  {
+    std::vector<uint32_t>& cursor = s.fragment_order;  // filled in submission order per pixel
+    thread_local std::vector<uint32_t> next;
+    next.assign(s.pixel_start.begin(), s.pixel_start.end() - 1);
+    for (uint32_t i = 0; i < count; ++i) cursor[next[s.fragments[i].pixel]++] = i;
+  }
+  for (uint32_t p = 0; p < kTilePixels; ++p) {
+    uint32_t* first = s.fragment_order.data() + s.pixel_start[p];
+    uint32_t* last = s.fragment_order.data() + s.pixel_start[p + 1];
+    if (first == last) continue;
+    std::stable_sort(first, last, [&](uint32_t a, uint32_t b) {
+      return s.fragments[a].depth > s.fragments[b].depth;
+    });
+    float c[4] = {s.color[0][p], s.color[1][p], s.color[2][p], s.color[3][p]};
+    for (uint32_t* it = first; it != last; ++it) {
+      const TileScratch::Fragment& f = s.fragments[*it];
+      const float a = std::min(std::max(f.rgba[3], 0.0f), 1.0f), keep = 1.0f - a;
+      for (int k = 0; k < 3; ++k) c[k] = f.rgba[k] * a + c[k] * keep;
+      c[3] = a + c[3] * keep;
+    }
+    for (int k = 0; k < 4; ++k) s.color[k][p] = c[k];
+  }
+  s.fragments.clear();
+}
+
 void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   const int32_t tx0 = static_cast<int32_t>(tile % frame.tiles_x) * kTileSize;
   const int32_t ty0 = static_cast<int32_t>(tile / frame.tiles_x) * kTileSize;
   ClearTile(frame, tx0, ty0, s);
   s.translucent.clear();
+  s.fragments.clear();
   s.batch_blocks = 0;
 
   // Pass 1: opaque visibility.
@@ -478,6 +527,7 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
     });
   }
   FlushBatch(frame, s, true);
+  if (frame.options.sort == SortMode::Exact) CompositeExact(s);
 
   ResolveTile(frame, tx0, ty0, s);
 }

@@ -45,7 +45,7 @@ TEST(Determinism, OneTwoAndEightThreadsGiveIdenticalImages) {
   glass.state.blend = BlendMode::AlphaOver;
   glass.state.depth_write = false;
   const DrawCall draws[2] = {opaque, glass};
-  for (SortMode sort : {SortMode::None, SortMode::Tile}) {
+  for (SortMode sort : {SortMode::None, SortMode::Tile, SortMode::Exact}) {
     RenderOptions opt;
     opt.sort = sort;
     const Image base = render(draws, 333, 222, 1, opt);

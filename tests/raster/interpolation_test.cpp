@@ -106,11 +106,59 @@ TEST(Blending, TileSortCompositesLayersBackToFrontInAnyDrawOrder) {
   for_each_target([&](const std::string& target) {
     const Image img = render(draws, 96, 96, 2, opt);
     for (int c = 0; c < 4; ++c) EXPECT_NEAR(img.color[(48 * 96 + 48) * 4 + c], expect[c], 1e-5) << target;
+    RenderOptions exact = opt;
+    exact.sort = SortMode::Exact;
+    const Image ex = render(draws, 96, 96, 2, exact);
+    for (int c = 0; c < 4; ++c) EXPECT_NEAR(ex.color[(48 * 96 + 48) * 4 + c], expect[c], 1e-5) << target;
     // Without sorting, the scrambled order gives a different (wrong) colour.
     RenderOptions unsorted = opt;
     unsorted.sort = SortMode::None;
     const Image raw = render(draws, 96, 96, 2, unsorted);
     EXPECT_GT(std::abs(raw.color[(48 * 96 + 48) * 4] - expect[0]), 1e-3) << target;
+  });
+}
+
+// Two translucent quads that cross each other: no triangle order is right everywhere,
+// per-pixel sorting is. Left of the crossing quad A is nearer, right of it quad B.
+TEST(Blending, ExactSortCompositesIntersectingLayersPerPixel) {
+  std::vector<glm::vec3> pa = {{-2, -2, -2.0f}, {2, -2, -4.0f}, {-2, 2, -2.0f}, {2, 2, -4.0f}};
+  std::vector<glm::vec3> pb = {{-2, -2, -4.0f}, {2, -2, -2.0f}, {-2, 2, -4.0f}, {2, 2, -2.0f}};
+  std::vector<uint32_t> idx = {0, 1, 3, 0, 3, 2};
+  const glm::vec4 ca(1, 0, 0, 0.6f), cb(0, 0, 1, 0.6f);
+  const ConstantShader sa(ca), sb(cb);
+  const glm::mat4 proj = glm::perspective(glm::radians(60.0f), 1.0f, 0.5f, 20.0f);
+  auto quad = [&](const std::vector<glm::vec3>& p, const Shader* sh) {
+    DrawCall d;
+    d.positions = p.data();
+    d.vertex_count = 4;
+    d.indices = idx.data();
+    d.triangle_count = 2;
+    d.clip_from_object = proj;
+    d.shader = sh;
+    d.state.blend = BlendMode::AlphaOver;
+    d.state.depth_write = false;
+    return d;
+  };
+  const DrawCall draws[2] = {quad(pa, &sa), quad(pb, &sb)};
+  auto over = [](glm::vec4 src, glm::vec4 dst) {
+    return glm::vec4(glm::vec3(src) * src.a + glm::vec3(dst) * (1 - src.a), src.a + dst.a * (1 - src.a));
+  };
+  const glm::vec4 bg(0, 0, 0, 1);
+  const glm::vec4 left = over(ca, over(cb, bg));   // A nearer: B first, then A
+  const glm::vec4 right = over(cb, over(ca, bg));
+  RenderOptions opt;
+  opt.background = bg;
+  opt.sort = SortMode::Exact;
+  for_each_target([&](const std::string& target) {
+    const Image img = render(draws, 64, 64, 2, opt);
+    for (int c = 0; c < 4; ++c) {
+      EXPECT_NEAR(img.color[(32 * 64 + 12) * 4 + c], left[c], 1e-6) << target;
+      EXPECT_NEAR(img.color[(32 * 64 + 52) * 4 + c], right[c], 1e-6) << target;
+    }
+    opt.sort = SortMode::None;  // submission order is right on one side only
+    const Image raw = render(draws, 64, 64, 2, opt);
+    EXPECT_GT(std::abs(raw.color[(32 * 64 + 12) * 4] - left[0]), 0.05f) << target;
+    opt.sort = SortMode::Exact;
   });
 }
 

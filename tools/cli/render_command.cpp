@@ -1,19 +1,30 @@
-// `pelt render SCENE.json -o OUT`: renders a frame of a scene to an image file.
+// `pelt render SCENE.json -o OUT`: renders one frame, a range of frames (an image per
+// frame through a `#` pattern, or one animated GIF), or a farm shard of a range.
+#include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "tools/cli/commands.h"
+#include "tools/io/gif_writer.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/io/scene.h"
+#include "tools/render/frame_sequence.h"
+#include "tools/render/interrupt.h"
+#include "tools/render/progress.h"
 #include "tools/render/scene_renderer.h"
 
 namespace pelt::cli {
 namespace {
+
+// Exit code of a render stopped by Ctrl-C (128 + SIGINT, as shells report it).
+constexpr int kInterruptedExit = 130;
 
 struct RenderOptions {
   std::string scene;
@@ -23,7 +34,11 @@ struct RenderOptions {
   std::string stats;
   std::string aov = "color";
   std::string sort = "tile";
-  int frame = 0;
+  std::string frame;   // --frame K
+  std::string frames;  // --frames A:B
+  std::string shard;   // --shard i/N
+  bool resume = false;
+  bool quiet = false;
 };
 
 render::Aov parse_aov(const std::string& s) {
@@ -42,21 +57,19 @@ raster::SortMode parse_sort(const std::string& s) {
   throw io::InputError("", "--sort", "unknown sort mode `" + s + "` (none, tile)");
 }
 
-void write_frame(const std::string& path, const render::FrameImage& img, render::Aov aov) {
+void write_frame(const std::filesystem::path& path, const render::FrameImage& img, render::Aov aov) {
   switch (aov) {
     case render::Aov::depth:
       io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::f32, img.depth.data());
       break;
-    case render::Aov::id: {
-      const std::string ext = std::filesystem::path(path).extension().string();
-      if (ext == ".exr") {
+    case render::Aov::id:
+      if (render::output_kind(path) == render::OutputKind::exr) {
         std::vector<float> f(img.id.begin(), img.id.end());
         io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::f32, f.data());
       } else {
         io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::u32, img.id.data());
       }
       break;
-    }
     default:
       io::write_image_atomic(path, img.width, img.height, 4, io::PixelType::f32, img.color.data());
       break;
@@ -72,36 +85,134 @@ void write_json_atomic(const std::string& path, const nlohmann::json& j) {
     f << j.dump(2) << "\n";
     if (!f) throw io::InputError(path, "--stats", "write failed");
   }
-  std::filesystem::rename(tmp, p);
+  std::error_code ec;
+  std::filesystem::rename(tmp, p, ec);
+  if (ec) throw io::InputError(path, "--stats", "cannot move the file into place: " + ec.message());
+}
+
+void make_parent_folder(const std::filesystem::path& file) {
+  const std::filesystem::path dir = file.parent_path();
+  if (dir.empty()) return;
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw io::InputError(file.string(), "-o", "cannot create folder " + dir.string() + ": " + ec.message());
+}
+
+// Everything decided from the options and the scene before any rendering, so a bad
+// option costs nothing and leaves no output.
+struct Plan {
+  render::OutputKind kind = render::OutputKind::png;
+  std::vector<int> frames;  // in rendering order
+  int planned = 0;          // frames in the range (or shard) before --resume
+};
+
+Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov,
+                 const render::OutputPattern& pattern) {
+  Plan plan;
+  plan.kind = render::output_kind(o.output);
+  const bool gif = plan.kind == render::OutputKind::gif;
+  const int frame_count = scene.animation ? scene.animation->frames : 1;
+  const render::FrameRange range =
+      !o.frame.empty()    ? render::parse_frame_range(o.frame, frame_count, "--frame")
+      : !o.frames.empty() ? render::parse_frame_range(o.frames, frame_count, "--frames")
+                          : render::FrameRange{0, frame_count - 1};
+  const render::Shard shard = o.shard.empty() ? render::Shard{} : render::parse_shard(o.shard);
+
+  if (gif) {
+    if (pattern.has_frame_field())
+      throw io::InputError(o.output, "-o", "a GIF holds every frame in one file; remove the `#` run");
+    if (aov == render::Aov::depth || aov == render::Aov::id)
+      throw io::InputError("", "--aov", "a GIF holds colour only; write the " + o.aov + " AOV as .exr or .tif");
+    if (shard.count > 1)
+      throw io::InputError("", "--shard", "a GIF is one file and cannot be split across jobs; shard to a "
+                                          "PNG sequence (-o out/frame_####.png) instead");
+    if (o.resume)
+      throw io::InputError("", "--resume", "a GIF is written whole or not at all; resume works with image "
+                                           "sequences (-o out/frame_####.png)");
+  } else if (range.count() > 1 && !pattern.has_frame_field()) {
+    throw io::InputError(o.output, "-o",
+                         std::to_string(range.count()) + " frames need a `#` run in the file name for the frame "
+                         "number (e.g. out/frame_####.png), or pick one frame with --frame");
+  }
+  plan.frames = render::shard_frames(range, shard);
+  plan.planned = static_cast<int>(plan.frames.size());
+  if (o.resume) plan.frames = render::frames_without_output(plan.frames, pattern);
+  return plan;
 }
 
 int run_render(const RenderOptions& o) {
   const render::Aov aov = parse_aov(o.aov);
+  const raster::SortMode sort = parse_sort(o.sort);
+  const render::OutputPattern pattern(o.output);
   const io::Scene scene = io::load_scene(o.scene);
+  const Plan plan = plan_render(o, scene, aov, pattern);
+  const render::ProgressMode mode = render::progress_mode(o.quiet, fileno(stderr));
+  nlohmann::json stats_frames = nlohmann::json::array();
+  const auto write_stats = [&] {
+    if (!o.stats.empty()) write_json_atomic(o.stats, {{"frames", stats_frames}});
+  };
+
+  if (plan.frames.empty()) {
+    if (!o.quiet)
+      std::fprintf(stderr, "pelt: nothing to render: %s\n",
+                   plan.planned == 0 ? ("shard " + o.shard + " has no frames in this range").c_str()
+                                     : "every frame's output already exists (--resume)");
+    write_stats();
+    return 0;
+  }
+
   render::RenderSettings rs;
   rs.width = o.width;
   rs.height = o.height;
   rs.threads = o.threads > 0 ? o.threads : int(std::thread::hardware_concurrency());
-  rs.sort = parse_sort(o.sort);
+  rs.sort = sort;
   rs.aov = aov;
-  render::SceneRenderer r(scene, rs);
-  if (o.frame < 0 || o.frame >= r.frame_count())
-    throw io::InputError(o.scene, "--frame", "frame " + std::to_string(o.frame) + " outside 0.." +
-                                                 std::to_string(r.frame_count() - 1));
+  render::SceneRenderer renderer(scene, rs);
+
+  std::unique_ptr<io::AnimatedGifWriter> gif;
+  if (plan.kind == render::OutputKind::gif) {
+    make_parent_folder(o.output);
+    gif = std::make_unique<io::AnimatedGifWriter>(o.output, renderer.width(), renderer.height(),
+                                                  scene.animation ? scene.animation->fps : io::Animation{}.fps);
+  }
+
+  render::Progress progress(mode, static_cast<int>(plan.frames.size()), stderr);
+  render::InterruptGuard interrupt;
   render::FrameImage img;
   render::FrameStats st;
-  r.render(o.frame, img, st);
-  const std::filesystem::path out_dir = std::filesystem::path(o.output).parent_path();
-  if (!out_dir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec) throw io::InputError(o.output, "-o", "cannot create folder " + out_dir.string() + ": " + ec.message());
+  int last_done = -1;
+  for (int frame : plan.frames) {
+    if (render::InterruptGuard::requested()) break;
+    const auto start = std::chrono::steady_clock::now();
+    renderer.render(frame, img, st);
+    {
+      render::StageTimer t(st, "write");
+      if (gif) {
+        gif->add_frame(img.color.data());
+      } else {
+        const std::filesystem::path path = pattern.path_for(frame);
+        make_parent_folder(path);
+        write_frame(path, img, aov);
+      }
+    }
+    stats_frames.push_back(st.to_json());
+    last_done = frame;
+    progress.frame_done(frame, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
-  {
-    render::StageTimer t(st, "write");
-    write_frame(o.output, img, aov);
+  progress.finish();
+
+  const int done = progress.done();
+  const int total = static_cast<int>(plan.frames.size());
+  if (done < total) {
+    write_stats();
+    std::fprintf(stderr, "pelt: interrupted after frame %d: %d of %d frame(s) rendered%s\n", last_done, done,
+                 total,
+                 gif ? "; the GIF was not written"
+                     : (done > 0 ? "; run again with --resume to render the rest" : ""));
+    return kInterruptedExit;
   }
-  if (!o.stats.empty()) write_json_atomic(o.stats, {{"frames", nlohmann::json::array({st.to_json()})}});
+  if (gif) gif->commit();
+  write_stats();
   return 0;
 }
 
@@ -109,16 +220,25 @@ int run_render(const RenderOptions& o) {
 
 Run add_render_command(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
-  CLI::App* sub = app.add_subcommand("render", "Render a scene to an image");
+  CLI::App* sub = app.add_subcommand("render", "Render a scene: one frame, a frame range or a farm shard");
   sub->add_option("scene", o->scene, "Scene file (JSON, version 1)")->required();
-  sub->add_option("-o,--output", o->output, "Output image: .png, .exr, .tif")->required();
+  sub->add_option("-o,--output", o->output,
+                  "Output: .png, .exr, .tif with `#` for the frame number (out/frame_####.png), or .gif")
+      ->required();
   sub->add_option("--width", o->width, "Image width (default: the scene's)")->check(CLI::Range(1, 16384));
   sub->add_option("--height", o->height, "Image height (default: the scene's)")->check(CLI::Range(1, 16384));
   sub->add_option("--threads", o->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 256));
   sub->add_option("--stats", o->stats, "Write per-frame stage statistics as JSON");
   sub->add_option("--aov", o->aov, "color | depth | id | sebum | epidermis | dermis");
   sub->add_option("--sort", o->sort, "Translucent order: none | tile");
-  sub->add_option("--frame", o->frame, "Frame of the animation to render (0-based)");
+  CLI::Option* frame = sub->add_option("--frame", o->frame, "One frame of the animation (0-based)");
+  CLI::Option* frames =
+      sub->add_option("--frames", o->frames, "Frame range FIRST:LAST, inclusive (default: every frame)");
+  frame->excludes(frames);
+  sub->add_option("--shard", o->shard, "Render only part INDEX/COUNT of the range: every COUNT-th frame "
+                                       "from FIRST + INDEX (0-based)");
+  sub->add_flag("--resume", o->resume, "Skip frames whose output file already exists");
+  sub->add_flag("-q,--quiet", o->quiet, "No progress report");
   return [o] { return run_render(*o); };
 }
 

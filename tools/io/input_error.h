@@ -10,8 +10,9 @@ namespace pelt::io {
 // A bad input, located as precisely as we can: the file it came from, the field inside
 // it (a JSON path such as `objects[1].transform.scale`, or an element such as
 // `vertex 12`; empty when the whole file is at fault) and why it was rejected.
-// what() reads "FILE: FIELD: REASON" (or "FILE: REASON" when field is empty) so a
-// user can act on the message without a debugger.
+// what() reads "FILE: FIELD: REASON", leaving out an empty FILE or FIELD (a command-line
+// option is named as the field with no file: "--frames: ..."), so a user can act on the
+// message without a debugger.
 struct InputError : std::runtime_error {
   InputError(std::string file_, std::string field_, std::string reason_)
       : std::runtime_error(compose(file_, field_, reason_)),
@@ -26,9 +27,9 @@ struct InputError : std::runtime_error {
  private:
   static std::string compose(const std::string& file, const std::string& field,
                              const std::string& reason) {
-    std::string s = file.empty() ? std::string("<input>") : file;
-    if (!field.empty()) s += ": " + field;
-    s += ": " + reason;
+    std::string s = file;
+    if (!field.empty()) s += (s.empty() ? "" : ": ") + field;
+    s += (s.empty() ? "" : ": ") + reason;
     return s;
   }
 };

@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "tools/io/animation_block.h"
 #include "tools/io/input_error.h"
 #include "tools/io/json_fields.h"
 #include "tools/io/scene_blocks.h"
@@ -207,15 +208,6 @@ SceneObject parse_object(const JsonFields& js, const json& j, const std::string&
   return o;
 }
 
-Animation parse_animation(const JsonFields& js, const json& j, const std::string& path) {
-  js.expect_object(j, path, {"frames", "fps"});
-  Animation a;
-  if (const json* v = JsonFields::find(j, "frames"))
-    a.frames = static_cast<int>(js.integer(*v, json_child(path, "frames"), 1, 10000000));
-  if (const json* v = JsonFields::find(j, "fps")) a.fps = js.number_in(*v, json_child(path, "fps"), 0.0, 1e6, true);
-  return a;
-}
-
 }  // namespace
 
 glm::mat4 Camera::view() const { return glm::lookAt(eye, target, up); }
@@ -271,7 +263,8 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& file) {
   if (objects.empty()) js.fail("objects", "needs at least one object");
   for (size_t i = 0; i < objects.size(); ++i)
     s.objects.push_back(parse_object(js, objects[i], json_index("objects", i), file));
-  if (const json* v = JsonFields::find(root, "animation")) s.animation = parse_animation(js, *v, "animation");
+  if (const json* v = JsonFields::find(root, "animation"))
+    s.animation = detail::parse_animation_block(js, *v, "animation", s);
   return s;
 }
 

@@ -14,6 +14,7 @@
 #include "fur/fur_params.h"
 #include "shading/basic_params.h"
 #include "shading/skin_params.h"
+#include "tools/io/animation_tracks.h"
 #include "tools/io/builtin_meshes.h"
 #include "tools/io/mesh_loader.h"
 
@@ -39,6 +40,7 @@ struct Camera {
 
   glm::mat4 view() const;                    // glm::lookAt(eye, target, up)
   glm::mat4 projection(float aspect) const;  // glm::perspective; clip z in [-w, w]
+  bool operator==(const Camera&) const = default;
 };
 
 enum class LightType { directional, point, ambient };
@@ -51,6 +53,7 @@ struct Light {
   glm::vec3 position{0.0f};           // "position" (point, required)
   glm::vec3 color{1.0f, 1.0f, 1.0f};  // "color": linear, each >= 0
   float intensity = 1.0f;             // "intensity": >= 0; radiance = color x intensity
+  bool operator==(const Light&) const = default;
 };
 
 // The material kinds; `skin` reads its parameters from the material's `skin` block.
@@ -84,9 +87,52 @@ struct SceneObject {
   std::optional<fur::FurParams> fur;     // "fur": present only for furry objects
 };
 
+// `animation.camera.orbit`: the eye circles `target` about the world +y axis,
+//   eye = target + distance (cos(el) sin(az), sin(el), cos(el) cos(az)),
+// so azimuth 0 looks from +z, 90 from +x; elevation 90 would look straight down. Fields
+// left out of the JSON are constants taken from the scene camera.
+struct CameraOrbit {
+  VectorTrack target;         // "target": a point
+  ScalarTrack azimuth_deg;    // "azimuth_deg": any finite angle (degrees)
+  ScalarTrack elevation_deg;  // "elevation_deg": in (-90, 90)
+  ScalarTrack distance;       // "distance": > 0
+  bool operator==(const CameraOrbit&) const = default;
+};
+
+// `animation.camera.path`: eye and target move freely (component-wise interpolation).
+struct CameraPath {
+  VectorTrack eye;     // "eye"
+  VectorTrack target;  // "target"
+  bool operator==(const CameraPath&) const = default;
+};
+
+// `animation.lights[i]`: tracks for scene light `light`; unset members stay static.
+struct LightTracks {
+  size_t light = 0;                      // "light": index into the scene's lights
+  std::optional<ScalarTrack> intensity;  // "intensity": >= 0
+  std::optional<VectorTrack> direction;  // "direction": unit (directional lights only)
+  bool operator==(const LightTracks&) const = default;
+};
+
+// `animation.fur[i]`: tracks for the fur of object `object`, whose fur block must hold
+// the `wind` / `gravity` block being animated (its other fields stay as written there).
+struct FurTracks {
+  size_t object = 0;                             // "object": index or name
+  std::optional<VectorTrack> wind_direction;     // "wind.direction": unit
+  std::optional<ScalarTrack> wind_strength;      // "wind.strength": in [0, 1000]
+  std::optional<VectorTrack> gravity_direction;  // "gravity.direction": unit
+  std::optional<ScalarTrack> gravity_strength;   // "gravity.strength": in [0, 1000]
+  bool operator==(const FurTracks&) const = default;
+};
+
 struct Animation {
   int frames = 1;     // "frames": >= 1
-  double fps = 24.0;  // "fps": > 0
+  double fps = 24.0;  // "fps": > 0; frame k is at time k / fps seconds
+  // "camera": {"orbit": {...}} or {"path": {...}}; at most one is set.
+  std::optional<CameraOrbit> orbit;
+  std::optional<CameraPath> path;
+  std::vector<LightTracks> lights;  // "lights": at most one entry per light
+  std::vector<FurTracks> fur;       // "fur": at most one entry per object
 };
 
 struct Scene {
@@ -107,6 +153,10 @@ struct Scene {
 Scene load_scene(const std::filesystem::path& file);
 // The same from JSON text; `file` names it in messages and anchors relative paths.
 Scene parse_scene(const std::string& text, const std::filesystem::path& file);
+
+// The camera of frame `frame` (0-based): the scene camera with the animation's orbit or
+// path applied. Pure; returns scene.camera unchanged when the camera is not animated.
+Camera camera_at(const Scene& scene, int frame);
 
 // One object's geometry in object space; the object's transform is NOT baked in, it is
 // returned as `model` (apply with bake_transform when world-space positions are wanted).

@@ -27,6 +27,7 @@ enum class FurSort {
   none,   // all shells inner to outer, then all fins (the paper's and the harness's order)
   layer,  // shell s, then the fins between layers s and s+1, for s = 0, 1, ...
   tile,   // as `none`, then back to front per tile by the rasterizer
+  exact,  // as `none`, then every fragment sorted per pixel (the reference)
 };
 
 // Where strand lighting is evaluated.

@@ -2,6 +2,7 @@
 
 #include <glm/gtc/matrix_inverse.hpp>
 
+#include "tools/render/animation.h"
 #include "tools/render/varyings.h"
 
 namespace pelt::render {
@@ -169,21 +170,25 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
     setup_reported_ = true;
   }
 
-  const io::Camera& camera = camera_override ? *camera_override : scene_.camera;
+  // Everything that may vary per frame, from the scene's keyframes; static values come
+  // back identical, so the fur stages below recompute only what changed.
+  const FrameInputs inputs = evaluate_frame_inputs(scene_, frame);
+  const io::Camera& camera = camera_override ? *camera_override : inputs.camera;
+  lights_ = convert_lights(inputs.lights);
   const float aspect = float(width_) / float(height_);
   const glm::mat4 clip_from_world = camera.projection(aspect) * camera.view();
-  const double fps = scene_.animation ? scene_.animation->fps : 24.0;
   const FurSort fur_sort = settings_.fur_sort ? *settings_.fur_sort
-                           : settings_.sort == raster::SortMode::Tile ? FurSort::tile
-                                                                       : FurSort::none;
+                           : settings_.sort == raster::SortMode::Tile  ? FurSort::tile
+                           : settings_.sort == raster::SortMode::Exact ? FurSort::exact
+                                                                        : FurSort::none;
   for (size_t i = 0; i < objects_.size(); ++i) {
     if (!objects_[i]->fur) continue;
     FurFrame f;
     f.frame = frame;
-    f.time_seconds = frame / fps;
+    f.time_seconds = inputs.time_seconds;
     f.eye = camera.eye;
-    f.wind = scene_.objects[i].fur->wind;
-    f.gravity = scene_.objects[i].fur->gravity;
+    f.wind = inputs.fur[i].wind;
+    f.gravity = inputs.fur[i].gravity;
     objects_[i]->fur->update(f, lights_, stats);
   }
   std::vector<raster::DrawCall>& draws = draws_;
@@ -231,7 +236,9 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   }
   raster::RenderOptions opt;
   opt.background = scene_.image.background;
-  opt.sort = fur_sort == FurSort::tile ? raster::SortMode::Tile : raster::SortMode::None;
+  opt.sort = fur_sort == FurSort::tile    ? raster::SortMode::Tile
+             : fur_sort == FurSort::exact ? raster::SortMode::Exact
+                                          : raster::SortMode::None;
   raster::RasterStats rs;
   renderer_.render(draws, opt, target, &rs);
   stats.stage("raster_front") = {true, rs.ms_front};

@@ -1,0 +1,273 @@
+// `pelt render` over frame ranges: frames are independent of how they are batched
+// (alone, in a range, in shards, resumed), outputs read back with the right frame count
+// and size, Ctrl-C stops cleanly, and every bad option is exit code 2 naming the option.
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <sys/stat.h>
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/tools/cli/run_pelt.h"
+
+namespace pelt::cli_test {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A small animated scene: the camera orbits, the key light dims.
+std::string animated_scene(int frames) {
+  return R"({
+  "pelt": 1,
+  "image": {"width": 48, "height": 36, "background": [0.1, 0.1, 0.1]},
+  "camera": {"eye": [0, 2, 6], "target": [0, 0, 0], "fovy_deg": 45, "near": 0.5, "far": 30},
+  "lights": [
+    {"type": "directional", "direction": [0.3, 0.8, 0.5], "intensity": 1},
+    {"type": "ambient", "intensity": 0.2}
+  ],
+  "objects": [
+    {"mesh": "box:3", "transform": {"rotate_deg": [10, 20, 0]}, "material": {"type": "lambert", "color": [0.8, 0.5, 0.3]}},
+    {"mesh": "plane:2", "transform": {"translate": [0, -1.5, 0], "scale": 4}, "material": {"type": "lambert"}}
+  ],
+  "animation": {"frames": )" + std::to_string(frames) + R"(, "fps": 12,
+    "camera": {"orbit": {"azimuth_deg": {"keys": [{"frame": 0, "value": 0}, {"frame": )" + std::to_string(frames - 1) + R"(, "value": 120}]}}},
+    "lights": [{"light": 0, "intensity": {"interpolation": "smooth", "keys": [{"frame": 0, "value": 1.5}, {"frame": )" +
+         std::to_string(frames - 1) + R"(, "value": 0.3}]}}]}
+})";
+}
+
+struct RenderCommand : ::testing::Test {
+  TempDir dir;
+  fs::path scene;
+  void SetUp() override { scene = dir.write("shot.json", animated_scene(8)); }
+  Result pelt(std::vector<std::string> args) {
+    args.insert(args.begin(), {"render", scene.string()});
+    return run_pelt(args, dir.path());
+  }
+  std::string frame_file(const std::string& folder, int k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "f_%03d.png", k);
+    return read_text(dir.path() / folder / name);
+  }
+  // The regular files in `folder`, sorted.
+  std::vector<std::string> files(const std::string& folder) {
+    std::vector<std::string> out;
+    for (const auto& e : fs::directory_iterator(dir.path() / folder)) out.push_back(e.path().filename().string());
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+};
+
+TEST_F(RenderCommand, FrameAloneEqualsFrameInRange) {
+  const Result range = pelt({"-o", (dir.path() / "seq/f_###.png").string(), "--frames", "0:7", "--threads", "2"});
+  ASSERT_EQ(range.code, 0) << range.err;
+  for (int k : {0, 3, 7}) {
+    const fs::path alone = dir.path() / ("alone_" + std::to_string(k) + ".png");
+    const Result r = pelt({"-o", alone.string(), "--frame", std::to_string(k), "--threads", "1", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string a = read_text(alone);
+    ASSERT_FALSE(a.empty());
+    EXPECT_EQ(a, frame_file("seq", k)) << "frame " << k;
+  }
+  // `--frames K:K` is the same as `--frame K`.
+  const Result one = pelt({"-o", (dir.path() / "one/f_###.png").string(), "--frames", "5:5", "-q"});
+  ASSERT_EQ(one.code, 0) << one.err;
+  EXPECT_EQ(files("one"), std::vector<std::string>{"f_005.png"});
+  EXPECT_EQ(frame_file("one", 5), frame_file("seq", 5));
+}
+
+TEST_F(RenderCommand, ShardsTogetherEqualTheWholeRange) {
+  const Result whole = pelt({"-o", (dir.path() / "whole/f_###.png").string(), "--frames", "1:7", "-q"});
+  ASSERT_EQ(whole.code, 0) << whole.err;
+  for (int i = 0; i < 3; ++i) {
+    const Result r = pelt({"-o", (dir.path() / "shards/f_###.png").string(), "--frames", "1:7", "--shard",
+                           std::to_string(i) + "/3", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    // Shard i holds frames 1 + i, 4 + i, 7 + i (within 1..7) so far.
+  }
+  ASSERT_EQ(files("shards"), files("whole"));
+  EXPECT_EQ(files("whole").size(), 7u);
+  for (int k = 1; k <= 7; ++k) EXPECT_EQ(frame_file("shards", k), frame_file("whole", k)) << k;
+  // A shard beyond the range's length has nothing to do and says so.
+  const Result empty = pelt({"-o", (dir.path() / "none/f_###.png").string(), "--frames", "0:1", "--shard", "5/8"});
+  EXPECT_EQ(empty.code, 0) << empty.err;
+  EXPECT_NE(empty.err.find("nothing to render"), std::string::npos) << empty.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "none"));
+}
+
+TEST_F(RenderCommand, ResumeRendersOnlyMissingFramesAndMatches) {
+  const std::string out = (dir.path() / "run/f_###.png").string();
+  const Result first = pelt({"-o", out, "-q"});  // default range: every frame
+  ASSERT_EQ(first.code, 0) << first.err;
+  ASSERT_EQ(files("run").size(), 8u);
+  std::vector<std::string> reference;
+  for (int k = 0; k < 8; ++k) reference.push_back(frame_file("run", k));
+  // Simulate an interruption: two frames never made it.
+  fs::remove(dir.path() / "run/f_002.png");
+  fs::remove(dir.path() / "run/f_006.png");
+  struct stat kept_before {};
+  ASSERT_EQ(::stat((dir.path() / "run/f_004.png").c_str(), &kept_before), 0);
+
+  const fs::path stats = dir.path() / "resume_stats.json";
+  const Result resumed = pelt({"-o", out, "--resume", "--stats", stats.string()});
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  for (int k = 0; k < 8; ++k) EXPECT_EQ(frame_file("run", k), reference[k]) << k;
+  // Existing frames were skipped, not rewritten (a rewrite renames a new file into place).
+  struct stat kept_after {};
+  ASSERT_EQ(::stat((dir.path() / "run/f_004.png").c_str(), &kept_after), 0);
+  EXPECT_EQ(kept_after.st_ino, kept_before.st_ino);
+  const nlohmann::json j = nlohmann::json::parse(read_text(stats));
+  ASSERT_EQ(j["frames"].size(), 2u);
+  EXPECT_EQ(j["frames"][0]["frame"], 2);
+  EXPECT_EQ(j["frames"][1]["frame"], 6);
+  // Plain progress lines (stderr is a file here), one per rendered frame.
+  EXPECT_NE(resumed.err.find("frame 2 done (1/2)"), std::string::npos) << resumed.err;
+  EXPECT_NE(resumed.err.find("frame 6 done (2/2)"), std::string::npos) << resumed.err;
+  // Nothing left: a second resume renders nothing.
+  const Result again = pelt({"-o", out, "--resume"});
+  EXPECT_EQ(again.code, 0);
+  EXPECT_NE(again.err.find("nothing to render"), std::string::npos) << again.err;
+}
+
+TEST_F(RenderCommand, CtrlCStopsAfterTheFrameInFlight) {
+  // Many tiny frames, so the render is still running when the signal comes.
+  const int frames = 20000;
+  const fs::path long_scene = dir.write("long.json", animated_scene(frames));
+  const fs::path out = dir.path() / "int";
+  const Child c = start_pelt({"render", long_scene.string(), "-o", (out / "f_#####.png").string(), "--width", "8",
+                              "--height", "8", "--threads", "1"},
+                             dir.path());
+  // Wait for the first finished frame: by then the handler is installed. A child that
+  // ends before that (a failure) ends the wait too.
+  int status = 0;
+  pid_t ended = 0;
+  while (!fs::exists(out / "f_00000.png") && (ended = ::waitpid(c.pid, &status, WNOHANG)) == 0)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ASSERT_EQ(ended, 0) << "pelt ended before its first frame: " << read_text(c.err);
+  ::kill(c.pid, SIGINT);
+  const Result r = wait_pelt(c);
+  EXPECT_EQ(r.code, 130) << r.err;
+  EXPECT_NE(r.err.find("interrupted after frame"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;
+  size_t count = 0;
+  for (const auto& e : fs::directory_iterator(out)) {
+    const std::string name = e.path().filename().string();
+    EXPECT_EQ(name.find(".tmp"), std::string::npos) << "temporary left behind: " << name;
+    EXPECT_GT(fs::file_size(e.path()), 0u) << name;
+    ++count;
+  }
+  EXPECT_GE(count, 1u);
+  EXPECT_LT(count, size_t(frames));
+  // Frames done are contiguous from the start: the render stopped, it did not skip.
+  for (size_t k = 0; k < count; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "f_%05zu.png", k);
+    EXPECT_TRUE(fs::exists(out / name)) << name;
+  }
+}
+
+TEST_F(RenderCommand, PngSequenceAndGifReadBack) {
+  const Result seq = pelt({"-o", (dir.path() / "seq/f_###.png").string(), "--frames", "2:6", "--width", "40",
+                           "--height", "30", "-q"});
+  ASSERT_EQ(seq.code, 0) << seq.err;
+  const std::vector<std::string> names = files("seq");
+  EXPECT_EQ(names, (std::vector<std::string>{"f_002.png", "f_003.png", "f_004.png", "f_005.png", "f_006.png"}));
+  for (const std::string& n : names) {
+    auto in = OIIO::ImageInput::open((dir.path() / "seq" / n).string());
+    ASSERT_TRUE(in) << n;
+    EXPECT_EQ(in->spec().width, 40);
+    EXPECT_EQ(in->spec().height, 30);
+  }
+
+  const fs::path gif = dir.path() / "anim/shot.gif";
+  const Result g = pelt({"-o", gif.string(), "-q"});
+  ASSERT_EQ(g.code, 0) << g.err;
+  auto in = OIIO::ImageInput::open(gif.string());
+  ASSERT_TRUE(in) << OIIO::geterror();
+  int subimages = 0;
+  while (in->seek_subimage(subimages, 0)) {
+    EXPECT_EQ(in->spec().width, 48);
+    EXPECT_EQ(in->spec().height, 36);
+    // 12 fps: a delay of 8 centiseconds per frame.
+    int rational[2] = {0, 0};
+    EXPECT_TRUE(in->spec().getattribute("FramesPerSecond", OIIO::TypeRational, rational));
+    EXPECT_EQ(rational[0], 100);
+    EXPECT_EQ(rational[1], 8);
+    ++subimages;
+  }
+  EXPECT_EQ(subimages, 8);
+  for (const auto& e : fs::directory_iterator(gif.parent_path()))
+    EXPECT_EQ(e.path().filename(), "shot.gif");  // no temporary left
+}
+
+TEST_F(RenderCommand, StatsListEveryRenderedFrame) {
+  const fs::path stats = dir.path() / "stats.json";
+  const Result r = pelt({"-o", (dir.path() / "s/f_#.exr").string(), "--frames", "3:5", "--stats", stats.string(), "-q"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << "--quiet printed: " << r.err;
+  const nlohmann::json j = nlohmann::json::parse(read_text(stats));
+  ASSERT_EQ(j["frames"].size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    const nlohmann::json& f = j["frames"][k];
+    EXPECT_EQ(f["frame"], 3 + k);
+    EXPECT_GT(f["triangles"].get<uint64_t>(), 0u);
+    bool wrote = false;
+    for (const auto& s : f["stages"])
+      if (s["name"] == "write") wrote = s["ran"].get<bool>();
+    EXPECT_TRUE(wrote) << f.dump();
+  }
+  EXPECT_TRUE(fs::exists(dir.path() / "s/f_5.exr"));
+}
+
+struct BadOption {
+  const char* name;
+  std::vector<std::string> args;  // after `render SCENE`
+  const char* message;            // expected in stderr
+};
+
+// Test names in ctest show the case's name, not its bytes.
+void PrintTo(const BadOption& b, std::ostream* os) { *os << b.name; }
+
+class RenderBadOption : public RenderCommand, public ::testing::WithParamInterface<BadOption> {};
+
+TEST_P(RenderBadOption, ExitCode2NamingTheOptionAndNoOutput) {
+  const BadOption& b = GetParam();
+  std::vector<std::string> args = b.args;
+  for (auto& a : args)
+    if (a.rfind("OUT/", 0) == 0) a = (dir.path() / "out" / a.substr(4)).string();
+  const Result r = pelt(args);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(b.message), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "out"));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Options, RenderBadOption,
+    ::testing::Values(
+        BadOption{"RangeReversed", {"-o", "OUT/f_#.png", "--frames", "5:2"}, "--frames: first frame 5 is after last frame 2"},
+        BadOption{"RangeOutOfScene", {"-o", "OUT/f_#.png", "--frames", "0:8"}, "--frames: frame 8 is out of range"},
+        BadOption{"RangeMalformed", {"-o", "OUT/f_#.png", "--frames", "2-5"}, "--frames: expected FIRST:LAST"},
+        BadOption{"FrameOutOfScene", {"-o", "OUT/a.png", "--frame", "9"}, "--frame: frame 9 is out of range"},
+        BadOption{"FrameAndFrames", {"-o", "OUT/a.png", "--frame", "1", "--frames", "1:2"}, "--frame"},
+        BadOption{"ShardMalformed", {"-o", "OUT/f_#.png", "--shard", "1-4"}, "--shard: expected INDEX/COUNT"},
+        BadOption{"ShardIndexTooBig", {"-o", "OUT/f_#.png", "--shard", "4/4"}, "--shard: shard index 4"},
+        BadOption{"RangeWithoutPattern", {"-o", "OUT/a.png", "--frames", "0:3"}, "-o: 4 frames need a `#` run"},
+        BadOption{"WholeShotWithoutPattern", {"-o", "OUT/a.exr"}, "-o: 8 frames need a `#` run"},
+        BadOption{"TwoHashRuns", {"-o", "OUT/a_#_#.png"}, "-o: holds more than one run of `#`"},
+        BadOption{"BadExtension", {"-o", "OUT/a.jpg", "--frame", "0"}, "-o: unsupported output extension `.jpg`"},
+        BadOption{"GifDepth", {"-o", "OUT/a.gif", "--aov", "depth"}, "--aov: a GIF holds colour only"},
+        BadOption{"GifId", {"-o", "OUT/a.gif", "--aov", "id"}, "--aov: a GIF holds colour only"},
+        BadOption{"GifShard", {"-o", "OUT/a.gif", "--shard", "1/2"}, "--shard: a GIF is one file"},
+        BadOption{"GifResume", {"-o", "OUT/a.gif", "--resume"}, "--resume: a GIF is written whole"},
+        BadOption{"GifPattern", {"-o", "OUT/a_##.gif"}, "-o: a GIF holds every frame in one file"},
+        BadOption{"UnknownAov", {"-o", "OUT/f_#.png", "--aov", "normals"}, "--aov: unknown AOV"}),
+    [](const ::testing::TestParamInfo<BadOption>& info) { return std::string(info.param.name); });
+
+}  // namespace
+}  // namespace pelt::cli_test

@@ -1,0 +1,96 @@
+// Simulate only what a scene calls for: the frame stats prove which stages ran.
+#include <gtest/gtest.h>
+
+#include "tests/tools/render/render_test_scenes.h"
+#include "tools/io/scene.h"
+#include "tools/render/scene_renderer.h"
+
+namespace pelt::render::test {
+namespace {
+
+struct Frames {
+  std::vector<FrameStats> stats;
+  std::vector<FrameImage> images;
+};
+
+Frames render_frames(const std::string& json, int frames, int threads = 1) {
+  const io::Scene scene = io::parse_scene(json, "test.json");
+  RenderSettings rs;
+  rs.threads = threads;
+  SceneRenderer r(scene, rs);
+  Frames run;
+  for (int f = 0; f < frames; ++f) {
+    FrameImage img;
+    FrameStats st;
+    r.render(f, img, st);
+    run.stats.push_back(st);
+    run.images.push_back(std::move(img));
+  }
+  return run;
+}
+
+int count_ran(const Frames& run, const char* stage) {
+  int n = 0;
+  for (const FrameStats& s : run.stats) n += s.stage(stage).ran;
+  return n;
+}
+
+TEST(Gating, SceneWithoutFurBuildsNoShellsAndSimulatesNothing) {
+  const Frames run = render_frames(bare_box_scene(3), 3);
+  for (const char* stage : {"fur_geometry", "fur_textures", "gravity", "wind", "fur_pose", "fur_lighting", "fins"})
+    EXPECT_EQ(count_ran(run, stage), 0) << stage;
+  EXPECT_EQ(count_ran(run, "raster_tiles"), 3);
+  EXPECT_EQ(run.stats[0].triangles, 108u);  // box:3, no fur triangles
+}
+
+TEST(Gating, FurWithoutWindRunsNoWindStageInAnyFrame) {
+  const Frames run = render_frames(furry_box_scene(R"("gravity": {})", 5), 5);
+  EXPECT_EQ(count_ran(run, "wind"), 0);
+  EXPECT_EQ(count_ran(run, "gravity"), 1);        // inputs never change
+  EXPECT_EQ(count_ran(run, "fur_geometry"), 1);   // built once, reported in frame 0
+  EXPECT_EQ(count_ran(run, "fur_textures"), 1);
+}
+
+TEST(Gating, StaticHundredFrameRenderSimulatesOnce) {
+  const Frames run = render_frames(furry_box_scene(R"("gravity": {}, "wind": {"gust_scale": 0})", 100), 100);
+  EXPECT_EQ(count_ran(run, "gravity"), 1);
+  EXPECT_EQ(count_ran(run, "wind"), 1);  // a steady wind: one field, one wind pose
+  EXPECT_TRUE(run.stats[0].stage("fur_pose").ran);
+  // The swing between the two poses is the only per-frame fur work.
+  EXPECT_EQ(count_ran(run, "raster_tiles"), 100);
+}
+
+TEST(Gating, GustingWindIsReevaluatedEveryFrameAndNothingElse) {
+  const Frames run = render_frames(furry_box_scene(R"("wind": {"gust_frequency": 1.0, "gust_scale": 0.5})", 6), 6);
+  EXPECT_EQ(count_ran(run, "wind"), 6);
+  EXPECT_EQ(count_ran(run, "gravity"), 0);
+  EXPECT_EQ(count_ran(run, "fur_textures"), 1);
+}
+
+TEST(Gating, StaticFurIsPosedOnceAndFinsWeighedOnce) {
+  const Frames run = render_frames(furry_box_scene("", 4), 4);
+  EXPECT_EQ(count_ran(run, "fur_pose"), 1);
+  EXPECT_EQ(count_ran(run, "fins"), 1);  // the camera never moves
+  EXPECT_EQ(count_ran(run, "fur_lighting"), 1);
+  for (int f = 1; f < 4; ++f) EXPECT_EQ(run.images[f].color, run.images[0].color) << f;
+}
+
+TEST(Gating, FurryBoxIsIdenticalOnOneAndTwoThreads) {
+  const std::string json = furry_box_scene(R"("gravity": {}, "wind": {})", 3);
+  const Frames one = render_frames(json, 3, 1), two = render_frames(json, 3, 2);
+  for (int f = 0; f < 3; ++f) EXPECT_EQ(one.images[f].color, two.images[f].color) << f;
+}
+
+TEST(Gating, FrameKAloneEqualsFrameKInARange) {
+  const std::string json = furry_box_scene(R"("gravity": {}, "wind": {})", 8);
+  const Frames all = render_frames(json, 8);
+  const io::Scene scene = io::parse_scene(json, "test.json");
+  SceneRenderer r(scene, RenderSettings{});
+  FrameImage img;
+  FrameStats st;
+  r.render(5, img, st);
+  EXPECT_EQ(img.color, all.images[5].color);
+}
+
+}  // namespace
+}  // namespace pelt::render::test

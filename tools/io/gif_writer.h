@@ -1,0 +1,35 @@
+// Animated GIF output through OpenImageIO, frame by frame, with the same all-or-nothing
+// guarantee as write_image_atomic: frames stream into a temporary file in the target's
+// folder, which is renamed over the target only by commit(); a writer destroyed before
+// commit() (an error, an interrupted render) removes the temporary and leaves no file.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+
+namespace pelt::io {
+
+class AnimatedGifWriter {
+ public:
+  // Opens the temporary for `width` x `height` frames shown `fps` frames per second
+  // (GIF stores a delay of whole 1/100 s: 100 / fps, truncated, at least 1). Throws
+  // InputError(path, "", reason) when the file cannot be created.
+  AnimatedGifWriter(const std::filesystem::path& path, int width, int height, double fps);
+  ~AnimatedGifWriter();
+  AnimatedGifWriter(const AnimatedGifWriter&) = delete;
+  AnimatedGifWriter& operator=(const AnimatedGifWriter&) = delete;
+
+  // Appends one frame of linear float RGBA (alpha ignored: GIF frames are opaque), rows
+  // top to bottom, encoded to sRGB bytes like PNG output (then quantised by the writer).
+  void add_frame(const float* rgba);
+  // Finishes the file and moves it into place. At least one frame must have been added.
+  void commit();
+  int frames() const { return frames_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  int frames_ = 0;
+};
+
+}  // namespace pelt::io

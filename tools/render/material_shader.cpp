@@ -15,6 +15,7 @@ constexpr size_t kLanes = raster::kMaxBatchLanes;
 // per-layer outputs. Fixed size: no allocation per batch.
 struct alignas(64) Scratch {
   alignas(64) float albedo[3][kLanes];
+  alignas(64) float texel[4][kLanes];
   alignas(64) float layers[9][kLanes];
 };
 thread_local Scratch tls_scratch;
@@ -38,7 +39,15 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
   using V = SurfaceVaryings;
   // Skin takes its colours from SkinParams: its albedo is the colour map alone.
   const glm::vec3 base = desc_.kind == MaterialKind::skin ? glm::vec3(1.0f) : desc_.color;
-  for (int c = 0; c < 3; ++c) std::fill(s.albedo[c], s.albedo[c] + n, base[c]);
+  if (desc_.color_map) {
+    raster::SamplerState sampler;  // trilinear, repeat
+    float* const texel[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
+    raster::sample(*desc_.color_map, sampler, b.varying[V::kUv], b.varying[V::kUv + 1], n, texel);
+    for (int c = 0; c < 3; ++c)
+      for (size_t i = 0; i < n; ++i) s.albedo[c][i] = base[c] * s.texel[c][i];
+  } else {
+    for (int c = 0; c < 3; ++c) std::fill(s.albedo[c], s.albedo[c] + n, base[c]);
+  }
 
   shading::SurfaceSoA surf{};
   surf.n = n;

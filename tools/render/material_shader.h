@@ -7,6 +7,7 @@
 #include <glm/vec3.hpp>
 
 #include "raster/pipeline.h"
+#include "raster/texture.h"
 #include "shading/basic_params.h"
 #include "shading/light.h"
 #include "shading/skin_params.h"
@@ -24,6 +25,7 @@ struct MaterialDesc {
   glm::vec3 color{0.8f};              // albedo of the basic materials
   shading::BasicParams basic;         // blinn
   shading::SkinParams skin;           // skin
+  const raster::Texture* color_map = nullptr;  // sampled at the uv varying (v = 0: top row)
 };
 
 class MaterialShader final : public raster::Shader {

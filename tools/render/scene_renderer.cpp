@@ -2,6 +2,9 @@
 
 #include <glm/gtc/matrix_inverse.hpp>
 
+#include "shading/normal_blur.h"
+#include "tools/io/image_io.h"
+#include "tools/io/input_error.h"
 #include "tools/render/animation.h"
 #include "tools/render/varyings.h"
 
@@ -16,6 +19,7 @@ struct SceneRenderer::Object {
   uint32_t id_base = 0;
   std::unique_ptr<MaterialShader> shader;
   std::unique_ptr<FurObject> fur;
+  raster::Texture color_map;
 };
 
 namespace {
@@ -63,6 +67,28 @@ SkinLayer layer_of(Aov aov) {
     case Aov::dermis: return SkinLayer::dermis;
     default: return SkinLayer::all;
   }
+}
+
+// The colour map of an object: the material's `color_map`, else the one the mesh file
+// names (glTF baseColorTexture, OBJ map_Kd), else none.
+void load_color_map(const io::SceneObject& so, const io::LoadedMesh& loaded, raster::Texture& out) {
+  io::ImageRGBA img;
+  std::string source;
+  if (!so.material.color_map.empty()) {
+    img = io::read_image_rgba(so.material.color_map, io::ColorEncoding::srgb);
+    source = so.material.color_map.string();
+  } else if (!loaded.color_map.path.empty()) {
+    img = io::read_image_rgba(loaded.color_map.path, io::ColorEncoding::srgb);
+    source = loaded.color_map.path.string();
+  } else if (!loaded.color_map.pixels.empty()) {
+    img = loaded.color_map.pixels;
+    source = so.mesh;
+  } else {
+    return;
+  }
+  if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(),
+                                                  raster::TexelEncoding::Srgb, out))
+    throw io::InputError(source, e->field, e->reason);
 }
 
 }  // namespace
@@ -115,6 +141,24 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     obj->id_base = id_base;
     id_base += static_cast<uint32_t>(m.triangle_count());
 
+    // Internally v = 0 is the top row of an image (glTF); OBJ files count v from the bottom.
+    if (!so.mesh_path.empty() && so.mesh_path.extension() == ".obj")
+      for (glm::vec2& uv : obj->mesh.uvs) uv.y = 1.0f - uv.y;
+    load_color_map(so, meshes[i].loaded, obj->color_map);
+    if (!obj->color_map.empty()) obj->material.color_map = &obj->color_map;
+
+    shading::BlurredNormals blurred;
+    const bool blur = obj->material.kind == MaterialKind::skin &&
+                      obj->material.skin.multiple_scattering == shading::MultipleScattering::normal_blur;
+    if (blur) {
+      StageTimer t(setup_stats_, "normal_blur");
+      const shading::NormalBlurInput in{&m.positions[0].x, &m.normals[0].x, m.vertex_count(),
+                                        m.indices.data(), m.indices.size()};
+      if (auto e = shading::blur_normals(in, obj->material.skin.normal_blur_radius, blurred))
+        throw io::InputError(scene.file.string(), "objects[" + std::to_string(i) + "].material.skin." + e->field,
+                             e->reason);
+      obj->varying_count = SurfaceVaryings::kCountBlurred;
+    }
     const int vc = obj->varying_count;
     obj->varyings.assign(m.vertex_count() * vc, 0.0f);
     for (size_t v = 0; v < m.vertex_count(); ++v) {
@@ -129,6 +173,9 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
         dst[SurfaceVaryings::kUv + 0] = m.uvs[v].x;
         dst[SurfaceVaryings::kUv + 1] = m.uvs[v].y;
       }
+      if (blur)
+        for (int c = 0; c < 3; ++c)
+          for (int k = 0; k < 3; ++k) dst[SurfaceVaryings::kBlurred + 3 * c + k] = blurred.channel[c][3 * v + k];
     }
     obj->shader = std::make_unique<MaterialShader>(obj->material, lights_, scene.camera.eye,
                                                    layer_of(settings.aov));

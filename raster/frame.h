@@ -62,16 +62,21 @@ struct alignas(64) TileScratch {
   alignas(64) uint16_t batch_mask[kBatchBlocks];
   alignas(64) int32_t batch_x[kBatchBlocks];
   alignas(64) int32_t batch_y[kBatchBlocks];
-  alignas(64) uint32_t batch_prim[kBatchBlocks];
   alignas(64) uint16_t batch_offset[kBatchBlocks];  // block offset within the tile planes
-  const TriSetup* batch_tri[kBatchBlocks];
+  alignas(64) uint32_t lane_prim[kBatchLanes];
   alignas(64) float lane_depth[kBatchLanes];
-  alignas(64) float lane_b1[kBatchLanes];
-  alignas(64) float lane_b2[kBatchLanes];
   alignas(64) float varyings[kMaxVaryings][kBatchLanes];
   alignas(64) float out[4][kBatchLanes];
 
   std::vector<TranslucentRef> translucent;
+
+  // Pass 2: the visible triangles of each block, with their lanes.
+  struct Visible {
+    const TriSetup* tri;
+    uint32_t block;
+    uint32_t bits;
+  };
+  std::vector<Visible> visible;
 
   // SortMode::Exact: the tile's src-over fragments, composited per pixel at the end.
   struct Fragment {

@@ -41,7 +41,7 @@ struct FragmentBatch {
   const uint16_t* mask = nullptr;     // per block: bit l = lane l covered
   const int32_t* block_x = nullptr;   // per block: pixel x of lane 0
   const int32_t* block_y = nullptr;   // per block: pixel y of lane 0
-  const uint32_t* primitive = nullptr;  // per block: triangle index within the draw
+  const uint32_t* primitive = nullptr;  // per lane: triangle index within the draw
   const float* varying[kMaxVaryings] = {};  // per lane, perspective-correct
   const float* depth = nullptr;       // per lane, window depth in [0, 1]
   float* out[4] = {};                 // per lane: the shader writes linear r, g, b, a
@@ -53,6 +53,11 @@ class Shader {
   // Called per worker thread, per batch, possibly concurrently from several threads:
   // must not modify shared state. Writes out[0..3] for all 16 * blocks lanes.
   virtual void shade(const FragmentBatch& batch) const = 0;
+  // True when the shader differentiates varyings across a block (texture LOD): then every
+  // lane of a block comes from the block's one triangle (extrapolated where uncovered).
+  // Otherwise opaque shading may pack the visible pixels of several triangles of the
+  // draw into one block, which shades fewer lanes.
+  virtual bool uses_derivatives() const { return true; }
 };
 
 struct DrawCall {

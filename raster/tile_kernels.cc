@@ -182,8 +182,47 @@ HWY_INLINE void DispatchDepth(const PipelineState& st, Fn&& fn) {
   }
 }
 
-// Interpolates the batch's varyings, runs the draw's shader, then stores (opaque) or
-// blends (translucent) its output into the tile, block after block in batch order.
+// Interpolates triangle t's depth, primitive and varyings into the lanes `bits` of batch
+// slot i (all 16 lanes when `first`, so lanes no triangle covers still hold finite
+// extrapolated values). Several triangles of one draw can share a slot: opaque shading
+// fills whole blocks instead of one block per (triangle, block) pair.
+void Interpolate(const FrameView& frame, TileScratch& s, uint32_t i, const TriSetup& t,
+                 uint32_t bits, bool first) {
+  const DrawCall& draw = frame.draws[t.draw];
+  const DF df;
+  const DU du;
+  const size_t n = hn::Lanes(df);
+  const uint32_t vc = draw.varying_count;
+  const auto tiny = hn::Set(df, 1e-30f);
+  const auto bmin = hn::Set(df, -8.0f), bmax = hn::Set(df, 9.0f);
+  const int32_t ox = s.batch_x[i] - t.x0, oy = s.batch_y[i] - t.y0;
+  const uint32_t* tri = draw.indices + 3 * size_t{t.primitive};
+  const float* a0 = draw.varyings + size_t{tri[0]} * vc;
+  const float* a1 = draw.varyings + size_t{tri[1]} * vc;
+  const float* a2 = draw.varyings + size_t{tri[2]} * vc;
+  for (size_t g = 0; g * n < kBlockLanes; ++g) {
+    const size_t lane = i * kBlockLanes + g * n;
+    const auto m = first ? hn::RebindMask(df, hn::FirstN(du, n)) : BitsToMask(bits, g);
+    const auto z = EvalPlane(t.z, ox, oy, g);
+    // Lanes outside the triangle extrapolate the planes; clamping 1/w and the
+    // barycentrics keeps their varyings finite without touching covered lanes.
+    const auto w = hn::Div(hn::Set(df, 1.0f), hn::Max(EvalPlane(t.inv_w, ox, oy, g), tiny));
+    const auto b1 = hn::Min(hn::Max(hn::Mul(EvalPlane(t.b1w, ox, oy, g), w), bmin), bmax);
+    const auto b2 = hn::Min(hn::Max(hn::Mul(EvalPlane(t.b2w, ox, oy, g), w), bmin), bmax);
+    hn::Store(hn::IfThenElse(m, z, hn::Load(df, s.lane_depth + lane)), df, s.lane_depth + lane);
+    hn::Store(hn::IfThenElse(hn::RebindMask(du, m), hn::Set(du, t.primitive), hn::Load(du, s.lane_prim + lane)),
+              du, s.lane_prim + lane);
+    for (uint32_t k = 0; k < vc; ++k) {
+      const auto v = hn::Add(hn::Set(df, a0[k]), hn::Add(hn::Mul(b1, hn::Set(df, a1[k] - a0[k])),
+                                                         hn::Mul(b2, hn::Set(df, a2[k] - a0[k]))));
+      hn::Store(hn::IfThenElse(m, v, hn::Load(df, s.varyings[k] + lane)), df, s.varyings[k] + lane);
+    }
+  }
+  s.batch_mask[i] = static_cast<uint16_t>(s.batch_mask[i] | bits);
+}
+
+// Runs the draw's shader on the batch, then stores (opaque) or blends (translucent) its
+// output into the tile, block after block in batch order.
 void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
   const uint32_t nb = s.batch_blocks;
   if (nb == 0) return;
@@ -192,40 +231,13 @@ void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
   const DF df;
   const size_t n = hn::Lanes(df);
   const uint32_t vc = draw.varying_count;
-  const auto tiny = hn::Set(df, 1e-30f);
-  const auto bmin = hn::Set(df, -8.0f), bmax = hn::Set(df, 9.0f);
-  for (uint32_t i = 0; i < nb; ++i) {
-    const TriSetup& t = *s.batch_tri[i];
-    const int32_t ox = s.batch_x[i] - t.x0, oy = s.batch_y[i] - t.y0;
-    const uint32_t* tri = draw.indices + 3 * size_t{t.primitive};
-    const float* a0 = draw.varyings + size_t{tri[0]} * vc;
-    const float* a1 = draw.varyings + size_t{tri[1]} * vc;
-    const float* a2 = draw.varyings + size_t{tri[2]} * vc;
-    for (size_t g = 0; g * n < kBlockLanes; ++g) {
-      const size_t lane = i * kBlockLanes + g * n;
-      const auto z = EvalPlane(t.z, ox, oy, g);
-      // Lanes outside the triangle extrapolate the planes; clamping 1/w and the
-      // barycentrics keeps their varyings finite without touching covered lanes.
-      const auto w = hn::Div(hn::Set(df, 1.0f), hn::Max(EvalPlane(t.inv_w, ox, oy, g), tiny));
-      const auto b1 = hn::Min(hn::Max(hn::Mul(EvalPlane(t.b1w, ox, oy, g), w), bmin), bmax);
-      const auto b2 = hn::Min(hn::Max(hn::Mul(EvalPlane(t.b2w, ox, oy, g), w), bmin), bmax);
-      hn::Store(z, df, s.lane_depth + lane);
-      hn::Store(b1, df, s.lane_b1 + lane);
-      hn::Store(b2, df, s.lane_b2 + lane);
-      for (uint32_t k = 0; k < vc; ++k) {
-        const auto v = hn::Add(hn::Set(df, a0[k]), hn::Add(hn::Mul(b1, hn::Set(df, a1[k] - a0[k])),
-                                                           hn::Mul(b2, hn::Set(df, a2[k] - a0[k]))));
-        hn::Store(v, df, s.varyings[k] + lane);
-      }
-    }
-  }
 
   FragmentBatch fb;
   fb.blocks = nb;
   fb.mask = s.batch_mask;
   fb.block_x = s.batch_x;
   fb.block_y = s.batch_y;
-  fb.primitive = s.batch_prim;
+  fb.primitive = s.lane_prim;
   for (uint32_t k = 0; k < vc; ++k) fb.varying[k] = s.varyings[k];
   fb.depth = s.lane_depth;
   for (int c = 0; c < 4; ++c) fb.out[c] = s.out[c];
@@ -284,18 +296,25 @@ void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
   }
 }
 
-void AppendBlock(const FrameView& frame, TileScratch& s, const TriSetup& t, int32_t px,
-                 int32_t py, uint32_t blk, uint32_t bits, bool blend) {
-  if (s.batch_blocks > 0 && s.batch_draw != t.draw) FlushBatch(frame, s, blend);
+// Opens a batch slot for block `blk` of `draw` (flushing first when the batch holds
+// another draw or is full); its lanes are filled by Interpolate.
+uint32_t OpenSlot(const FrameView& frame, TileScratch& s, uint32_t draw, int32_t px, int32_t py,
+                  uint32_t blk, bool blend) {
+  if (s.batch_blocks > 0 && s.batch_draw != draw) FlushBatch(frame, s, blend);
+  if (s.batch_blocks == kBatchBlocks) FlushBatch(frame, s, blend);
   const uint32_t i = s.batch_blocks++;
-  s.batch_draw = t.draw;
-  s.batch_mask[i] = static_cast<uint16_t>(bits);
+  s.batch_draw = draw;
+  s.batch_mask[i] = 0;
   s.batch_x[i] = px;
   s.batch_y[i] = py;
-  s.batch_prim[i] = t.primitive;
   s.batch_offset[i] = static_cast<uint16_t>(blk);
-  s.batch_tri[i] = &t;
-  if (s.batch_blocks == kBatchBlocks) FlushBatch(frame, s, blend);
+  return i;
+}
+
+void AppendBlock(const FrameView& frame, TileScratch& s, const TriSetup& t, int32_t px,
+                 int32_t py, uint32_t blk, uint32_t bits, bool blend) {
+  const uint32_t i = OpenSlot(frame, s, t.draw, px, py, blk, blend);
+  Interpolate(frame, s, i, t, bits, true);
 }
 
 // Calls fn(setup, frame-wide id, flags) for the tile's items in submission order.
@@ -483,26 +502,43 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
     });
   });
 
-  // Pass 2: shade each visible opaque pixel once, with the triangle that owns it.
-  const DU du;
-  const size_t n = hn::Lanes(du);
-  ForEachItem(frame, tile, [&](const TriSetup& t, uint32_t id, uint32_t) {
-    if (frame.draws[t.draw].state.blend != BlendMode::Opaque) return;
-    TileEdges te;
-    if (!tile_region_edges(t, tx0, ty0, te)) return;
-    const auto want = hn::Set(du, id);
-    for (int32_t py = te.ry0; py <= te.ry1; py += kBlockSize)
-      for (int32_t px = te.rx0; px <= te.rx1; px += kBlockSize) {
-        const uint32_t blk = BlockIndex(px, py, tx0, ty0);
+  // Pass 2: shade each visible opaque pixel once, with the triangle that owns it. The
+  // visible triangles of a block share one batch slot (per draw), so the shader sees
+  // full blocks rather than one block per (triangle, block) pair.
+  s.visible.clear();
+  {
+    SetupLookup lookup{frame};
+    for (uint32_t blk = 0; blk < kBlocksPerTile; ++blk) {
+      const uint32_t* vis = s.vis + blk * kBlockLanes;
+      uint32_t left = 0;
+      for (int l = 0; l < kBlockLanes; ++l) left |= uint32_t(vis[l] != kNoPrimitive) << l;
+      while (left) {
+        const uint32_t id = vis[std::countr_zero(left)];
         uint32_t bits = 0;
-        for (size_t g = 0; g * n < kBlockLanes; ++g)
-          bits |= MaskToBits(du, hn::Eq(hn::Load(du, s.vis + blk * kBlockLanes + g * n), want)) << (g * n);
-        if (bits) {
-          s.pixels_shaded += std::popcount(bits);
-          AppendBlock(frame, s, t, px, py, blk, bits, false);
-        }
+        for (int l = 0; l < kBlockLanes; ++l) bits |= uint32_t(vis[l] == id) << l;
+        left &= ~bits;
+        const TriSetup& t = lookup(id);
+        s.visible.push_back({&t, blk, bits});
       }
-  });
+    }
+  }
+  // Draw by draw (a batch holds one draw's blocks); block order within a draw.
+  if (frame.chunk_count > 0 && frame.chunks[0].draw != frame.chunks[frame.chunk_count - 1].draw)
+    std::stable_sort(s.visible.begin(), s.visible.end(),
+                     [](const TileScratch::Visible& a, const TileScratch::Visible& b) {
+                       return a.tri->draw < b.tri->draw;
+                     });
+  for (size_t k = 0; k < s.visible.size(); ++k) {
+    const TileScratch::Visible& v = s.visible[k];
+    const bool same_slot = k > 0 && s.visible[k - 1].block == v.block &&
+                           s.visible[k - 1].tri->draw == v.tri->draw && s.batch_blocks > 0 &&
+                           !frame.draws[v.tri->draw].shader->uses_derivatives();
+    const int32_t px = tx0 + int32_t(v.block % kBlocksPerTileSide) * kBlockSize;
+    const int32_t py = ty0 + int32_t(v.block / kBlocksPerTileSide) * kBlockSize;
+    const uint32_t slot = same_slot ? s.batch_blocks - 1 : OpenSlot(frame, s, v.tri->draw, px, py, v.block, false);
+    Interpolate(frame, s, slot, *v.tri, v.bits, !same_slot);
+    s.pixels_shaded += std::popcount(v.bits);
+  }
   FlushBatch(frame, s, false);
 
   // Pass 3: translucent fragments, back to front per tile when asked.

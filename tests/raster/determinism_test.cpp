@@ -60,5 +60,41 @@ TEST(Determinism, OneTwoAndEightThreadsGiveIdenticalImages) {
   }
 }
 
+// Opaque shading packs the visible pixels of several triangles into one block unless the
+// shader takes derivatives; both ways every visible pixel gets its own triangle's values.
+TEST(Determinism, PackedAndPerTriangleOpaqueShadingAgree) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<glm::vec3> pos;
+  std::vector<float> var;
+  std::vector<uint32_t> idx;
+  for (int i = 0; i < 3000; ++i) {
+    const glm::vec3 c(u(rng) * 3.0f, u(rng) * 3.0f, -5.0f + u(rng) * 3.0f);
+    for (int k = 0; k < 3; ++k) {
+      pos.push_back(c + 0.4f * glm::vec3(u(rng), u(rng), u(rng)));
+      var.insert(var.end(), {u(rng), u(rng), u(rng)});
+      idx.push_back(uint32_t(pos.size() - 1));
+    }
+  }
+  const VaryingShader packed(1.0f, false), per_triangle(1.0f, true);
+  DrawCall d;
+  d.positions = pos.data();
+  d.vertex_count = uint32_t(pos.size());
+  d.indices = idx.data();
+  d.triangle_count = 3000;
+  d.varyings = var.data();
+  d.varying_count = 3;
+  d.clip_from_object = glm::perspective(glm::radians(60.0f), 4.0f / 3.0f, 0.5f, 20.0f);
+  d.shader = &packed;
+  for_each_target([&](const std::string& target) {
+    const Image a = render({&d, 1}, 200, 150);
+    DrawCall e = d;
+    e.shader = &per_triangle;
+    const Image b = render({&e, 1}, 200, 150);
+    EXPECT_EQ(0, std::memcmp(a.color.data(), b.color.data(), a.color.size() * 4)) << target;
+    EXPECT_EQ(a.stats.pixels_shaded, b.stats.pixels_shaded) << target;
+  });
+}
+
 }  // namespace
 }  // namespace pelt::raster::test

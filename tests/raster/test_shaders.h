@@ -24,7 +24,9 @@ class ConstantShader final : public Shader {
 // Copies varyings 0..2 to r, g, b (absent ones read 0) and writes alpha.
 class VaryingShader final : public Shader {
  public:
-  explicit VaryingShader(float alpha = 1.0f) : alpha_(alpha) {}
+  explicit VaryingShader(float alpha = 1.0f, bool derivatives = false)
+      : alpha_(alpha), derivatives_(derivatives) {}
+  bool uses_derivatives() const override { return derivatives_; }
   void shade(const FragmentBatch& b) const override {
     const size_t lanes = size_t{b.blocks} * kBlockLanes;
     for (int k = 0; k < 3; ++k)
@@ -34,6 +36,7 @@ class VaryingShader final : public Shader {
 
  private:
   float alpha_;
+  bool derivatives_;
 };
 
 }  // namespace pelt::raster::test

@@ -39,7 +39,7 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   } else {
     const uint32_t layers = static_cast<uint32_t>(s_.shells->layers.size());
     auto layer_of = [&](uint32_t block) {
-      return std::min(layers - 1, (b.primitive[block] + s_.primitive_offset) / s_.base_faces);
+      return std::min(layers - 1, (b.primitive[block * raster::kBlockLanes] + s_.primitive_offset) / s_.base_faces);
     };
     uint32_t i = 0;
     while (i < b.blocks) {
@@ -55,7 +55,7 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   }
   if (s_.fins && weight_) {
     for (uint32_t i = 0; i < b.blocks; ++i) {
-      const uint32_t quad = (b.primitive[i] + s_.primitive_offset) / 2;
+      const uint32_t quad = (b.primitive[size_t{i} * raster::kBlockLanes] + s_.primitive_offset) / 2;
       const float w = weight_[quad_edge_[quad]];
       float* a = s.texel[3] + size_t{i} * raster::kBlockLanes;
       for (int l = 0; l < raster::kBlockLanes; ++l) a[l] *= w;

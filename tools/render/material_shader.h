@@ -33,6 +33,7 @@ class MaterialShader final : public raster::Shader {
   MaterialShader(const MaterialDesc& desc, std::vector<shading::Light> lights, glm::vec3 eye,
                  SkinLayer layer = SkinLayer::all);
   void shade(const raster::FragmentBatch& batch) const override;
+  bool uses_derivatives() const override { return desc_.color_map != nullptr; }
   // Lights and eye for the next frames; call between renders, never during one.
   void set_view(const std::vector<shading::Light>& lights, const glm::vec3& eye);
 

@@ -26,6 +26,7 @@ enum PlaneBit : uint32_t {
   kViewNY = 1u << 10,
 };
 constexpr uint32_t kClipPlanes = kNear | kFar | kPosW | kGuardPX | kGuardNX | kGuardPY | kGuardNY;
+static_assert(kClipPlanes == kClipPlaneBits);
 constexpr int kNumClipPlanes = 7;
 
 // Signed distance to clip plane i; inside where >= 0.
@@ -60,6 +61,11 @@ bool finite(const glm::vec4& v) {
 }
 
 }  // namespace
+
+uint32_t vertex_outcode(const glm::vec4& v, const ClipBounds& bounds) {
+  if (!finite(v)) return kNonFinite;
+  return outcode(ClipVertex{v.x, v.y, v.z, v.w, 0.0, 0.0}, bounds);
+}
 
 ClipBounds make_clip_bounds(int width, int height) {
   return {1.0 + 2.0 * kGuardBand / width, 1.0 + 2.0 * kGuardBand / height};

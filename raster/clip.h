@@ -37,6 +37,14 @@ enum class ClipResult : uint8_t {
   Clipped,    // the polygon is a convex fan of `count` vertices
 };
 
+// Per-vertex classification, computed once per vertex by the front end: bits 0-6 are the
+// clip planes the vertex is outside of (kClipPlaneBits), bits 7-10 the viewport sides,
+// kNonFinite a NaN or infinite coordinate. A triangle whose vertices share a bit is
+// outside; one whose vertices have no kClipPlaneBits set needs no clipping.
+inline constexpr uint32_t kClipPlaneBits = 0x7Fu;
+inline constexpr uint32_t kNonFinite = 1u << 31;
+uint32_t vertex_outcode(const glm::vec4& v, const ClipBounds& bounds);
+
 // Called per triangle by the front end. Non-finite input coordinates cull the triangle:
 // a mesh with NaN never reaches the rasterizer as garbage.
 ClipResult clip_triangle(const glm::vec4& a, const glm::vec4& b, const glm::vec4& c,

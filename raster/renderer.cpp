@@ -30,7 +30,13 @@ struct Renderer::Impl {
   explicit Impl(int threads) : pool(threads) {}
 
   ThreadPool pool;
-  std::vector<std::vector<glm::vec4>> clip;  // per draw
+  // Per draw, per vertex: clip position, outcode, and (inside every clip plane) its snap.
+  struct DrawVertices {
+    std::vector<glm::vec4> clip;
+    std::vector<uint32_t> code;
+    std::vector<SnappedVertex> snap;
+  };
+  std::vector<DrawVertices> clip;
   std::vector<BinChunk> chunks;
   std::vector<std::unique_ptr<TileScratch>> scratch;  // per worker slot
   std::vector<uint32_t> tile_order;
@@ -40,9 +46,9 @@ struct Renderer::Impl {
   };
   std::vector<VertexJob> vertex_jobs;
 
-  void transform(std::span<const DrawCall> draws);
+  void transform(std::span<const DrawCall> draws, const Viewport& vp);
   void front_end(std::span<const DrawCall> draws, const Viewport& vp, int tiles_x, int tiles_y);
-  void bin_chunk(BinChunk& ch, const DrawCall& draw, const std::vector<glm::vec4>& clip,
+  void bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVertices& dv,
                  const Viewport& vp, const ClipBounds& bounds, int tiles_x, int tiles_y);
 };
 
@@ -50,24 +56,33 @@ Renderer::Renderer(int threads) : impl_(std::make_unique<Impl>(threads)) {}
 Renderer::~Renderer() = default;
 int Renderer::threads() const { return impl_->pool.threads(); }
 
-void Renderer::Impl::transform(std::span<const DrawCall> draws) {
+void Renderer::Impl::transform(std::span<const DrawCall> draws, const Viewport& vp) {
   if (clip.size() < draws.size()) clip.resize(draws.size());
   vertex_jobs.clear();
   for (uint32_t d = 0; d < draws.size(); ++d) {
-    clip[d].resize(draws[d].vertex_count);
+    clip[d].clip.resize(draws[d].vertex_count);
+    clip[d].code.resize(draws[d].vertex_count);
+    clip[d].snap.resize(draws[d].vertex_count);
     for (uint32_t v = 0; v < draws[d].vertex_count; v += kVertexChunk)
       vertex_jobs.push_back({d, v, std::min(kVertexChunk, draws[d].vertex_count - v)});
   }
+  const ClipBounds bounds = make_clip_bounds(vp.width, vp.height);
   pool.parallel_for(vertex_jobs.size(), [&](size_t j, int) {
     const VertexJob& job = vertex_jobs[j];
     const DrawCall& draw = draws[job.draw];
-    glm::vec4* out = clip[job.draw].data();
-    for (uint32_t v = job.first; v < job.first + job.count; ++v)
-      out[v] = draw.clip_from_object * glm::vec4(draw.positions[v], 1.0f);
+    DrawVertices& dv = clip[job.draw];
+    for (uint32_t v = job.first; v < job.first + job.count; ++v) {
+      const glm::vec4 c = draw.clip_from_object * glm::vec4(draw.positions[v], 1.0f);
+      dv.clip[v] = c;
+      dv.code[v] = vertex_outcode(c, bounds);
+      // Snapped once here for every triangle that shares the vertex and needs no clipping.
+      if (!(dv.code[v] & (kClipPlaneBits | kNonFinite)))
+        dv.snap[v] = snap_vertex(ClipVertex{c.x, c.y, c.z, c.w, 0.0, 0.0}, vp);
+    }
   });
 }
 
-void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const std::vector<glm::vec4>& cv,
+void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVertices& dv,
                                const Viewport& vp, const ClipBounds& bounds, int tiles_x,
                                int tiles_y) {
   ch.setups.clear();
@@ -82,18 +97,30 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const std::ve
       ++ch.culled;  // loaders reject such meshes; the rasterizer still never reads out of range
       continue;
     }
-    const glm::vec4 &a = cv[i0], &b = cv[i1], &c = cv[i2];
-    const ClipResult r = clip_triangle(a, b, c, bounds, poly);
-    if (r == ClipResult::Culled) {
+    const glm::vec4 &a = dv.clip[i0], &b = dv.clip[i1], &c = dv.clip[i2];
+    const uint32_t c0 = dv.code[i0], c1 = dv.code[i1], c2 = dv.code[i2];
+    if (((c0 | c1 | c2) & kNonFinite) || (c0 & c1 & c2)) {
       ++ch.culled;
       continue;
     }
-    if (r == ClipResult::Clipped) ++ch.clipped;
+    const bool unclipped = !((c0 | c1 | c2) & kClipPlaneBits);
+    if (!unclipped) {
+      if (clip_triangle(a, b, c, bounds, poly) == ClipResult::Culled) {
+        ++ch.culled;
+        continue;
+      }
+      ++ch.clipped;
+    }
     const float key = (a.w + b.w + c.w) * (1.0f / 3.0f);
     bool any = false;
-    for (int k = 1; k + 1 < poly.count; ++k) {
+    const int fans = unclipped ? 1 : poly.count - 2;
+    for (int k = 1; k <= fans; ++k) {
       TriSetup t;
-      if (!setup_triangle(poly.v[0], poly.v[k], poly.v[k + 1], vp, draw.state.cull, t)) continue;
+      static constexpr double kB1[3] = {0.0, 1.0, 0.0}, kB2[3] = {0.0, 0.0, 1.0};
+      const bool ok = unclipped ? setup_snapped(dv.snap[i0], dv.snap[i1], dv.snap[i2], kB1, kB2, vp,
+                                                draw.state.cull, t)
+                                : setup_triangle(poly.v[0], poly.v[k], poly.v[k + 1], vp, draw.state.cull, t);
+      if (!ok) continue;
       t.draw = 0;  // set by the caller's draw index below
       t.primitive = p;
       t.sort_key = key;
@@ -172,7 +199,7 @@ void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& opti
   const Viewport vp{target.width, target.height};
   const int tiles_x = (vp.width + kTileSize - 1) / kTileSize;
   const int tiles_y = (vp.height + kTileSize - 1) / kTileSize;
-  im.transform(draws);
+  im.transform(draws, vp);
   im.front_end(draws, vp, tiles_x, tiles_y);
   const double ms_front = ms_since(t0);
 

@@ -51,8 +51,16 @@ SnappedVertex snap_vertex(const ClipVertex& v, const Viewport& vp) {
 
 bool setup_triangle(const ClipVertex& cv0, const ClipVertex& cv1, const ClipVertex& cv2,
                     const Viewport& vp, CullMode cull, TriSetup& out) {
-  const ClipVertex* cv[3] = {&cv0, &cv1, &cv2};
-  SnappedVertex s[3] = {snap_vertex(cv0, vp), snap_vertex(cv1, vp), snap_vertex(cv2, vp)};
+  const double b1[3] = {cv0.b1, cv1.b1, cv2.b1}, b2[3] = {cv0.b2, cv1.b2, cv2.b2};
+  return setup_snapped(snap_vertex(cv0, vp), snap_vertex(cv1, vp), snap_vertex(cv2, vp), b1, b2, vp,
+                       cull, out);
+}
+
+bool setup_snapped(const SnappedVertex& s0, const SnappedVertex& s1, const SnappedVertex& s2,
+                   const double vb1[3], const double vb2[3], const Viewport& vp, CullMode cull,
+                   TriSetup& out) {
+  SnappedVertex s[3] = {s0, s1, s2};
+  int order[3] = {0, 1, 2};
   int64_t area2 = (static_cast<int64_t>(s[1].x) - s[0].x) * (static_cast<int64_t>(s[2].y) - s[0].y) -
                   (static_cast<int64_t>(s[1].y) - s[0].y) * (static_cast<int64_t>(s[2].x) - s[0].x);
   if (area2 == 0) return false;
@@ -61,7 +69,7 @@ bool setup_triangle(const ClipVertex& cv0, const ClipVertex& cv1, const ClipVert
   if ((cull == CullMode::Back && !front) || (cull == CullMode::Front && front)) return false;
   if (area2 < 0) {
     std::swap(s[1], s[2]);
-    std::swap(cv[1], cv[2]);
+    std::swap(order[1], order[2]);
     area2 = -area2;
   }
 
@@ -96,8 +104,8 @@ bool setup_triangle(const ClipVertex& cv0, const ClipVertex& cv1, const ClipVert
   double iw[3], b1w[3], b2w[3];
   for (int k = 0; k < 3; ++k) {
     iw[k] = s[k].inv_w;
-    b1w[k] = cv[k]->b1 * iw[k];
-    b2w[k] = cv[k]->b2 * iw[k];
+    b1w[k] = vb1[order[k]] * iw[k];
+    b2w[k] = vb2[order[k]] * iw[k];
   }
   out.z = make_plane(z, x, y, inv_area, out.x0, out.y0);
   out.inv_w = make_plane(iw, x, y, inv_area, out.x0, out.y0);

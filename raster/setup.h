@@ -53,12 +53,20 @@ bool setup_triangle(const ClipVertex& v0, const ClipVertex& v1, const ClipVertex
                     const Viewport& vp, CullMode cull, TriSetup& out);
 
 // Snapped sub-pixel position of a clip-space vertex (exposed for the reference tests).
+// A vertex inside every clip plane snaps the same in every triangle that uses it, so the
+// front end snaps such vertices once and sets their triangles up with setup_snapped.
 struct SnappedVertex {
   int32_t x, y;  // 1/256 pixel, y down (row 0 at the top)
   double depth;  // window depth
   double inv_w;  // 1 / clip w
 };
 SnappedVertex snap_vertex(const ClipVertex& v, const Viewport& vp);
+
+// setup_triangle from vertices already snapped; b1[k], b2[k] are vertex k's barycentrics
+// in the original triangle.
+bool setup_snapped(const SnappedVertex& s0, const SnappedVertex& s1, const SnappedVertex& s2,
+                   const double b1[3], const double b2[3], const Viewport& vp, CullMode cull,
+                   TriSetup& out);
 
 inline float eval_plane(const Plane& p, int32_t x0, int32_t y0, int32_t px, int32_t py) {
   return p.ref + (p.dx * static_cast<float>(px - x0) + p.dy * static_cast<float>(py - y0));

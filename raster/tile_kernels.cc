@@ -78,9 +78,13 @@ HWY_INLINE void ForEachCoveredBlock(const TileEdges& te, int32_t tx0, int32_t ty
   const DI di;
   const size_t n = hn::Lanes(di);
   const uint32_t group_bits = (n >= 32) ? ~0u : ((1u << n) - 1u);
+  // Per-lane edge offsets within a block, a x + b y: at most 16 / N vectors per edge.
   alignas(64) int32_t step[3][kBlockLanes];
   for (int k = 0; k < 3; ++k)
-    for (int l = 0; l < kBlockLanes; ++l) step[k][l] = te.a[k] * kLaneX[l] + te.b[k] * kLaneY[l];
+    for (size_t g = 0; g * n < kBlockLanes; ++g)
+      hn::Store(hn::Add(hn::Mul(hn::Set(di, te.a[k]), hn::Load(di, kLaneX + g * n)),
+                        hn::Mul(hn::Set(di, te.b[k]), hn::Load(di, kLaneY + g * n))),
+                di, step[k] + g * n);
 
   constexpr int32_t kSub = 16;  // hierarchical level between the tile and the block
   const int32_t sy0 = ty0 + ((te.ry0 - ty0) & ~(kSub - 1));
@@ -202,21 +206,29 @@ void Interpolate(const FrameView& frame, TileScratch& s, uint32_t i, const TriSe
   const float* a2 = draw.varyings + size_t{tri[2]} * vc;
   for (size_t g = 0; g * n < kBlockLanes; ++g) {
     const size_t lane = i * kBlockLanes + g * n;
-    const auto m = first ? hn::RebindMask(df, hn::FirstN(du, n)) : BitsToMask(bits, g);
     const auto z = EvalPlane(t.z, ox, oy, g);
     // Lanes outside the triangle extrapolate the planes; clamping 1/w and the
     // barycentrics keeps their varyings finite without touching covered lanes.
     const auto w = hn::Div(hn::Set(df, 1.0f), hn::Max(EvalPlane(t.inv_w, ox, oy, g), tiny));
     const auto b1 = hn::Min(hn::Max(hn::Mul(EvalPlane(t.b1w, ox, oy, g), w), bmin), bmax);
     const auto b2 = hn::Min(hn::Max(hn::Mul(EvalPlane(t.b2w, ox, oy, g), w), bmin), bmax);
+    auto varying = [&](uint32_t k) {
+      return hn::Add(hn::Set(df, a0[k]), hn::Add(hn::Mul(b1, hn::Set(df, a1[k] - a0[k])),
+                                                 hn::Mul(b2, hn::Set(df, a2[k] - a0[k]))));
+    };
+    if (first) {
+      hn::Store(z, df, s.lane_depth + lane);
+      hn::Store(hn::Set(du, t.primitive), du, s.lane_prim + lane);
+      for (uint32_t k = 0; k < vc; ++k) hn::Store(varying(k), df, s.varyings[k] + lane);
+      continue;
+    }
+    const auto m = BitsToMask(bits, g);
+    if (hn::AllFalse(df, m)) continue;
     hn::Store(hn::IfThenElse(m, z, hn::Load(df, s.lane_depth + lane)), df, s.lane_depth + lane);
     hn::Store(hn::IfThenElse(hn::RebindMask(du, m), hn::Set(du, t.primitive), hn::Load(du, s.lane_prim + lane)),
               du, s.lane_prim + lane);
-    for (uint32_t k = 0; k < vc; ++k) {
-      const auto v = hn::Add(hn::Set(df, a0[k]), hn::Add(hn::Mul(b1, hn::Set(df, a1[k] - a0[k])),
-                                                         hn::Mul(b2, hn::Set(df, a2[k] - a0[k]))));
-      hn::Store(hn::IfThenElse(m, v, hn::Load(df, s.varyings[k] + lane)), df, s.varyings[k] + lane);
-    }
+    for (uint32_t k = 0; k < vc; ++k)
+      hn::Store(hn::IfThenElse(m, varying(k), hn::Load(df, s.varyings[k] + lane)), df, s.varyings[k] + lane);
   }
   s.batch_mask[i] = static_cast<uint16_t>(s.batch_mask[i] | bits);
 }

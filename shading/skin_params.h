@@ -79,7 +79,7 @@ struct SkinParams {
   float normal_blur_mix[3] = {0.9f, 0.6f, 0.4f};
 };
 
-// Numerical guards shared by the reference and the kernels (see DEVIATIONS.md).
+// Numerical guards shared by the reference and the kernels (see the README, "Skin shader: deviations").
 inline constexpr float kMaxAbsG = 1.0f - 1e-6f;   // |g| = 1 is a delta; clamp to a finite lobe
 inline constexpr float kClampFloor = 1e-3f;       // floor of |I.N| + ClampCoeff
 inline constexpr float kDegenerateNormal2 = 1e-30f;  // |N|^2 below this (or infinite): degenerate

@@ -5,7 +5,7 @@
 // it is turned toward the viewer; eta is the relative index inside / outside (SkinParams::Eta);
 // light colours are irradiance-like (a white Lambert surface facing a light of colour 1 returns
 // 1: no 1/pi). Deviations from the paper's listings are marked DEVIATION and collected in
-// shading/DEVIATIONS.md.
+// the README (section "Skin shader: deviations from the paper's listings").
 #pragma once
 
 #include <cstddef>

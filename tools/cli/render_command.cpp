@@ -51,10 +51,12 @@ render::Aov parse_aov(const std::string& s) {
   throw io::InputError("", "--aov", "unknown AOV `" + s + "` (color, depth, id, sebum, epidermis, dermis)");
 }
 
-raster::SortMode parse_sort(const std::string& s) {
-  if (s == "none") return raster::SortMode::None;
-  if (s == "tile") return raster::SortMode::Tile;
-  throw io::InputError("", "--sort", "unknown sort mode `" + s + "` (none, tile)");
+render::FurSort parse_sort(const std::string& s) {
+  if (s == "none") return render::FurSort::none;
+  if (s == "layer") return render::FurSort::layer;
+  if (s == "tile") return render::FurSort::tile;
+  if (s == "exact") return render::FurSort::exact;
+  throw io::InputError("", "--sort", "unknown sort mode `" + s + "` (none, layer, tile, exact)");
 }
 
 void write_frame(const std::filesystem::path& path, const render::FrameImage& img, render::Aov aov) {
@@ -142,7 +144,7 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
 
 int run_render(const RenderOptions& o) {
   const render::Aov aov = parse_aov(o.aov);
-  const raster::SortMode sort = parse_sort(o.sort);
+  const render::FurSort sort = parse_sort(o.sort);
   const render::OutputPattern pattern(o.output);
   const io::Scene scene = io::load_scene(o.scene);
   const Plan plan = plan_render(o, scene, aov, pattern);
@@ -165,7 +167,7 @@ int run_render(const RenderOptions& o) {
   rs.width = o.width;
   rs.height = o.height;
   rs.threads = o.threads > 0 ? o.threads : int(std::thread::hardware_concurrency());
-  rs.sort = sort;
+  rs.fur_sort = sort;
   rs.aov = aov;
   render::SceneRenderer renderer(scene, rs);
 
@@ -230,7 +232,7 @@ Run add_render_command(CLI::App& app) {
   sub->add_option("--threads", o->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 256));
   sub->add_option("--stats", o->stats, "Write per-frame stage statistics as JSON");
   sub->add_option("--aov", o->aov, "color | depth | id | sebum | epidermis | dermis");
-  sub->add_option("--sort", o->sort, "Translucent order: none | tile");
+  sub->add_option("--sort", o->sort, "Translucent order: none | layer | tile | exact");
   CLI::Option* frame = sub->add_option("--frame", o->frame, "One frame of the animation (0-based)");
   CLI::Option* frames =
       sub->add_option("--frames", o->frames, "Frame range FIRST:LAST, inclusive (default: every frame)");

@@ -10,4 +10,5 @@ apt-get install -y --no-install-recommends \
   libopenimageio-dev openimageio-tools \
   libbenchmark-dev libgtest-dev libgmock-dev \
   libhwy-dev libtbb-dev libcli11-dev libtinyobjloader-dev libmeshoptimizer-dev \
-  python3 python3-matplotlib
+  python3 python3-matplotlib \
+  clang libfuzzer-14-dev

@@ -8,21 +8,55 @@
 namespace pelt::cli {
 namespace {
 
+const char* material_name(io::MaterialType t) {
+  switch (t) {
+    case io::MaterialType::unlit: return "unlit";
+    case io::MaterialType::lambert: return "lambert";
+    case io::MaterialType::blinn: return "blinn";
+    case io::MaterialType::skin: return "skin";
+  }
+  return "?";
+}
+
 int run_info(const std::string& path) {
   const io::Scene scene = io::load_scene(path);
   render::RenderSettings rs;
   render::SceneRenderer r(scene, rs);
   std::printf("scene      %s\n", path.c_str());
-  std::printf("image      %d x %d, %d frame(s)\n", r.width(), r.height(), r.frame_count());
+  std::printf("image      %d x %d, %d frame(s)%s\n", r.width(), r.height(), r.frame_count(),
+              scene.animation ? "" : " (still)");
+  std::printf("lights     %zu\n", scene.lights.size());
   std::printf("objects    %zu\n", scene.objects.size());
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const io::SceneObject& o = scene.objects[i];
-    std::printf("  [%zu] %-16s mesh %s%s\n", i, o.name.c_str(), o.mesh.c_str(),
-                o.fur ? ", fur" : "");
+    std::printf("  [%zu] %s: mesh %s, material %s", i, o.name.empty() ? "-" : o.name.c_str(), o.mesh.c_str(),
+                material_name(o.material.type));
+    if (o.material.type == io::MaterialType::skin) {
+      const shading::SkinParams& k = o.material.skin;
+      std::printf(" (single scattering %s, multiple scattering %s, fresnel %s, phase %s, specular %s)",
+                  std::string(shading::to_string(k.single_scattering)).c_str(),
+                  std::string(shading::to_string(k.multiple_scattering)).c_str(),
+                  std::string(shading::to_string(k.fresnel)).c_str(),
+                  std::string(shading::to_string(k.phase)).c_str(),
+                  std::string(shading::to_string(k.specular)).c_str());
+    }
+    if (!o.material.color_map.empty()) std::printf(", colour map");
+    std::printf("\n");
+    if (const fur::FurCounts* c = r.fur_counts(i)) {
+      const fur::FurParams& f = *o.fur;
+      std::printf("       fur: %d shells, fins %s, gravity %s, wind %s\n", f.shells,
+                  std::string(fur::to_string(f.fins)).c_str(), f.gravity ? "on" : "off",
+                  !f.wind ? "off" : (f.wind->gust_scale > 0 && f.wind->gust_frequency > 0) ? "gusting (every frame)"
+                                                                                          : "steady (once)");
+      std::printf("       vertices base %zu, shell %zu, fin %zu (shared), sum %zu\n", c->base_vertices,
+                  c->shell_vertices, c->fin_vertices, c->total_vertices);
+      std::printf("       faces    base %zu, shell %zu, fin %zu, sum %zu\n", c->base_faces, c->shell_faces,
+                  c->fin_faces, c->total_faces);
+    }
   }
-  std::printf("triangles  %llu base, %llu fur\n", static_cast<unsigned long long>(r.base_triangles()),
-              static_cast<unsigned long long>(r.fur_triangles()));
-  std::printf("lights     %zu\n", scene.lights.size());
+  std::printf("triangles  %llu before fur, %llu after\n", static_cast<unsigned long long>(r.base_triangles()),
+              static_cast<unsigned long long>(r.base_triangles() + r.fur_triangles()));
+  std::printf("memory     about %.1f MiB\n", double(r.memory_estimate()) / (1024.0 * 1024.0));
   return 0;
 }
 

@@ -113,6 +113,16 @@ uint64_t FurObject::triangles() const {
   return geo_.shell_indices.size() / 3 + fins;
 }
 
+size_t FurObject::memory_bytes() const {
+  auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  size_t n = bytes(geo_.positions) + bytes(geo_.shell_uvs) + bytes(geo_.fin_uvs) + bytes(geo_.layer) +
+             bytes(geo_.shell_indices) + bytes(geo_.fin_indices) + bytes(geo_.edges) +
+             bytes(gravity_pose_) + bytes(wind_pose_) + bytes(pose_) + bytes(tangents_) +
+             bytes(shell_varyings_) + bytes(fin_varyings_) + bytes(fin_list_) + bytes(light_soa_.storage);
+  for (const raster::Texture& t : shell_tex_.layers) n += t.bytes();
+  return n + fin_tex_.bytes();
+}
+
 void FurObject::rebuild_pose(float t) {
   const uint32_t n = geo_.base_vertex_count, s = geo_.layers;
   if (wind_pose_.empty()) {

@@ -65,6 +65,8 @@ class FurObject {
 
   const fur::FurCounts& counts() const { return geo_.counts; }
   uint64_t triangles() const;
+  // Bytes held by this object's arrays and textures (for `pelt info`).
+  size_t memory_bytes() const;
 
  private:
   void rebuild_pose(float t);

@@ -205,6 +205,20 @@ uint64_t SceneRenderer::fur_triangles() const {
   return n;
 }
 
+size_t SceneRenderer::memory_estimate() const {
+  size_t n = 0;
+  for (const auto& o : objects_) {
+    n += o->mesh.positions.size() * sizeof(glm::vec3) * 2 + o->mesh.uvs.size() * sizeof(glm::vec2) +
+         o->mesh.indices.size() * sizeof(uint32_t) + o->varyings.size() * sizeof(float) + o->color_map.bytes();
+    if (o->fur) n += o->fur->memory_bytes();
+  }
+  const size_t pixels = size_t(width_) * height_;
+  n += pixels * 4 * sizeof(float);  // the colour image
+  // Per worker: four colour planes, depth, visibility and batch buffers (raster/frame.h).
+  constexpr size_t kScratch = 64 * 64 * 6 * 4 + 64 * 16 * (24 + 6) * 4;
+  return n + size_t(std::max(1, settings_.threads)) * kScratch;
+}
+
 const fur::FurCounts* SceneRenderer::fur_counts(size_t object) const {
   return objects_[object]->fur ? &objects_[object]->fur->counts() : nullptr;
 }

@@ -57,6 +57,9 @@ class SceneRenderer {
   uint64_t fur_triangles() const;
   // Fur vertex and face counts of object i (nullptr when it has no fur).
   const fur::FurCounts* fur_counts(size_t object) const;
+  // Estimated bytes for rendering a frame: meshes, varyings, fur arrays and textures,
+  // colour maps, the output image and the rasterizer's per-worker tile scratch.
+  size_t memory_estimate() const;
 
  private:
   struct Object;

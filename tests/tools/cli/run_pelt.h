@@ -2,6 +2,7 @@
 // stdout and stderr captured, for tests of the command line.
 #pragma once
 
+#include "tests/tools/io/temp_dir.h"
 #include <atomic>
 #include <cstdlib>
 #include <filesystem>
@@ -35,33 +36,7 @@ inline std::string read_text(const std::filesystem::path& p) {
   return s.str();
 }
 
-// A fresh folder removed with its contents at scope exit.
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    path_ = std::filesystem::temp_directory_path() /
-            ("pelt_cli_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-  std::filesystem::path write(const std::string& name, const std::string& text) const {
-    const auto p = path_ / name;
-    std::filesystem::create_directories(p.parent_path());
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-
- private:
-  std::filesystem::path path_;
-};
+using pelt::io::TempDir;  // a fresh folder removed with its contents at scope exit
 
 // A started `pelt` process; output goes to files in `log_dir`.
 struct Child {

@@ -100,7 +100,12 @@ ClipResult clip_triangle(const glm::vec4& a, const glm::vec4& b, const glm::vec4
       if ((dp >= 0.0) != (dq >= 0.0)) {
         // Interpolate from the inside vertex so the new vertex lands on the plane's inner side
         // up to rounding, whichever way the edge is walked.
-        dst[m++] = dp >= 0.0 ? lerp(p, q, dp / (dp - dq)) : lerp(q, p, dq / (dq - dp));
+        ClipVertex v = dp >= 0.0 ? lerp(p, q, dp / (dp - dq)) : lerp(q, p, dq / (dq - dp));
+        // On the near and far planes exactly: rounding in the lerp could leave z/w just
+        // outside [-1, 1] and a depth just outside [0, 1].
+        if (i == 0) v.z = -v.w;
+        if (i == 1) v.z = v.w;
+        dst[m++] = v;
       }
     }
     n = m;

@@ -72,6 +72,13 @@ inline float eval_plane(const Plane& p, int32_t x0, int32_t y0, int32_t px, int3
   return p.ref + (p.dx * static_cast<float>(px - x0) + p.dy * static_cast<float>(py - y0));
 }
 
+// Window depth of a pixel: the z plane, clamped to [0, 1] (a steep plane evaluated at a
+// pixel centre next to a vertex on the near or far plane can round just outside).
+inline float eval_depth(const TriSetup& t, int32_t px, int32_t py) {
+  const float z = eval_plane(t.z, t.x0, t.y0, px, py);
+  return z < 0.0f ? 0.0f : (z > 1.0f ? 1.0f : z);
+}
+
 inline int64_t eval_edge(const EdgeEq& e, int64_t px, int64_t py) {
   return static_cast<int64_t>(e.a) * px + static_cast<int64_t>(e.b) * py + e.c;
 }

@@ -57,6 +57,12 @@ HWY_INLINE hn::Vec<DF> EvalPlane(const Plane& p, int32_t ox, int32_t oy, size_t 
                  hn::Add(hn::Mul(hn::Set(df, p.dx), fx), hn::Mul(hn::Set(df, p.dy), fy)));
 }
 
+// eval_depth in setup.h, for lanes g of a block.
+HWY_INLINE hn::Vec<DF> EvalDepth(const TriSetup& t, int32_t ox, int32_t oy, size_t g) {
+  const DF df;
+  return hn::Min(hn::Max(EvalPlane(t.z, ox, oy, g), hn::Zero(df)), hn::Set(df, 1.0f));
+}
+
 inline uint32_t BlockIndex(int32_t px, int32_t py, int32_t tx0, int32_t ty0) {
   return static_cast<uint32_t>(((py - ty0) / kBlockSize) * kBlocksPerTileSide +
                                (px - tx0) / kBlockSize);
@@ -151,7 +157,7 @@ HWY_INLINE uint32_t DepthTestBlock(const TriSetup& t, int32_t px, int32_t py, ui
   const uint32_t off = blk * kBlockLanes;
   uint32_t passed = 0;
   for (size_t g = 0; g * n < kBlockLanes; ++g) {
-    const auto z = EvalPlane(t.z, px - t.x0, py - t.y0, g);
+    const auto z = EvalDepth(t, px - t.x0, py - t.y0, g);
     const auto zb = hn::Load(df, s.depth + off + g * n);
     const auto pass = hn::And(BitsToMask(bits, g), DepthPass<kFunc>(z, zb));
     if constexpr (kWrite) {
@@ -206,7 +212,7 @@ void Interpolate(const FrameView& frame, TileScratch& s, uint32_t i, const TriSe
   const float* a2 = draw.varyings + size_t{tri[2]} * vc;
   for (size_t g = 0; g * n < kBlockLanes; ++g) {
     const size_t lane = i * kBlockLanes + g * n;
-    const auto z = EvalPlane(t.z, ox, oy, g);
+    const auto z = EvalDepth(t, ox, oy, g);
     // Lanes outside the triangle extrapolate the planes; clamping 1/w and the
     // barycentrics keeps their varyings finite without touching covered lanes.
     const auto w = hn::Div(hn::Set(df, 1.0f), hn::Max(EvalPlane(t.inv_w, ox, oy, g), tiny));

@@ -36,7 +36,8 @@ for t in "${targets[@]}"; do
   echo "== fuzz_$t: ${seconds} s"
   log=$build/fuzz/fuzz_$t.log
   # -max_len bounds the mutated inputs (bunny.obj alone is 110 KB); -rss_limit_mb catches blow-ups.
-  if (cd "$build/fuzz" && ./fuzz_$t -max_total_time="$seconds" -max_len=16384 -rss_limit_mb=2048 \
+  # PELT_FUZZ_ARGS adds libFuzzer flags, e.g. "-fork=1 -ignore_crashes=1" to keep going past a crash.
+  if (cd "$build/fuzz" && ./fuzz_$t -max_total_time="$seconds" -max_len=16384 -rss_limit_mb=2048 ${PELT_FUZZ_ARGS:-} \
         -timeout=20 -print_final_stats=1 "$build/corpus/$t" >"$log" 2>&1); then
     grep -E '^stat::number_of_executed_units|^stat::peak_rss_mb' "$log" | tr '\n' ' '; echo
   else

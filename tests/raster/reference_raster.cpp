@@ -76,7 +76,7 @@ ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int 
               img.count[size_t(py) * width + px] = 0xDEADu;
               continue;
             }
-            const float z = eval_plane(setup.z, setup.x0, setup.y0, px, py);
+            const float z = eval_depth(setup, px, py);
             float& zb = img.depth[size_t(py) * width + px];
             const bool pass = d.state.depth_func == DepthFunc::Always ? true
                               : d.state.depth_func == DepthFunc::Less ? z < zb

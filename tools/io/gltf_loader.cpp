@@ -342,12 +342,40 @@ std::string trim(std::string s) {
   return s;
 }
 
+// Image decoding through tinygltf, after checking what tinygltf 2.7 does not: that an
+// image's bufferView lies inside its buffer (it hands stb_image a pointer past the end
+// otherwise, a heap overflow found by fuzzing).
+bool load_image_checked(tinygltf::Image* image, const int image_idx, std::string* err,
+                        std::string* warn, int req_width, int req_height, const unsigned char* bytes,
+                        int size, void* user) {
+  const auto* model = static_cast<const tinygltf::Model*>(user);
+  // tinygltf calls this while parsing images[image_idx]: `image` is that image, not yet in
+  // model->images; buffers and bufferViews are already parsed.
+  {
+    const int view = image->bufferView;
+    if (view >= 0) {
+      const bool view_ok = size_t(view) < model->bufferViews.size();
+      const tinygltf::BufferView* bv = view_ok ? &model->bufferViews[size_t(view)] : nullptr;
+      const bool buffer_ok = bv && bv->buffer >= 0 && size_t(bv->buffer) < model->buffers.size();
+      if (!buffer_ok || bv->byteOffset > model->buffers[size_t(bv->buffer)].data.size() ||
+          bv->byteLength > model->buffers[size_t(bv->buffer)].data.size() - bv->byteOffset) {
+        if (err)
+          *err = "images[" + std::to_string(image_idx) + "]: bufferView " + std::to_string(view) +
+                 " runs past the end of its buffer";
+        return false;
+      }
+    }
+  }
+  return tinygltf::LoadImageData(image, image_idx, err, warn, req_width, req_height, bytes, size, nullptr);
+}
+
 }  // namespace
 
 LoadedMesh load_gltf(const std::filesystem::path& path, bool binary) {
   const std::string file = path.string();
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(load_image_checked, &model);
   std::string err, warn;
   const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, file)
                          : loader.LoadASCIIFromFile(&model, &err, &warn, file);

@@ -135,6 +135,21 @@ void expect_load_error(const std::filesystem::path& file, const std::string& fie
   }
 }
 
+// Found by fuzzing: tinygltf 2.7 hands stb_image a pointer past the buffer when an image's
+// bufferView runs past the end of its buffer; the loader must refuse the file first.
+TEST(MeshLoader, GlbImageBufferViewPastTheBufferIsAnError) {
+  const char* root = std::getenv("PELT_SOURCE_DIR");
+  ASSERT_NE(root, nullptr);
+  const std::filesystem::path p = std::filesystem::path(root) /
+                                  "tests/fuzz/regressions/gltf/glb_image_bufferview_past_buffer_end.glb";
+  try {
+    load_mesh_file(p);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.reason.find("images[0]: bufferView 3 runs past the end of its buffer"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MeshLoader, ObjNanPosition) {
   TempDir dir;
   const auto f = dir.write("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");

@@ -1,0 +1,203 @@
+#include "tests/fuzz/fuzz_entries.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/mat4x4.hpp>
+
+#include "raster/renderer.h"
+#include "tools/io/input_error.h"
+#include "tools/io/mesh_loader.h"
+#include "tools/io/scene.h"
+
+#ifndef PELT_REPO_DIR
+#error "PELT_REPO_DIR must name the repository root (set by the CMake target)"
+#endif
+
+namespace pelt::fuzz {
+namespace {
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw InvariantViolation(what);
+}
+
+bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+bool finite_matrix(const glm::mat4& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) return false;
+  return true;
+}
+
+// The loaders read files, so each input is written to a per-process scratch file first.
+std::filesystem::path write_scratch(const char* name, const uint8_t* data, size_t size) {
+  const std::filesystem::path path = std::filesystem::path(scratch_dir()) / name;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  out.close();
+  if (!out) throw std::runtime_error("fuzz harness: cannot write " + path.string());
+  return path;
+}
+
+// What load_mesh_file promises about a mesh it returns: validate_mesh passes (checked inside the
+// loader) and every vertex has a finite normal.
+void check_loaded(const io::LoadedMesh& loaded) {
+  const Mesh& m = loaded.mesh;
+  require(!m.indices.empty() && m.indices.size() % 3 == 0, "loaded mesh has no whole triangles");
+  require(m.normals.size() == m.positions.size(), "loaded mesh lacks normals for some vertices");
+  for (size_t i = 0; i < m.positions.size(); ++i) {
+    if (!finite3(m.positions[i])) require(false, "loaded position " + std::to_string(i) + " is not finite");
+    if (!finite3(m.normals[i])) require(false, "loaded normal " + std::to_string(i) + " is not finite");
+  }
+  for (uint32_t k : m.indices) require(k < m.positions.size(), "loaded index out of range");
+  require(m.uvs.empty() || m.uvs.size() == m.positions.size(), "loaded uvs of the wrong length");
+}
+
+Outcome load_and_check(const std::filesystem::path& path) {
+  try {
+    check_loaded(io::load_mesh_file(path));
+    return Outcome::accepted;
+  } catch (const io::InputError&) {
+    return Outcome::rejected;
+  }
+}
+
+// Writes varyings 0..2 to rgb and checks the FragmentBatch contract on the way: every lane's
+// varyings finite (uncovered lanes hold extrapolated planes, promised finite), covered lanes'
+// depth in [0, 1]. Runs inline (Renderer(0)), so recording a failure in `failure` is safe.
+class CheckingShader final : public raster::Shader {
+ public:
+  CheckingShader(float alpha, std::string* failure) : alpha_(alpha), failure_(failure) {}
+  void shade(const raster::FragmentBatch& b) const override {
+    for (uint32_t blk = 0; blk < b.blocks; ++blk) {
+      for (int l = 0; l < raster::kBlockLanes; ++l) {
+        const size_t i = size_t{blk} * raster::kBlockLanes + l;
+        const bool covered = (b.mask[blk] >> l) & 1u;
+        for (int k = 0; k < 3; ++k) {
+          const float v = b.varying[k][i];
+          if (!std::isfinite(v) && failure_->empty())
+            *failure_ = "varying " + std::to_string(k) + " is not finite at lane " + std::to_string(i);
+          b.out[k][i] = std::isfinite(v) ? v : 0.0f;
+        }
+        const float d = b.depth[i];
+        if (covered && !(d >= 0.0f && d <= 1.0f) && failure_->empty())
+          *failure_ = "fragment depth " + std::to_string(d) + " outside [0, 1]";
+        b.out[3][i] = alpha_;
+      }
+    }
+  }
+
+ private:
+  float alpha_;
+  std::string* failure_;
+};
+
+}  // namespace
+
+std::string scratch_dir() {
+  static const std::string dir = [] {
+    const auto p = std::filesystem::temp_directory_path() / ("pelt_fuzz_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(p);
+    return p.string();
+  }();
+  return dir;
+}
+
+Outcome run_obj(const uint8_t* data, size_t size) {
+  return load_and_check(write_scratch("input.obj", data, size));
+}
+
+Outcome run_gltf(const uint8_t* data, size_t size) {
+  const bool glb = size >= 4 && std::memcmp(data, "glTF", 4) == 0;
+  return load_and_check(write_scratch(glb ? "input.glb" : "input.gltf", data, size));
+}
+
+Outcome run_scene(const uint8_t* data, size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  const std::filesystem::path anchor = std::filesystem::path(PELT_REPO_DIR) / "tools/scenes/fuzz_input.json";
+  try {
+    const io::Scene scene = io::parse_scene(text, anchor);
+    require(!scene.objects.empty(), "accepted scene has no objects");
+    const float aspect = float(scene.image.width) / float(scene.image.height);
+    const int frames = scene.animation ? scene.animation->frames : 1;
+    for (int frame : {0, frames - 1}) {
+      const io::Camera cam = io::camera_at(scene, frame);
+      require(finite3(cam.eye) && finite3(cam.target), "camera of frame " + std::to_string(frame) + " is not finite");
+      require(finite_matrix(cam.view()), "accepted camera gives a non-finite view matrix");
+      require(finite_matrix(cam.projection(aspect)), "accepted camera gives a non-finite projection");
+    }
+    return Outcome::accepted;
+  } catch (const io::InputError&) {
+    return Outcome::rejected;
+  }
+}
+
+Outcome run_raster(const uint8_t* data, size_t size) {
+  constexpr int kWidth = 72, kHeight = 40;  // two tiles wide, partial tiles and blocks
+  static raster::Renderer renderer(0);
+  uint8_t flags[2] = {0, 0};
+  for (size_t k = 0; k < 2 && k < size; ++k) flags[k] = data[k];
+  const size_t body = size > 2 ? size - 2 : 0;
+  const size_t vertices = std::min(body / 12 / 3, kMaxFuzzTriangles) * 3;
+
+  // At least one (unused) vertex, so an input too short for a triangle still submits a valid,
+  // empty draw: the renderer rightly refuses null arrays, which is the caller's error, not a bug.
+  std::vector<glm::vec3> positions(std::max<size_t>(vertices, 1), glm::vec3(0.0f));
+  if (vertices > 0) std::memcpy(positions.data(), data + 2, vertices * sizeof(glm::vec3));
+  std::vector<uint32_t> indices(std::max<size_t>(vertices, 3), 0u);
+  std::vector<float> varyings(std::max<size_t>(vertices, 1) * 3, 0.0f);
+  for (uint32_t i = 0; i < vertices; ++i) {
+    // Reversed order on request, so the winding of every triangle flips.
+    indices[i] = (flags[1] & 0x80) ? uint32_t(vertices - 1 - i) : i;
+    varyings[size_t{i} * 3 + i % 3] = 1.0f;
+  }
+
+  raster::DrawCall draw;
+  draw.positions = positions.data();
+  draw.vertex_count = uint32_t(vertices);
+  draw.indices = indices.data();
+  draw.triangle_count = uint32_t(vertices / 3);
+  draw.varyings = varyings.data();
+  draw.varying_count = 3;
+  draw.state.cull = raster::CullMode(flags[0] % 3);
+  draw.state.blend = raster::BlendMode((flags[0] / 3) % 3);
+  draw.state.depth_func = raster::DepthFunc((flags[0] / 9) % 3);
+  draw.state.depth_write = (flags[0] / 27) % 2 == 0;
+  // Identity: the floats are clip coordinates with w = 1. Perspective: w = -z, so w is zero,
+  // negative, tiny or huge as the input pleases.
+  if (flags[1] & 1)
+    draw.clip_from_object = glm::perspective(glm::radians(60.0f), float(kWidth) / kHeight, 0.1f, 100.0f) *
+                            glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, -3.0f));
+  std::string failure;
+  const CheckingShader shader(draw.state.blend == raster::BlendMode::Opaque ? 1.0f : 0.5f, &failure);
+  draw.shader = &shader;
+
+  raster::RenderOptions options;
+  options.sort = raster::SortMode((flags[1] >> 1) % 3);
+  std::vector<float> color(size_t{kWidth} * kHeight * 4), depth(size_t{kWidth} * kHeight);
+  std::vector<uint32_t> id(size_t{kWidth} * kHeight);
+  const raster::RenderTarget target{kWidth, kHeight, color.data(), depth.data(), id.data()};
+  renderer.render(std::span<const raster::DrawCall>(&draw, 1), options, target);
+
+  require(failure.empty(), failure);
+  // Messages are built only on failure: this loop runs for every pixel of every input.
+  for (size_t p = 0; p < depth.size(); ++p) {
+    if (!(depth[p] >= 0.0f && depth[p] <= 1.0f))
+      require(false, "pixel " + std::to_string(p) + " depth " + std::to_string(depth[p]) + " outside [0, 1]");
+    if (id[p] > draw.triangle_count)
+      require(false, "pixel " + std::to_string(p) + " id " + std::to_string(id[p]) + " beyond the draw");
+    for (int c = 0; c < 4; ++c)
+      if (!std::isfinite(color[p * 4 + c])) require(false, "pixel " + std::to_string(p) + " colour is not finite");
+  }
+  return Outcome::accepted;
+}
+
+}  // namespace pelt::fuzz

@@ -93,11 +93,11 @@ void orient_outward(Triangles& t, const glm::dvec3& centre) {
     if (component[seed] >= 0) continue;
     std::vector<uint32_t> members{seed};
     component[seed] = components;
-    std::queue<uint32_t> todo;
-    todo.push(seed);
-    while (!todo.empty()) {
-      const uint32_t f = todo.front();
-      todo.pop();
+    std::queue<uint32_t> pending;
+    pending.push(seed);
+    while (!pending.empty()) {
+      const uint32_t f = pending.front();
+      pending.pop();
       for (int e = 0; e < 3; ++e) {
         const uint32_t a = t.indices[3 * f + e], b = t.indices[3 * f + (e + 1) % 3];
         const auto& around = edge_tris[key(a, b)];
@@ -107,7 +107,7 @@ void orient_outward(Triangles& t, const glm::dvec3& centre) {
         if (has_directed(g, a, b)) flip(g);  // a neighbour must run the shared edge b->a
         component[g] = components;
         members.push_back(g);
-        todo.push(g);
+        pending.push(g);
       }
     }
     double volume = 0.0;

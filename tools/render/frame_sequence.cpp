@@ -95,12 +95,12 @@ OutputKind output_kind(const std::filesystem::path& path) {
 }
 
 std::vector<int> frames_without_output(const std::vector<int>& frames, const OutputPattern& out) {
-  std::vector<int> todo;
+  std::vector<int> missing;
   for (int f : frames) {
     std::error_code ec;
-    if (!std::filesystem::exists(out.path_for(f), ec)) todo.push_back(f);
+    if (!std::filesystem::exists(out.path_for(f), ec)) missing.push_back(f);
   }
-  return todo;
+  return missing;
 }
 
 }  // namespace pelt::render

@@ -1,0 +1,70 @@
+// Bad scene input through the real `pelt render`: exit code 2, a message naming the
+// scene file, the field and the reason, and no output file.
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tests/tools/cli/run_pelt.h"
+
+namespace pelt::cli_test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct BadScene {
+  const char* name;
+  std::string json;     // the scene file's text
+  const char* message;  // expected in stderr after "shot.json: "
+  std::vector<std::pair<std::string, std::string>> files = {};  // extra files beside the scene
+};
+
+void PrintTo(const BadScene& b, std::ostream* os) { *os << b.name; }
+
+std::string scene_with_object(const std::string& object) {
+  return R"({"pelt": 1, "image": {"width": 32, "height": 24}, "objects": [)" + object + "]}";
+}
+
+class RenderBadScene : public ::testing::TestWithParam<BadScene> {};
+
+TEST_P(RenderBadScene, ExitCode2NamingFieldAndReasonAndNoOutput) {
+  const BadScene& b = GetParam();
+  TempDir dir;
+  const fs::path scene = dir.write("shot.json", b.json);
+  for (const auto& [name, text] : b.files) dir.write(name, text);
+  const fs::path out = dir.path() / "out" / "image.png";
+  const Result r = run_pelt({"render", scene.string(), "-o", out.string(), "--quiet"}, dir.path());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(b.message), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("shot.json"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+const char* kBox = R"({"mesh": "box:2", "material": {"type": "lambert"}})";
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, RenderBadScene,
+    ::testing::Values(
+        BadScene{"MalformedJson", R"({"pelt": 1, "objects": [)", "malformed JSON"},
+        BadScene{"UnknownKey", scene_with_object(R"({"mesh": "box:2", "materail": {"type": "lambert"}})"),
+                 "objects[0].materail: unknown key `materail` (did you mean `material`?)"},
+        BadScene{"WrongType", scene_with_object(R"({"mesh": "box:2", "material": {"type": "lambert"}, "transform": {"scale": "big"}})"),
+                 "objects[0].transform.scale"},
+        BadScene{"OutOfRange", R"({"pelt": 1, "image": {"width": 0}, "objects": [)" + std::string(kBox) + "]}",
+                 "image.width"},
+        BadScene{"ZeroScale", scene_with_object(R"({"mesh": "box:2", "material": {"type": "lambert"}, "transform": {"scale": [1, 0, 1]}})"),
+                 "objects[0].transform.scale"},
+        BadScene{"MissingMesh", scene_with_object(R"({"mesh": "nowhere.obj", "material": {"type": "lambert"}})"),
+                 "objects[0].mesh"},
+        BadScene{"NanInMesh", scene_with_object(R"({"mesh": "bad.obj", "material": {"type": "lambert"}})"),
+                 "v 2: ", {{"bad.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"}}},
+        BadScene{"IndexOutOfRange", scene_with_object(R"({"mesh": "idx.obj", "material": {"type": "lambert"}})"),
+                 "idx.obj", {{"idx.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"}}},
+        BadScene{"BadFurField", scene_with_object(R"({"mesh": "box:2", "material": {"type": "lambert"}, "fur": {"shells": 1}})"),
+                 "objects[0].fur.shells"},
+        BadScene{"BadSkinField", scene_with_object(R"({"mesh": "box:2", "material": {"type": "skin", "skin": {"Eta": 0}}})"),
+                 "objects[0].material.skin.Eta"}),
+    [](const ::testing::TestParamInfo<BadScene>& info) { return std::string(info.param.name); });
+
+}  // namespace
+}  // namespace pelt::cli_test

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "shading/fur_lighting.h"
+#include "shading/param_checks.h"
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "shading/fur_lighting.cc"
@@ -297,19 +298,9 @@ HWY_EXPORT(ShadeFurLlvmpipeBatch);
 
 namespace {
 
-std::string fmt(double v) { return std::to_string(v); }
-
-std::optional<ParamError> range(const char* field, float v, double lo, double hi) {
-  if (!std::isfinite(v)) return ParamError{field, "must be a finite number, got " + fmt(v)};
-  if (v < lo || v > hi) return ParamError{field, "must be in [" + fmt(lo) + ", " + fmt(hi) + "], got " + fmt(v)};
-  return std::nullopt;
-}
-
-std::optional<ParamError> pointer(const std::string& field, const void* p) {
-  if (!p) return ParamError{field, "must not be null"};
-  if ((reinterpret_cast<uintptr_t>(p) & 63u) != 0) return ParamError{field, "must be 64-byte aligned"};
-  return std::nullopt;
-}
+using checks::fmt;
+using checks::pointer;
+using checks::range;
 
 void throw_if(const std::optional<ParamError>& e) {
   if (e) throw std::invalid_argument(e->message());
@@ -331,21 +322,21 @@ std::optional<ParamError> validate(const FurLightParams& p) {
 
 std::optional<ParamError> validate_batch(const FurSurfaceSoA& s, const FurOutSoA& o, bool needs_strand) {
   if (s.n % 16 != 0) return ParamError{"n", "must be a multiple of 16, got " + std::to_string(s.n)};
-  const char* xyz[3] = {"x", "y", "z"};
+  static constexpr const char* kXyz[3] = {"x", "y", "z"};
   for (int c = 0; c < 3; ++c) {
-    const std::string k = std::string("[") + xyz[c] + "]";
+    const auto named = [c](const char* what) { return [=] { return std::string(what) + "[" + kXyz[c] + "]"; }; };
     if (needs_strand) {
-      if (auto e = pointer("pos" + k, s.pos[c])) return e;
-      if (auto e = pointer("tangent" + k, s.tangent[c])) return e;
+      if (auto e = pointer(named("pos"), s.pos[c])) return e;
+      if (auto e = pointer(named("tangent"), s.tangent[c])) return e;
     }
-    if (auto e = pointer("normal" + k, s.normal[c])) return e;
+    if (auto e = pointer(named("normal"), s.normal[c])) return e;
   }
   if (needs_strand)
     if (auto e = pointer("height", s.height)) return e;
   for (int c = 0; c < 4; ++c)
-    if (auto e = pointer("texel[" + std::to_string(c) + "]", s.texel[c])) return e;
+    if (auto e = pointer([c] { return "texel[" + std::to_string(c) + "]"; }, s.texel[c])) return e;
   for (int c = 0; c < 4; ++c)
-    if (auto e = pointer("rgba[" + std::to_string(c) + "]", o.rgba[c])) return e;
+    if (auto e = pointer([c] { return "rgba[" + std::to_string(c) + "]"; }, o.rgba[c])) return e;
   return std::nullopt;
 }
 

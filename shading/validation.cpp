@@ -4,51 +4,33 @@
 #include <string>
 
 #include "shading/basic_params.h"
+#include "shading/param_checks.h"
 #include "shading/light.h"
 #include "shading/surface.h"
 
 namespace pelt::shading {
-namespace {
-
-std::string fmt(double v) { return std::to_string(v); }
-
-std::optional<ParamError> range(const std::string& field, float v, double lo, double hi) {
-  if (!std::isfinite(v)) return ParamError{field, "must be a finite number, got " + fmt(v)};
-  if (v < lo || v > hi)
-    return ParamError{field, "must be in [" + fmt(lo) + ", " + fmt(hi) + "], got " + fmt(v)};
-  return std::nullopt;
-}
-
-bool aligned(const void* p) { return (reinterpret_cast<uintptr_t>(p) & 63u) == 0; }
-
-std::optional<ParamError> pointer(const std::string& field, const void* p, bool required) {
-  if (!p) {
-    if (required) return ParamError{field, "must not be null"};
-    return std::nullopt;
-  }
-  if (!aligned(p)) return ParamError{field, "must be 64-byte aligned"};
-  return std::nullopt;
-}
-
-}  // namespace
+using checks::pointer;
+using checks::range;
 
 std::optional<ParamError> validate_lights(const Light* lights, size_t count) {
   if (count > 0 && !lights) return ParamError{"lights", "null with a non-zero count"};
   for (size_t i = 0; i < count; ++i) {
     const Light& l = lights[i];
-    const std::string base = "lights[" + std::to_string(i) + "]";
+    const auto base = [i] { return "lights[" + std::to_string(i) + "]"; };
     if (l.type != Light::Type::Directional && l.type != Light::Type::Point &&
         l.type != Light::Type::Ambient)
-      return ParamError{base + ".type", "must be Directional, Point or Ambient"};
+      return ParamError{base() + ".type", "must be Directional, Point or Ambient"};
     for (int c = 0; c < 3; ++c)
-      if (auto e = range(base + ".color[" + std::to_string(c) + "]", l.color[c], 0.0, 1e6)) return e;
+      if (auto e = range([&] { return base() + ".color[" + std::to_string(c) + "]"; }, l.color[c], 0.0, 1e6))
+        return e;
     if (l.type == Light::Type::Ambient) continue;
     for (int c = 0; c < 3; ++c)
-      if (auto e = range(base + ".vec[" + std::to_string(c) + "]", l.vec[c], -1e30, 1e30)) return e;
+      if (auto e = range([&] { return base() + ".vec[" + std::to_string(c) + "]"; }, l.vec[c], -1e30, 1e30))
+        return e;
     if (l.type == Light::Type::Directional) {
       const double len2 = double(l.vec[0]) * l.vec[0] + double(l.vec[1]) * l.vec[1] +
                           double(l.vec[2]) * l.vec[2];
-      if (!(len2 > 1e-12)) return ParamError{base + ".vec", "a directional light needs a non-zero direction"};
+      if (!(len2 > 1e-12)) return ParamError{base() + ".vec", "a directional light needs a non-zero direction"};
     }
   }
   return std::nullopt;
@@ -56,19 +38,20 @@ std::optional<ParamError> validate_lights(const Light* lights, size_t count) {
 
 std::optional<ParamError> validate_batch(const SurfaceSoA& s, const ShadeOutSoA& o, bool needs_blurred) {
   if (s.n % 16 != 0) return ParamError{"n", "must be a multiple of 16, got " + std::to_string(s.n)};
-  const char* xyz[3] = {"x", "y", "z"};
+  static constexpr const char* kXyz[3] = {"x", "y", "z"};
   for (int c = 0; c < 3; ++c) {
-    const std::string k = std::string("[") + xyz[c] + "]";
-    if (auto e = pointer("pos" + k, s.pos[c], true)) return e;
-    if (auto e = pointer("normal" + k, s.normal[c], true)) return e;
-    if (auto e = pointer("albedo[" + std::to_string(c) + "]", s.albedo[c], true)) return e;
-    if (auto e = pointer("rgb[" + std::to_string(c) + "]", o.rgb[c], true)) return e;
-    if (auto e = pointer("sebum[" + std::to_string(c) + "]", o.sebum[c], false)) return e;
-    if (auto e = pointer("epidermis[" + std::to_string(c) + "]", o.epidermis[c], false)) return e;
-    if (auto e = pointer("dermis[" + std::to_string(c) + "]", o.dermis[c], false)) return e;
+    const auto named = [c](const char* what) { return [=] { return std::string(what) + "[" + kXyz[c] + "]"; }; };
+    const auto indexed = [c](const char* what) { return [=] { return std::string(what) + "[" + std::to_string(c) + "]"; }; };
+    if (auto e = pointer(named("pos"), s.pos[c], true)) return e;
+    if (auto e = pointer(named("normal"), s.normal[c], true)) return e;
+    if (auto e = pointer(indexed("albedo"), s.albedo[c], true)) return e;
+    if (auto e = pointer(indexed("rgb"), o.rgb[c], true)) return e;
+    if (auto e = pointer(indexed("sebum"), o.sebum[c], false)) return e;
+    if (auto e = pointer(indexed("epidermis"), o.epidermis[c], false)) return e;
+    if (auto e = pointer(indexed("dermis"), o.dermis[c], false)) return e;
     if (needs_blurred)
       for (int a = 0; a < 3; ++a)
-        if (auto e = pointer("blurred_normal[" + std::to_string(c) + "]" + "[" + xyz[a] + "]",
+        if (auto e = pointer([&] { return "blurred_normal[" + std::to_string(c) + "][" + kXyz[a] + "]"; },
                              s.blurred_normal[c][a], true))
           return e;
   }
@@ -78,7 +61,7 @@ std::optional<ParamError> validate_batch(const SurfaceSoA& s, const ShadeOutSoA&
 
 std::optional<ParamError> validate(const BasicParams& p) {
   for (int c = 0; c < 3; ++c)
-    if (auto e = range("specular[" + std::to_string(c) + "]", p.specular[c], 0.0, 100.0)) return e;
+    if (auto e = range([c] { return "specular[" + std::to_string(c) + "]"; }, p.specular[c], 0.0, 100.0)) return e;
   if (auto e = range("shininess", p.shininess, 1.0, 256.0)) return e;
   return std::nullopt;
 }

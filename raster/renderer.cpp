@@ -40,6 +40,7 @@ struct Renderer::Impl {
   std::vector<BinChunk> chunks;
   std::vector<std::unique_ptr<TileScratch>> scratch;  // per worker slot
   std::vector<uint32_t> tile_order;
+  std::vector<uint32_t> tile_load;  // bin items per tile
 
   struct VertexJob {
     uint32_t draw, first, count;
@@ -209,7 +210,8 @@ void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& opti
   // a pixel because tiles are independent.
   im.tile_order.resize(tiles);
   std::iota(im.tile_order.begin(), im.tile_order.end(), 0u);
-  std::vector<uint32_t> load(tiles, 0);
+  std::vector<uint32_t>& load = im.tile_load;
+  load.assign(tiles, 0);
   for (const BinChunk& ch : im.chunks)
     for (uint32_t t = 0; t < tiles; ++t) load[t] += ch.tile_offsets[t + 1] - ch.tile_offsets[t];
   std::stable_sort(im.tile_order.begin(), im.tile_order.end(),

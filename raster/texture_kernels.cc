@@ -44,25 +44,30 @@ struct Acc {
   VF c[4];  // sum of w * channel (colour in bytes or linear, alpha in bytes)
 };
 
-// The two texel indices around coordinate c along an axis of `size` texels and the weight
-// of the second. Repeat: c is wrapped to [0, 1] first (exact for c >= 0), so x lies in
-// [-0.5, size - 0.5] and only i0 = -1 and i1 = size need wrapping. The float clamps change
-// no finite in-range value; they give NaN and huge inputs a defined index (x86 and scalar
-// Min/Max return the second operand for NaN).
-HWY_INLINE void AxisLinear(VF c, int32_t size, bool repeat, VI& i0, VI& i1, VF& frac) {
+// Continuous texel coordinate of c along an axis of `size` texels (texel centres at
+// integers): repeat wraps c to [0, 1] first, so x lies in [-0.5, size - 0.5]; clamp keeps
+// x within two texels of the edge. The float clamps change no finite in-range value; they
+// give NaN and huge inputs a defined index (x86 and scalar Min/Max return the second
+// operand for NaN).
+HWY_INLINE VF TexelCoord(VF c, int32_t size, bool repeat) {
   const DF df;
-  const DI di;
   const VF fsize = hn::Set(df, float(size));
-  const VI isize = hn::Set(di, size);
-  VF x;
   if (repeat) {
     c = hn::Sub(c, hn::Floor(c));
-    x = hn::Sub(hn::Mul(c, fsize), hn::Set(df, 0.5f));
-    x = hn::Max(hn::Min(x, hn::Set(df, float(size) - 0.5f)), hn::Set(df, -0.5f));
-  } else {
-    x = hn::Sub(hn::Mul(c, fsize), hn::Set(df, 0.5f));
-    x = hn::Max(hn::Min(x, hn::Set(df, float(size) + 1.0f)), hn::Set(df, -2.0f));
+    const VF x = hn::Sub(hn::Mul(c, fsize), hn::Set(df, 0.5f));
+    return hn::Max(hn::Min(x, hn::Set(df, float(size) - 0.5f)), hn::Set(df, -0.5f));
   }
+  const VF x = hn::Sub(hn::Mul(c, fsize), hn::Set(df, 0.5f));
+  return hn::Max(hn::Min(x, hn::Set(df, float(size) + 1.0f)), hn::Set(df, -2.0f));
+}
+
+// The two texel indices around coordinate c along an axis of `size` texels and the weight
+// of the second. Repeat: x lies in [-0.5, size - 0.5] (TexelCoord), so only i0 = -1 and
+// i1 = size need wrapping.
+HWY_INLINE void AxisLinear(VF c, int32_t size, bool repeat, VI& i0, VI& i1, VF& frac) {
+  const DI di;
+  const VI isize = hn::Set(di, size);
+  const VF x = TexelCoord(c, size, repeat);
   const VF xf = hn::Floor(x);
   frac = hn::Sub(x, xf);
   i0 = hn::ConvertTo(di, xf);
@@ -85,16 +90,7 @@ HWY_INLINE void AxisLinear(VF c, int32_t size, bool repeat, VI& i0, VI& i1, VF& 
 HWY_INLINE void AxisPair(VF c, int32_t size, bool repeat, VI& i0, VF& frac) {
   const DF df;
   const DI di;
-  const VF fsize = hn::Set(df, float(size));
-  VF x;
-  if (repeat) {
-    c = hn::Sub(c, hn::Floor(c));
-    x = hn::Sub(hn::Mul(c, fsize), hn::Set(df, 0.5f));
-    x = hn::Max(hn::Min(x, hn::Set(df, float(size) - 0.5f)), hn::Set(df, -0.5f));
-  } else {
-    x = hn::Sub(hn::Mul(c, fsize), hn::Set(df, 0.5f));
-    x = hn::Max(hn::Min(x, hn::Set(df, float(size) + 1.0f)), hn::Set(df, -2.0f));
-  }
+  const VF x = TexelCoord(c, size, repeat);
   const VF xf = hn::Floor(x);
   frac = hn::Sub(x, xf);
   i0 = hn::ConvertTo(di, xf);

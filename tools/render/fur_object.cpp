@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "tools/io/input_error.h"
+#include "tools/render/animation.h"
 #include "tools/render/varyings.h"
 
 namespace pelt::render {
@@ -24,9 +25,13 @@ constexpr float kMinFinWeight = 1.0f / 512.0f;
 // two seconds at 24 fps.
 constexpr double kSwingFrames = 48.0;
 
+// The optional blocks, compared with animation.h's field-by-field equality.
 bool same(const std::optional<fur::GravityParams>& a, const std::optional<fur::GravityParams>& b) {
-  if (a.has_value() != b.has_value()) return false;
-  return !a || (a->direction == b->direction && a->strength == b->strength && a->stability == b->stability);
+  return a.has_value() == b.has_value() && (!a || same_gravity(*a, *b));
+}
+
+bool same(const std::optional<fur::WindParams>& a, const std::optional<fur::WindParams>& b) {
+  return a.has_value() == b.has_value() && (!a || same_wind(*a, *b));
 }
 
 bool same(const std::vector<shading::Light>& a, const std::vector<shading::Light>& b) {
@@ -38,11 +43,6 @@ bool same(const std::vector<shading::Light>& a, const std::vector<shading::Light
   return true;
 }
 
-bool same(const std::optional<fur::WindParams>& a, const std::optional<fur::WindParams>& b) {
-  if (a.has_value() != b.has_value()) return false;
-  return !a || (a->direction == b->direction && a->strength == b->strength &&
-                a->gust_frequency == b->gust_frequency && a->gust_scale == b->gust_scale);
-}
 
 raster::SamplerState fur_sampler(bool fin) {
   raster::SamplerState s;

@@ -84,14 +84,19 @@ std::optional<ParamError> generate_strand_textures(const FurParams& params, Stra
   sh.size = N;
   sh.layers = S;
   sh.rgba.assign(area * size_t(S) * 4, 0);
+  // Opacity per layer for a re-sliced fur (FurParams::opacity_shells); exponent 1 keeps the
+  // authored alpha bit for bit.
+  const int authored = params.opacity_shells > 0 ? params.opacity_shells : S;
+  const double exponent = double(authored - 1) / double(S - 1);
   for (int s = 0; s < S; ++s) {
     const float h = float(s) / float(S - 1);
     const glm::vec3 base = layer_colour(params, h);
     uint8_t* layer = sh.rgba.data() + size_t(s) * area * 4;
     for (size_t t = 0; t < area; ++t) put(layer + 4 * t, base, 0.0f);
     for (const ShellStrand& st : out.strands) {
-      const float a = strand_alpha(st, h);
+      float a = strand_alpha(st, h);
       if (a <= 0.0f) continue;
+      if (authored != S) a = float(1.0 - std::pow(1.0 - double(a), exponent));
       int x, y;
       strand_texel(st, s, S, N, x, y);
       put_max(layer + (size_t(y) * N + size_t(x)) * 4, base * st.brightness, a);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -123,6 +124,53 @@ TEST(StrandTextures, AlphaFallsFromRootToTipAlongEachStrand) {
       EXPECT_LT(n, first_count / 3);  // lengths in [0.6, 1]: a fifth of the strands reach the top
     }
   }
+}
+
+// Re-slicing the same fur into more layers (quality `shells` over a scene's count) keeps each
+// strand's optical depth, the sum of -ln(1 - alpha) over the layers it crosses; without the
+// rescale, 64 layers would stack about four times the opacity of 16.
+TEST(StrandTextures, ResliceKeepsEachStrandsOpticalDepth) {
+  auto depth_per_strand = [](const FurParams& p) {
+    const StrandTextures t = grow(p);
+    const int S = p.shells, N = p.texture_size;
+    double sum = 0.0;
+    for (const ShellStrand& st : t.strands)
+      for (int s = 1; s < S; ++s) {  // layer 0 is opaque at every count (alpha 1 at the root)
+        int x, y;
+        strand_texel(st, s, S, N, x, y);
+        const double a = t.shells.texel(s, x, y)[3] / 255.0;
+        sum += -std::log(1.0 - a);  // transmittance multiplies, optical depth adds
+      }
+    return sum / double(t.strands.size());
+  };
+  FurParams p;
+  p.texture_size = 128;
+  p.density = 2.0f;  // sparse: strands rarely share a texel
+  p.seed = 4;
+  const double authored = depth_per_strand(p);
+  FurParams fine = p;
+  fine.shells = 64;
+  const double stacked = depth_per_strand(fine);
+  fine.opacity_shells = p.shells;
+  const double resliced = depth_per_strand(fine);
+  FurParams coarse = p;
+  coarse.shells = 8;
+  coarse.opacity_shells = p.shells;
+  const double coarser = depth_per_strand(coarse);
+  std::printf("optical depth per strand: 16 layers %.4f, 64 resliced %.4f, 8 resliced %.4f, "
+              "64 stacked %.4f\n", authored, resliced, coarser, stacked);
+  // The layer sums are Riemann sums of -ln(1 - a(h)) with a(h) = 1 - 0.8 h / length, whose log
+  // singularity at the root makes them converge slowly (measured: 8 layers -13 %, 64 layers
+  // +12 % against 16); stacking without the rescale is off by 4.7x.
+  EXPECT_NEAR(resliced / authored, 1.0, 0.15);
+  EXPECT_NEAR(coarser / authored, 1.0, 0.15);
+  EXPECT_LT(coarser, authored);
+  EXPECT_LT(authored, resliced);
+  EXPECT_GT(stacked / authored, 3.0);
+  // The authored count itself is untouched, byte for byte.
+  FurParams same = p;
+  same.opacity_shells = p.shells;
+  EXPECT_EQ(grow(same).shells.rgba, grow(p).shells.rgba);
 }
 
 TEST(StrandTextures, ColourRunsFromRootToTip) {

@@ -154,7 +154,10 @@ Result run_one(const PaperTable& t, int threads, const Options& o) {
   rs.height = o.height;
   rs.threads = threads;
   rs.match_llvmpipe = o.match_llvmpipe;
-  rs.fur_sort = o.match_llvmpipe ? render::FurSort::none : render::FurSort::tile;
+  // The harness draws in submission order; pelt's default sorts per tile.
+  io::Quality q;
+  q.sort = o.match_llvmpipe ? io::SortQuality::none : io::SortQuality::tile;
+  rs.quality = q;
   render::SceneRenderer r(scene, std::move(meshes), rs);
   render::FrameImage img;
   render::FrameStats st;

@@ -13,6 +13,7 @@ using Run = std::function<int()>;
 Run add_render_command(CLI::App& app);
 Run add_info_command(CLI::App& app);
 Run add_bench_command(CLI::App& app);
+Run add_tradeoff_command(CLI::App& app);
 
 // Subcommands of `bench`, each added to the `bench` app.
 Run add_bench_fps(CLI::App& bench);

@@ -1,7 +1,9 @@
 // `pelt info SCENE.json`: what a scene will compute, without rendering.
 #include <cstdio>
 
+#include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/quality_options.h"
 #include "tools/io/scene.h"
 #include "tools/render/scene_renderer.h"
 
@@ -18,13 +20,25 @@ const char* material_name(io::MaterialType t) {
   return "?";
 }
 
-int run_info(const std::string& path) {
-  const io::Scene scene = io::load_scene(path);
+struct InfoOptions {
+  std::string path;
+  QualityFlags quality;
+  io::Budget budget;
+};
+
+int run_info(const InfoOptions& o) {
+  const std::string& path = o.path;
+  const io::Scene file_scene = io::load_scene(path);
   render::RenderSettings rs;
-  render::SceneRenderer r(scene, rs);
+  rs.quality = resolve_quality(file_scene, o.quality);
+  rs.budget = o.budget;
+  render::SceneRenderer r(file_scene, rs);
+  // Shells, fins and skin models as the quality draws them.
+  const io::Scene scene = render::apply_quality(file_scene, r.quality());
   std::printf("scene      %s\n", path.c_str());
   std::printf("image      %d x %d, %d frame(s)%s\n", r.width(), r.height(), r.frame_count(),
               scene.animation ? "" : " (still)");
+  std::printf("quality    %s\n", io::describe(r.quality()).c_str());
   std::printf("lights     %zu\n", scene.lights.size());
   std::printf("objects    %zu\n", scene.objects.size());
   for (size_t i = 0; i < scene.objects.size(); ++i) {
@@ -63,10 +77,12 @@ int run_info(const std::string& path) {
 }  // namespace
 
 Run add_info_command(CLI::App& app) {
-  auto path = std::make_shared<std::string>();
+  auto o = std::make_shared<InfoOptions>();
   CLI::App* sub = app.add_subcommand("info", "Show what a scene will compute, without rendering");
-  sub->add_option("scene", *path, "Scene file (JSON, version 1)")->required();
-  return [path] { return run_info(*path); };
+  sub->add_option("scene", o->path, "Scene file (JSON, version 1)")->required();
+  add_quality_options(*sub, o->quality);
+  add_budget_options(*sub, o->budget);
+  return [o] { return run_info(*o); };
 }
 
 }  // namespace pelt::cli

@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::map<CLI::App*, pelt::cli::Run> runs;
   for (auto add : {pelt::cli::add_render_command, pelt::cli::add_info_command,
-                   pelt::cli::add_bench_command}) {
+                   pelt::cli::add_bench_command, pelt::cli::add_tradeoff_command}) {
     pelt::cli::Run run = add(app);
     runs[app.get_subcommands({}).back()] = std::move(run);
   }

@@ -10,7 +10,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/quality_options.h"
 #include "tools/io/gif_writer.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
@@ -33,7 +35,8 @@ struct RenderOptions {
   int threads = 0;
   std::string stats;
   std::string aov = "color";
-  std::string sort = "tile";
+  QualityFlags quality;
+  io::Budget budget;
   std::string frame;   // --frame K
   std::string frames;  // --frames A:B
   std::string shard;   // --shard i/N
@@ -49,14 +52,6 @@ render::Aov parse_aov(const std::string& s) {
   if (s == "epidermis") return render::Aov::epidermis;
   if (s == "dermis") return render::Aov::dermis;
   throw io::InputError("", "--aov", "unknown AOV `" + s + "` (color, depth, id, sebum, epidermis, dermis)");
-}
-
-render::FurSort parse_sort(const std::string& s) {
-  if (s == "none") return render::FurSort::none;
-  if (s == "layer") return render::FurSort::layer;
-  if (s == "tile") return render::FurSort::tile;
-  if (s == "exact") return render::FurSort::exact;
-  throw io::InputError("", "--sort", "unknown sort mode `" + s + "` (none, layer, tile, exact)");
 }
 
 void write_frame(const std::filesystem::path& path, const render::FrameImage& img, render::Aov aov) {
@@ -144,9 +139,9 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
 
 int run_render(const RenderOptions& o) {
   const render::Aov aov = parse_aov(o.aov);
-  const render::FurSort sort = parse_sort(o.sort);
   const render::OutputPattern pattern(o.output);
   const io::Scene scene = io::load_scene(o.scene);
+  const io::Quality quality = resolve_quality(scene, o.quality);
   const Plan plan = plan_render(o, scene, aov, pattern);
   const render::ProgressMode mode = render::progress_mode(o.quiet, fileno(stderr));
   nlohmann::json stats_frames = nlohmann::json::array();
@@ -167,7 +162,8 @@ int run_render(const RenderOptions& o) {
   rs.width = o.width;
   rs.height = o.height;
   rs.threads = o.threads > 0 ? o.threads : int(std::thread::hardware_concurrency());
-  rs.fur_sort = sort;
+  rs.quality = quality;
+  rs.budget = o.budget;
   rs.aov = aov;
   render::SceneRenderer renderer(scene, rs);
 
@@ -232,7 +228,8 @@ Run add_render_command(CLI::App& app) {
   sub->add_option("--threads", o->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 256));
   sub->add_option("--stats", o->stats, "Write per-frame stage statistics as JSON");
   sub->add_option("--aov", o->aov, "color | depth | id | sebum | epidermis | dermis");
-  sub->add_option("--sort", o->sort, "Translucent order: none | layer | tile | exact");
+  add_quality_options(*sub, o->quality);
+  add_budget_options(*sub, o->budget);
   CLI::Option* frame = sub->add_option("--frame", o->frame, "One frame of the animation (0-based)");
   CLI::Option* frames =
       sub->add_option("--frames", o->frames, "Frame range FIRST:LAST, inclusive (default: every frame)");

@@ -218,6 +218,29 @@ Mesh make_builtin_mesh(const BuiltinSpec& spec) {
   return {};  // unreachable: every enumerator is handled above
 }
 
+uint64_t builtin_triangle_count(const BuiltinSpec& spec) {
+  const uint64_t n = spec.n > 0 ? uint64_t(spec.n) : 0;
+  switch (spec.shape) {
+    case BuiltinShape::box: return 12 * n * n;
+    case BuiltinShape::teapot: return 64 * n * n;
+    case BuiltinShape::sphere: return n / 2 >= 1 ? 2 * n * (n / 2 - 1) : 0;
+    case BuiltinShape::plane: return 2 * n * n;
+  }
+  return 0;  // unreachable: every enumerator is handled above
+}
+
+Mesh make_builtin_mesh(const BuiltinSpec& spec, const Budget& budget, const std::string& file,
+                       const std::string& field) {
+  const uint64_t triangles = builtin_triangle_count(spec);
+  if (triangles > budget.max_faces) {
+    throw InputError(file, field,
+                     "built-in mesh `" + std::string(kShapeNames[int(spec.shape)]) + ":" + std::to_string(spec.n) +
+                         "` makes " + std::to_string(triangles) + " triangles, " +
+                         over_budget(std::to_string(budget.max_faces), kMaxFacesFlag));
+  }
+  return make_builtin_mesh(spec);
+}
+
 Mesh make_builtin_mesh(std::string_view spec, const std::string& file, const std::string& field) {
   return make_builtin_mesh(parse_builtin_spec(spec, file, field));
 }

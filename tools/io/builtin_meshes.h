@@ -10,6 +10,7 @@
 #include <glm/vec3.hpp>
 
 #include "raster/mesh.h"
+#include "tools/io/budget.h"
 
 namespace pelt::io {
 
@@ -44,6 +45,16 @@ BuiltinSpec parse_builtin_spec(std::string_view spec, const std::string& file = 
 Mesh make_builtin_mesh(std::string_view spec, const std::string& file = "",
                        const std::string& field = "");
 Mesh make_builtin_mesh(const BuiltinSpec& spec);
+// The same after checking builtin_triangle_count(spec) against budget.max_faces: refused
+// with InputError(file, field, count, budget, --max-faces) before anything is generated.
+Mesh make_builtin_mesh(const BuiltinSpec& spec, const Budget& budget, const std::string& file = "",
+                       const std::string& field = "");
+
+// Triangles a spec generates, from N alone: box 12 N^2, plane 2 N^2, sphere 2 N (N/2 - 1);
+// teapot 64 N^2 (32 patches of N x N quads), the count generated before the triangles that
+// collapse at the patches' poles are dropped (so a bound on the final mesh, exact for
+// what is allocated).
+uint64_t builtin_triangle_count(const BuiltinSpec& spec);
 
 // Cube [-1,1]^3; each face an (n+1)x(n+1) grid welded across faces; quad (i,j) gives
 // (p00,p10,p11),(p00,p11,p01). UVs: the body-diagonal planar projection below.

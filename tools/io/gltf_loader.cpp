@@ -1,7 +1,9 @@
 // glTF 2.0 (.gltf with external or data-URI buffers, and .glb) through tinygltf.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <optional>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -12,6 +14,7 @@
 
 #include <tiny_gltf.h>
 
+#include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/io/mesh_loader_detail.h"
 #include "tools/io/pixels.h"
@@ -25,6 +28,18 @@ class GltfReader {
  public:
   GltfReader(const tinygltf::Model& model, std::string file, std::filesystem::path dir)
       : model_(model), file_(std::move(file)), dir_(std::move(dir)) {}
+
+  // Triangles the default scene makes, from the accessors' counts alone (no buffer is
+  // read), every mesh instance counted; saturating. A node reached twice through a DAG of
+  // children is counted twice, as read() would draw it twice, but computed once, so a
+  // file that nests instances exponentially is counted in linear time and refused.
+  // Broken references count 0 here: read() names them.
+  uint64_t triangle_count() const {
+    std::vector<uint64_t> memo(model_.nodes.size(), kUncounted);
+    uint64_t total = 0;
+    for (int root : scene_roots()) total = sat_add(total, count_node(root, 0, memo));
+    return total;
+  }
 
   LoadedMesh read() {
     const std::vector<int> roots = scene_roots();
@@ -57,6 +72,41 @@ class GltfReader {
     for (size_t i = 0; i < is_child.size(); ++i)
       if (!is_child[i]) roots.push_back(static_cast<int>(i));
     return roots;
+  }
+
+  static constexpr uint64_t kUncounted = UINT64_MAX - 1;
+  static constexpr uint64_t kOnPath = UINT64_MAX - 2;
+
+  uint64_t count_node(int node, int depth, std::vector<uint64_t>& memo) const {
+    if (node < 0 || node >= static_cast<int>(model_.nodes.size()) || depth > kMaxNodeDepth) return 0;
+    uint64_t& m = memo[size_t(node)];
+    if (m == kOnPath) return 0;  // a cycle: read() reports it
+    if (m != kUncounted) return m;
+    m = kOnPath;
+    const tinygltf::Node& n = model_.nodes[size_t(node)];
+    uint64_t total = count_mesh(n.mesh);
+    for (int c : n.children) total = sat_add(total, count_node(c, depth + 1, memo));
+    // The two sentinels are not counts: a total that reaches them has saturated.
+    if (total == kOnPath || total == kUncounted) total = UINT64_MAX;
+    m = total;  // memo is not resized during the recursion, so `m` is still valid
+    return total;
+  }
+
+  uint64_t count_mesh(int mesh_index) const {
+    if (mesh_index < 0 || mesh_index >= static_cast<int>(model_.meshes.size())) return 0;
+    uint64_t total = 0;
+    for (const tinygltf::Primitive& prim : model_.meshes[size_t(mesh_index)].primitives) {
+      int accessor = prim.indices;
+      if (accessor < 0) {
+        const auto it = prim.attributes.find("POSITION");
+        accessor = it == prim.attributes.end() ? -1 : it->second;
+      }
+      if (accessor < 0 || accessor >= static_cast<int>(model_.accessors.size())) continue;
+      const uint64_t count = model_.accessors[size_t(accessor)].count;
+      const bool list = prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1;
+      total = sat_add(total, list ? count / 3 : count >= 3 ? count - 2 : 0);
+    }
+    return total;
   }
 
   glm::dmat4 local_transform(const tinygltf::Node& n, const std::string& where) const {
@@ -342,13 +392,24 @@ std::string trim(std::string s) {
   return s;
 }
 
+// What the image callback needs besides tinygltf's arguments, and what it found.
+struct ImageCheck {
+  const tinygltf::Model* model;
+  const Budget* budget;
+  std::optional<InputError> refused;  // set when an image is over budget or not PNG/JPEG
+};
+
 // Image decoding through tinygltf, after checking what tinygltf 2.7 does not: that an
 // image's bufferView lies inside its buffer (it hands stb_image a pointer past the end
-// otherwise, a heap overflow found by fuzzing).
+// otherwise, a heap overflow found by fuzzing), and that the image's header, read before
+// stb_image allocates its pixels, is within the texture budget. glTF 2.0 allows PNG and
+// JPEG images only; anything else is refused here rather than handed to stb_image, whose
+// other formats' sizes we do not read.
 bool load_image_checked(tinygltf::Image* image, const int image_idx, std::string* err,
                         std::string* warn, int req_width, int req_height, const unsigned char* bytes,
                         int size, void* user) {
-  const auto* model = static_cast<const tinygltf::Model*>(user);
+  auto* check = static_cast<ImageCheck*>(user);
+  const tinygltf::Model* model = check->model;
   // tinygltf calls this while parsing images[image_idx]: `image` is that image, not yet in
   // model->images; buffers and bufferViews are already parsed.
   {
@@ -366,24 +427,40 @@ bool load_image_checked(tinygltf::Image* image, const int image_idx, std::string
       }
     }
   }
+  const std::string where = "images[" + std::to_string(image_idx) + "]";
+  const auto dims = encoded_image_size(bytes, size > 0 ? size_t(size) : 0);
+  if (!dims) {
+    check->refused.emplace("", where, "not a PNG or JPEG image with a readable size (glTF 2.0 images are PNG or JPEG)");
+  } else if (dims->width > check->budget->max_texture_side || dims->height > check->budget->max_texture_side) {
+    check->refused.emplace("", where,
+                           std::to_string(dims->width) + " x " + std::to_string(dims->height) + " texels, a side " +
+                               over_budget(std::to_string(check->budget->max_texture_side), kMaxTextureSideFlag));
+  }
+  if (check->refused) {
+    if (err) *err = where + ": " + check->refused->reason;
+    return false;
+  }
   return tinygltf::LoadImageData(image, image_idx, err, warn, req_width, req_height, bytes, size, nullptr);
 }
 
 }  // namespace
 
-LoadedMesh load_gltf(const std::filesystem::path& path, bool binary) {
+LoadedMesh load_gltf(const std::filesystem::path& path, bool binary, const Budget& budget) {
   const std::string file = path.string();
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(load_image_checked, &model);
+  ImageCheck check{&model, &budget, std::nullopt};
+  loader.SetImageLoader(load_image_checked, &check);
   std::string err, warn;
   const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, file)
                          : loader.LoadASCIIFromFile(&model, &err, &warn, file);
+  if (check.refused) throw InputError(file, check.refused->field, check.refused->reason);
   if (!ok) {
     err = trim(err);
     throw InputError(file, "", "malformed glTF: " + (err.empty() ? std::string("load failed") : err));
   }
   GltfReader reader(model, file, path.parent_path());
+  check_face_budget(reader.triangle_count(), budget, file, "");
   LoadedMesh out = reader.read();
   if (!trim(warn).empty()) out.warnings.push_back(trim(warn));
   return out;

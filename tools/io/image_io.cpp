@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <system_error>
@@ -126,7 +127,10 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
   tmp.release();
 }
 
-ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encoding) {
+namespace {
+
+// Opens an image for reading its header; the caller reads pixels or only the spec.
+std::unique_ptr<OIIO::ImageInput> open_image(const std::filesystem::path& path) {
   const std::string file = path.string();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw InputError(file, "", "image file not found");
@@ -139,6 +143,71 @@ ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encod
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw InputError(file, "", "the image is empty");
   if (spec.depth > 1) throw InputError(file, "", "volume images are not supported");
+  return in;
+}
+
+uint32_t big_endian32(const uint8_t* p) {
+  return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | uint32_t{p[3]};
+}
+uint32_t big_endian16(const uint8_t* p) { return (uint32_t{p[0]} << 8) | uint32_t{p[1]}; }
+
+}  // namespace
+
+ImageHeader read_image_header(const std::filesystem::path& path) {
+  const auto in = open_image(path);
+  const OIIO::ImageSpec& spec = in->spec();
+  const int bytes = spec.format == OIIO::TypeDesc::UINT8 ? 1 : spec.format == OIIO::TypeDesc::UINT16 ? 2 : 4;
+  return ImageHeader{spec.width, spec.height, spec.nchannels, bytes};
+}
+
+std::optional<EncodedImageSize> encoded_image_size(const uint8_t* bytes, size_t size) {
+  if (!bytes) return std::nullopt;
+  static constexpr uint8_t kPng[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  if (size >= 24 && std::equal(kPng, kPng + 8, bytes)) {
+    // The first chunk must be IHDR: length, type, then width and height.
+    if (std::memcmp(bytes + 12, "IHDR", 4) != 0) return std::nullopt;
+    const EncodedImageSize s{big_endian32(bytes + 16), big_endian32(bytes + 20)};
+    if (s.width == 0 || s.height == 0) return std::nullopt;
+    return s;
+  }
+  if (size >= 4 && bytes[0] == 0xFF && bytes[1] == 0xD8) {
+    // Walk the marker segments up to the first start-of-frame (SOF0..SOF15 except DHT C4,
+    // JPG C8 and DAC CC), whose body is precision, height, width.
+    size_t i = 2;
+    while (i + 4 <= size) {
+      if (bytes[i] != 0xFF) return std::nullopt;
+      const uint8_t marker = bytes[i + 1];
+      if (marker == 0xFF) {  // fill byte before a marker
+        ++i;
+        continue;
+      }
+      if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD8)) {  // no length field
+        i += 2;
+        continue;
+      }
+      if (marker == 0xD9 || marker == 0xDA) return std::nullopt;  // image data before any frame
+      const size_t length = big_endian16(bytes + i + 2);
+      if (length < 2) return std::nullopt;
+      if (marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC) {
+        if (length < 7 || i + 9 > size) return std::nullopt;
+        const EncodedImageSize s{big_endian16(bytes + i + 7), big_endian16(bytes + i + 5)};
+        if (s.width == 0 || s.height == 0) return std::nullopt;  // height 0: set later by DNL
+        return s;
+      }
+      i += 2 + length;
+    }
+  }
+  return std::nullopt;
+}
+
+ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encoding, const Budget& budget) {
+  const std::string file = path.string();
+  const auto in = open_image(path);
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width > budget.max_texture_side || spec.height > budget.max_texture_side)
+    throw InputError(file, "",
+                     std::to_string(spec.width) + " x " + std::to_string(spec.height) + " texels, a side " +
+                         over_budget(std::to_string(budget.max_texture_side), kMaxTextureSideFlag));
   const int channels = std::min(spec.nchannels, 4);
   int bits = 32;
   OIIO::TypeDesc read_type = OIIO::TypeDesc::FLOAT;

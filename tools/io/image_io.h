@@ -2,8 +2,12 @@
 // colour-map reads.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 
+#include "tools/io/budget.h"
 #include "tools/io/image.h"
 
 namespace pelt::io {
@@ -35,6 +39,27 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
 // as stored (straight alpha for PNG; nothing is multiplied by alpha).
 // 8 and 16-bit integer files are decoded with `encoding` (sRGB for colour maps); float
 // and half files are taken as linear. Throws InputError naming the file.
-ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encoding = ColorEncoding::srgb);
+// The header is read first: an image wider or taller than budget.max_texture_side is
+// refused (InputError naming both sizes and --max-texture-side) before any pixel buffer
+// is allocated.
+ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encoding = ColorEncoding::srgb,
+                          const Budget& budget = Budget{});
+
+// An image file's size from its header alone (OpenImageIO's spec; no pixels are read),
+// for estimating memory before loading. Throws InputError naming the file when it cannot
+// be opened as an image.
+struct ImageHeader {
+  int width = 0, height = 0, channels = 0;
+  int bytes_per_channel = 0;  // 1 or 2 for 8 and 16-bit files, 4 for everything read as float
+};
+ImageHeader read_image_header(const std::filesystem::path& path);
+
+// Width and height of an encoded PNG (IHDR) or JPEG (first SOFn marker) held in memory,
+// from the header bytes alone; nullopt when the bytes are neither or the header is cut
+// short or names a zero size. Used to check embedded glTF images before they are decoded.
+struct EncodedImageSize {
+  int64_t width = 0, height = 0;
+};
+std::optional<EncodedImageSize> encoded_image_size(const uint8_t* bytes, size_t size);
 
 }  // namespace pelt::io

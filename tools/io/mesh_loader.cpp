@@ -44,6 +44,14 @@ void finish_normals(LoadedMesh& out, bool has_normals) {
   compute_vertex_normals(m);
 }
 
+void check_face_budget(uint64_t triangles, const Budget& budget, const std::string& file,
+                       const std::string& field) {
+  if (triangles > budget.max_faces)
+    throw InputError(file, field,
+                     (triangles == UINT64_MAX ? std::string("2^64 or more") : std::to_string(triangles)) +
+                         " triangles, " + over_budget(std::to_string(budget.max_faces), kMaxFacesFlag));
+}
+
 }  // namespace detail
 
 void validate_mesh(const Mesh& m, const std::string& file) {
@@ -76,7 +84,7 @@ void validate_mesh(const Mesh& m, const std::string& file) {
                            std::to_string(n) + " vertices)");
 }
 
-LoadedMesh load_mesh_file(const std::filesystem::path& path) {
+LoadedMesh load_mesh_file(const std::filesystem::path& path, const Budget& budget) {
   const std::string file = path.string();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw InputError(file, "", "file not found");
@@ -85,9 +93,9 @@ LoadedMesh load_mesh_file(const std::filesystem::path& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   LoadedMesh out;
-  if (ext == ".obj") out = detail::load_obj(path);
-  else if (ext == ".gltf") out = detail::load_gltf(path, false);
-  else if (ext == ".glb") out = detail::load_gltf(path, true);
+  if (ext == ".obj") out = detail::load_obj(path, budget);
+  else if (ext == ".gltf") out = detail::load_gltf(path, false, budget);
+  else if (ext == ".glb") out = detail::load_gltf(path, true, budget);
   else
     throw InputError(file, "", "unsupported mesh file extension `" + path.extension().string() +
                                    "` (expected .obj, .gltf or .glb)");

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "raster/mesh.h"
+#include "tools/io/budget.h"
 #include "tools/io/image.h"
 
 namespace pelt::io {
@@ -43,7 +44,16 @@ struct LoadedMesh {
 // Throws InputError naming the file and the first bad element: unreadable or malformed
 // file, unsupported extension, non-finite values (`v 12: position is NaN`, or a glTF
 // accessor path), index out of range, no triangles.
-LoadedMesh load_mesh_file(const std::filesystem::path& path);
+//
+// Budgets, checked before the mesh arrays are built: the triangle count against
+// budget.max_faces (OBJ: counted from the `f` lines, polygons fan-triangulated, before
+// tinyobjloader parses the file; glTF: from the accessors' counts for every mesh instance
+// of the scene, before any accessor is read), and every glTF image's width and height
+// against budget.max_texture_side, read from its PNG or JPEG header before it is decoded.
+// What is allocated before those checks is bounded by the file size: the OBJ check reads
+// one line at a time; tinygltf reads the JSON and the buffers (the .glb, external .bin
+// files, data URIs) whole before it calls us.
+LoadedMesh load_mesh_file(const std::filesystem::path& path, const Budget& budget = Budget{});
 
 // Checks a mesh for the problems every consumer assumes away: attribute arrays of the
 // wrong length, non-finite positions, normals or uvs, indices out of range, an index

@@ -1,6 +1,7 @@
 // Pieces shared by the OBJ and glTF loaders (internal to pelt_io).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -8,8 +9,12 @@
 
 namespace pelt::io::detail {
 
-LoadedMesh load_obj(const std::filesystem::path& path);
-LoadedMesh load_gltf(const std::filesystem::path& path, bool binary);
+LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget);
+LoadedMesh load_gltf(const std::filesystem::path& path, bool binary, const Budget& budget);
+
+// The refusal of a mesh whose triangle count is over budget.max_faces.
+void check_face_budget(uint64_t triangles, const Budget& budget, const std::string& file,
+                       const std::string& field);
 
 // Fills in normals when the loader had none for some vertex (has_normals false), or when
 // a given normal has zero length; normalises the rest. Adds a warning when it computes.

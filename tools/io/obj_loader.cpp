@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <unordered_map>
@@ -37,20 +38,41 @@ const char* non_finite(const float* v, int n) {
   return nullptr;
 }
 
+// What one pass over the file finds before tinyobjloader sees it.
+struct ObjPrescan {
+  // Triangles the faces make, each `f` line of k corners fan-triangulated into k - 2 (as
+  // tinyobjloader's triangulation does); saturating.
+  uint64_t triangles = 0;
+  // The first malformed or non-finite number (see below), thrown only after the budget
+  // check so that an oversized file is refused for its size whatever follows.
+  std::optional<InputError> bad_number;
+};
+
 // tinyobjloader reads a malformed number ("nan", "1.2.3", "abc") as 0 without a word,
 // so the numeric records are checked here first, numbered as the file numbers them
 // (`v 3` is the third `v` record). Each value must be a complete number; NaN and
-// infinities (including overflow such as 1e999) are reported by name.
-void check_obj_numbers(const std::filesystem::path& path, const std::string& file) {
+// infinities (including overflow such as 1e999) are reported by name. The same pass
+// counts the triangles, one line in memory at a time, so the face budget is checked
+// before anything proportional to the file is allocated.
+ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& file) {
+  ObjPrescan out;
   std::ifstream in(path, std::ios::binary);
-  std::string line;
+  std::string line, tok;
   size_t counts[3] = {0, 0, 0};  // v, vt, vn
   static const char* kWhat[3] = {"position", "texture coordinate", "normal"};
   size_t line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
     size_t i = line.find_first_not_of(" \t");
-    if (i == std::string::npos || line[i] != 'v') continue;
+    if (i == std::string::npos) continue;
+    if (line[i] == 'f' && i + 1 < line.size() && (line[i + 1] == ' ' || line[i + 1] == '\t')) {
+      uint64_t corners = 0;
+      std::istringstream tokens(line.substr(i + 1));
+      while (tokens >> tok && tok[0] != '#') ++corners;
+      if (corners >= 3) out.triangles = sat_add(out.triangles, corners - 2);
+      continue;
+    }
+    if (out.bad_number || line[i] != 'v') continue;
     int kind;
     if (i + 1 < line.size() && (line[i + 1] == ' ' || line[i + 1] == '\t')) kind = 0, i += 1;
     else if (line.compare(i, 3, "vt ") == 0 || line.compare(i, 3, "vt\t") == 0) kind = 1, i += 2;
@@ -59,18 +81,25 @@ void check_obj_numbers(const std::filesystem::path& path, const std::string& fil
     const std::string record = std::string(kind == 0 ? "v " : kind == 1 ? "vt " : "vn ") +
                                std::to_string(++counts[kind]);
     std::istringstream tokens(line.substr(i));
-    std::string tok;
     while (tokens >> tok) {
       if (tok[0] == '#') break;
       char* end = nullptr;
       const double v = std::strtod(tok.c_str(), &end);
-      if (end != tok.c_str() + tok.size())
-        throw InputError(file, record, "`" + tok + "` is not a number (line " + std::to_string(line_number) + ")");
-      if (std::isnan(v)) throw InputError(file, record, std::string(kWhat[kind]) + " is NaN");
-      if (std::isinf(v) || std::abs(v) > 3.4028234663852886e38)
-        throw InputError(file, record, std::string(kWhat[kind]) + " is infinite");
+      if (end != tok.c_str() + tok.size()) {
+        out.bad_number.emplace(file, record, "`" + tok + "` is not a number (line " + std::to_string(line_number) + ")");
+        break;
+      }
+      if (std::isnan(v)) {
+        out.bad_number.emplace(file, record, std::string(kWhat[kind]) + " is NaN");
+        break;
+      }
+      if (std::isinf(v) || std::abs(v) > 3.4028234663852886e38) {
+        out.bad_number.emplace(file, record, std::string(kWhat[kind]) + " is infinite");
+        break;
+      }
     }
   }
+  return out;
 }
 
 // Names a face for error messages: its 1-based number among the file's faces, as a user
@@ -79,13 +108,15 @@ std::string face_name(size_t face) { return "f " + std::to_string(face + 1); }
 
 }  // namespace
 
-LoadedMesh load_obj(const std::filesystem::path& path) {
+LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   const std::string file = path.string();
   {
     std::ifstream probe(path);
     if (!probe) throw InputError(file, "", "cannot open the file for reading");
   }
-  check_obj_numbers(path, file);
+  const ObjPrescan pre = prescan_obj(path, file);
+  check_face_budget(pre.triangles, budget, file, "");
+  if (pre.bad_number) throw *pre.bad_number;
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;

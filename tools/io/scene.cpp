@@ -242,7 +242,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     if (const size_t bracket = what.find("] "); bracket != std::string::npos) what = what.substr(bracket + 2);
     js.fail("", "malformed JSON: " + what + " (numbers must be finite)");
   }
-  js.expect_object(root, "", {"pelt", "image", "camera", "lights", "objects", "animation"});
+  js.expect_object(root, "", {"pelt", "image", "camera", "lights", "objects", "animation", "quality"});
   const json& version = js.require(root, "", "pelt");
   if (!version.is_number_integer() && !version.is_number_unsigned())
     js.fail("pelt", "expected the format version number 1, got " + json_type_name(version));
@@ -265,6 +265,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     s.objects.push_back(parse_object(js, objects[i], json_index("objects", i), file));
   if (const json* v = JsonFields::find(root, "animation"))
     s.animation = detail::parse_animation_block(js, *v, "animation", s);
+  if (const json* v = JsonFields::find(root, "quality")) s.quality = detail::parse_quality_block(js, *v, "quality");
   return s;
 }
 
@@ -280,7 +281,9 @@ Scene load_scene(const std::filesystem::path& file) {
   return parse_scene(text.str(), file);
 }
 
-std::vector<SceneMesh> load_scene_meshes(const Scene& scene) {
+std::vector<SceneMesh> load_scene_meshes(const Scene& scene) { return load_scene_meshes(scene, Budget{}); }
+
+std::vector<SceneMesh> load_scene_meshes(const Scene& scene, const Budget& budget) {
   std::vector<SceneMesh> out;
   out.reserve(scene.objects.size());
   for (size_t i = 0; i < scene.objects.size(); ++i) {
@@ -289,10 +292,10 @@ std::vector<SceneMesh> load_scene_meshes(const Scene& scene) {
     SceneMesh sm;
     sm.model = o.transform.matrix();
     if (o.builtin) {
-      sm.loaded.mesh = make_builtin_mesh(*o.builtin);
+      sm.loaded.mesh = make_builtin_mesh(*o.builtin, budget, scene.file.string(), field);
     } else {
       try {
-        sm.loaded = load_mesh_file(o.mesh_path);
+        sm.loaded = load_mesh_file(o.mesh_path, budget);
       } catch (const InputError& e) {
         throw InputError(e.file, e.field, e.reason + " (in " + field + " of " + scene.file.string() + ")");
       }

@@ -17,6 +17,7 @@
 #include "tools/io/animation_tracks.h"
 #include "tools/io/builtin_meshes.h"
 #include "tools/io/mesh_loader.h"
+#include "tools/io/quality.h"
 
 namespace pelt::io {
 
@@ -142,6 +143,7 @@ struct Scene {
   std::vector<Light> lights;
   std::vector<SceneObject> objects;  // at least one
   std::optional<Animation> animation;
+  Quality quality;  // "quality": {"preset": ..., knob: value, ...}; the CLI's flags override it
 };
 
 // Reads and validates a scene file. Mesh files are checked to exist and be readable
@@ -168,6 +170,11 @@ struct SceneMesh {
 // Loads every object's mesh (built-in or file), in object order. A mesh file's own
 // errors keep its file and element (`v 12`, ...) and add the object's field path to the
 // reason, e.g. "bunny.obj: v 12: position is NaN (in objects[1].mesh of scene.json)".
+// Each mesh is checked against `budget` (max_faces; glTF images against
+// max_texture_side) before its arrays are built; a built-in spec over max_faces is
+// refused as InputError(scene file, `objects[i].mesh`, ...). The one-argument form uses
+// the default Budget.
+std::vector<SceneMesh> load_scene_meshes(const Scene& scene, const Budget& budget);
 std::vector<SceneMesh> load_scene_meshes(const Scene& scene);
 
 // Positions by `model`, normals by its inverse transpose (renormalised); flips the

@@ -117,4 +117,33 @@ shading::SkinParams parse_skin_block(const JsonFields& js, const json& j, const 
   return p;
 }
 
+Quality parse_quality_block(const JsonFields& js, const json& j, const std::string& path) {
+  js.expect_object(j, path,
+                   {"preset", "shells", "fins", "sort", "spp", "filter", "multiple_scattering",
+                    "single_scattering", "precision"});
+  Quality q;
+  if (const json* v = JsonFields::find(j, "preset")) {
+    const std::string field = json_child(path, "preset");
+    const std::string name = js.string(*v, field);
+    const auto preset = quality_preset(name);
+    if (!preset) {
+      std::string names;
+      for (std::string_view n : quality_preset_names()) names += (names.empty() ? "" : ", ") + std::string(n);
+      js.fail(field, "unknown preset `" + name + "` (" + names + ")");
+    }
+    q = *preset;
+  }
+  for (std::string_view knob : kKnobs) {
+    const json* v = JsonFields::find(j, knob);
+    if (!v) continue;
+    const std::string field = json_child(path, knob);
+    // shells and spp are counts, the others names.
+    const std::string text = knob == "shells" || knob == "spp"
+                                 ? std::to_string(js.integer(*v, field, -1000000, 1000000))
+                                 : js.string(*v, field);
+    if (auto e = set_knob(q, knob, text)) js.fail(field, *e);
+  }
+  return q;
+}
+
 }  // namespace pelt::io::detail

@@ -22,7 +22,7 @@ nlohmann::json FrameStats::to_json() const {
   nlohmann::json list = nlohmann::json::array();
   for (size_t i = 0; i < kStageCount; ++i)
     list.push_back({{"name", kStageNames[i]}, {"ran", stages[i].ran}, {"ms", stages[i].ms}});
-  return {{"frame", frame}, {"stages", list}, {"triangles", triangles}, {"fragments", fragments}};
+  return {{"frame", frame}, {"stages", list}, {"samples", samples}, {"triangles", triangles}, {"fragments", fragments}};
 }
 
 }  // namespace pelt::render

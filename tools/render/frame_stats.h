@@ -37,8 +37,9 @@ struct StageRecord {
 struct FrameStats {
   int frame = 0;
   StageRecord stages[kStageCount];
-  uint64_t triangles = 0;  // submitted to the rasterizer
-  uint64_t fragments = 0;  // visible opaque + blended translucent fragments
+  int samples = 1;         // rasterizer passes: the quality's samples per pixel
+  uint64_t triangles = 0;  // submitted to the rasterizer, summed over the passes
+  uint64_t fragments = 0;  // visible opaque + blended translucent fragments, summed over the passes
 
   StageRecord& stage(const char* name);
   const StageRecord& stage(const char* name) const;

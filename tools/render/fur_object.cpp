@@ -44,9 +44,9 @@ bool same(const std::vector<shading::Light>& a, const std::vector<shading::Light
 }
 
 
-raster::SamplerState fur_sampler(bool fin) {
+raster::SamplerState fur_sampler(bool fin, raster::Filter filter) {
   raster::SamplerState s;
-  s.filter = raster::Filter::Trilinear;
+  s.filter = filter;
   s.wrap_u = raster::Wrap::Repeat;
   // Fin texture rows run root (t = 0) to tip (t = 1): clamped, as the harness does.
   s.wrap_v = fin ? raster::Wrap::Clamp : raster::Wrap::Repeat;
@@ -59,9 +59,13 @@ void throw_if(const std::optional<raster::TextureError>& e, const std::string& n
 
 }  // namespace
 
-FurObject::FurObject(const Mesh& base, const fur::FurParams& params, bool match_llvmpipe,
-                     FurLighting lighting, const std::string& name, FrameStats& setup)
-    : params_(params), match_llvmpipe_(match_llvmpipe), lighting_(lighting) {
+FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDrawOptions& options,
+                     const std::string& name, FrameStats& setup)
+    : params_(params),
+      match_llvmpipe_(options.match_llvmpipe),
+      lighting_(options.lighting),
+      filter_(options.filter),
+      double_precision_(options.double_precision) {
   {
     StageTimer t(setup, "fur_geometry");
     if (auto e = fur::build_fur_geometry(base, params, geo_)) throw io::InputError(name, "fur." + e->field, e->reason);
@@ -69,7 +73,7 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, bool match_
   {
     StageTimer t(setup, "fur_textures");
     fur::StrandTextures tex;
-    if (match_llvmpipe) {
+    if (match_llvmpipe_) {
       tex = fur::match_llvmpipe_textures();
     } else if (auto e = fur::generate_strand_textures(params, tex)) {
       throw io::InputError(name, "fur." + e->field, e->reason);
@@ -161,10 +165,12 @@ void FurObject::light_vertices(const std::vector<shading::Light>& lights, const 
     if (match_llvmpipe_) {
       const glm::vec3 l = glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f));
       const float dir[3] = {l.x, l.y, l.z};
-      shading::shade_fur_match_llvmpipe(dir, surf, out);
+      (double_precision_ ? shading::shade_fur_match_llvmpipe_reference : shading::shade_fur_match_llvmpipe)(
+          dir, surf, out);
     } else {
       const float e[3] = {eye.x, eye.y, eye.z};
-      shading::shade_fur(light_params_, lights.data(), lights.size(), e, surf, out);
+      (double_precision_ ? shading::shade_fur_reference : shading::shade_fur)(light_params_, lights.data(),
+                                                                              lights.size(), e, surf, out);
     }
   }
 }
@@ -325,7 +331,8 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
       su.fins = fin;
       su.shells = &shell_tex_;
       su.fin = &fin_tex_;
-      su.sampler = fur_sampler(fin);
+      su.sampler = fur_sampler(fin, filter_);
+      su.double_precision = double_precision_;
       su.base_faces = faces;
       su.primitive_offset = (sort == FurSort::layer && !fin) ? uint32_t(k / 2) * faces : 0;
       su.per_pixel_lighting = lighting_ == FurLighting::pixel;

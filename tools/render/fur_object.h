@@ -36,6 +36,14 @@ enum class FurLighting {
   pixel,   // Kajiya-Kay per fragment
 };
 
+// How a furry object is drawn, fixed for its lifetime.
+struct FurDrawOptions {
+  bool match_llvmpipe = false;  // the llvmpipe harness's scene (textures, poses, lighting)
+  FurLighting lighting = FurLighting::vertex;
+  raster::Filter filter = raster::Filter::Trilinear;  // strand and fin textures
+  bool double_precision = false;  // lighting and texture sampling by the double references
+};
+
 // What may change from frame to frame.
 struct FurFrame {
   int frame = 0;
@@ -47,12 +55,12 @@ struct FurFrame {
 
 class FurObject {
  public:
-  // `base` is the object's mesh in world space. match_llvmpipe reproduces the llvmpipe
-  // harness's scene (textures, poses, animation, lighting) for side-by-side timing.
-  // Records "fur_geometry" and "fur_textures" in `setup`. Throws io::InputError-free
-  // std::invalid_argument only for programming errors: params were validated on load.
-  FurObject(const Mesh& base, const fur::FurParams& params, bool match_llvmpipe,
-            FurLighting lighting, const std::string& name, FrameStats& setup);
+  // `base` is the object's mesh in world space. options.match_llvmpipe reproduces the
+  // llvmpipe harness's scene (textures, poses, animation, lighting) for side-by-side timing.
+  // Records "fur_geometry" and "fur_textures" in `setup`. Throws io::InputError naming
+  // `name` and the fur field when the parameters cannot be built.
+  FurObject(const Mesh& base, const fur::FurParams& params, const FurDrawOptions& options,
+            const std::string& name, FrameStats& setup);
 
   // Brings poses, tangents, lighting, varyings and fins up to date for `f` seen under
   // `lights`; records the "gravity", "wind", "fur_pose", "fur_lighting" and "fins" stages
@@ -77,6 +85,8 @@ class FurObject {
   fur::FurParams params_;
   bool match_llvmpipe_;
   FurLighting lighting_;
+  raster::Filter filter_;
+  bool double_precision_;
   shading::FurLightParams light_params_;
   fur::FurGeometry geo_;
   raster::TextureArray shell_tex_;

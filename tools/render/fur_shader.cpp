@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "raster/config.h"
+#include "tools/render/texture_sampling.h"
 #include "tools/render/varyings.h"
 
 namespace pelt::render {
@@ -35,7 +36,7 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   // (a block belongs to one triangle, so to one layer).
   if (s_.fins) {
     float* const out[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
-    raster::sample(*s_.fin, s_.sampler, u, v, n, out);
+    sample_texture(*s_.fin, s_.sampler, u, v, n, out, s_.double_precision);
   } else {
     const uint32_t layers = static_cast<uint32_t>(s_.shells->layers.size());
     auto layer_of = [&](uint32_t block) {
@@ -48,8 +49,8 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
       while (j < b.blocks && layer_of(j) == layer) ++j;
       const size_t off = size_t{i} * raster::kBlockLanes;
       float* const out[4] = {s.texel[0] + off, s.texel[1] + off, s.texel[2] + off, s.texel[3] + off};
-      raster::sample(s_.shells->layers[layer], s_.sampler, u + off, v + off,
-                     size_t{j - i} * raster::kBlockLanes, out);
+      sample_texture(s_.shells->layers[layer], s_.sampler, u + off, v + off, size_t{j - i} * raster::kBlockLanes,
+                     out, s_.double_precision);
       i = j;
     }
   }
@@ -88,9 +89,11 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   for (int c = 0; c < 4; ++c) out.rgba[c] = b.out[c];
   if (s_.match_llvmpipe) {
     const float l[3] = {s_.llvmpipe_light.x, s_.llvmpipe_light.y, s_.llvmpipe_light.z};
-    shading::shade_fur_match_llvmpipe(l, surf, out);
+    (s_.double_precision ? shading::shade_fur_match_llvmpipe_reference : shading::shade_fur_match_llvmpipe)(
+        l, surf, out);
   } else {
-    shading::shade_fur(s_.light_params, lights_.data(), lights_.size(), eye_, surf, out);
+    (s_.double_precision ? shading::shade_fur_reference : shading::shade_fur)(s_.light_params, lights_.data(),
+                                                                              lights_.size(), eye_, surf, out);
   }
 }
 

@@ -23,6 +23,7 @@ struct FurShaderSetup {
   uint32_t base_faces = 0;                   // shells: triangles per layer
   uint32_t primitive_offset = 0;             // first triangle of this draw in the object's list
   bool per_pixel_lighting = false;           // FurPixelVaryings and Kajiya-Kay per fragment
+  bool double_precision = false;             // texture sampling and lighting by the double references
   bool match_llvmpipe = false;               // per-pixel: the harness's fixed light term
   glm::vec3 llvmpipe_light{0.0f, 1.0f, 0.0f};
   shading::FurLightParams light_params;

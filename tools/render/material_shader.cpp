@@ -4,6 +4,7 @@
 
 #include "raster/config.h"
 #include "shading/skin_kernels.h"
+#include "tools/render/texture_sampling.h"
 #include "tools/render/varyings.h"
 
 namespace pelt::render {
@@ -40,9 +41,11 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
   // Skin takes its colours from SkinParams: its albedo is the colour map alone.
   const glm::vec3 base = desc_.kind == MaterialKind::skin ? glm::vec3(1.0f) : desc_.color;
   if (desc_.color_map) {
-    raster::SamplerState sampler;  // trilinear, repeat
+    raster::SamplerState sampler;  // repeat
+    sampler.filter = desc_.filter;
     float* const texel[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
-    raster::sample(*desc_.color_map, sampler, b.varying[V::kUv], b.varying[V::kUv + 1], n, texel);
+    sample_texture(*desc_.color_map, sampler, b.varying[V::kUv], b.varying[V::kUv + 1], n, texel,
+                   desc_.double_precision);
     for (int c = 0; c < 3; ++c)
       for (size_t i = 0; i < n; ++i) s.albedo[c][i] = base[c] * s.texel[c][i];
   } else {
@@ -80,14 +83,32 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
 
   const shading::Light* lights = lights_.data();
   const size_t lc = lights_.size();
+  const bool dbl = desc_.double_precision;
   switch (desc_.kind) {
-    case MaterialKind::unlit: shading::shade_unlit(lights, lc, eye_, surf, out); break;
-    case MaterialKind::lambert: shading::shade_lambert(lights, lc, eye_, surf, out); break;
-    case MaterialKind::blinn: shading::shade_blinn(desc_.basic, lights, lc, eye_, surf, out); break;
-    case MaterialKind::skin: shading::shade_skin(desc_.skin, lights, lc, eye_, surf, out); break;
+    case MaterialKind::unlit:
+      (dbl ? shading::shade_unlit_reference : shading::shade_unlit)(lights, lc, eye_, surf, out);
+      break;
+    case MaterialKind::lambert:
+      (dbl ? shading::shade_lambert_reference : shading::shade_lambert)(lights, lc, eye_, surf, out);
+      break;
+    case MaterialKind::blinn:
+      (dbl ? shading::shade_blinn_reference : shading::shade_blinn)(desc_.basic, lights, lc, eye_, surf, out);
+      break;
+    case MaterialKind::skin:
+      (dbl ? shading::shade_skin_reference : shading::shade_skin)(desc_.skin, lights, lc, eye_, surf, out);
+      break;
   }
   if (picked)
     for (int c = 0; c < 3; ++c) std::copy(picked[c], picked[c] + n, b.out[c]);
+  // The skin shader returns colour premultiplied by Opacity (RenderMan's Ci = Oi * ...), the
+  // rasterizer blends straight alpha: undo the premultiplication once, or a translucent skin
+  // layer would count its opacity twice. Opacity 0 gives alpha 0, which blends to nothing.
+  const float op = desc_.skin.Opacity;
+  if (desc_.kind == MaterialKind::skin && op > 0.0f && op < 1.0f) {
+    const float inv = 1.0f / op;
+    for (int c = 0; c < 3; ++c)
+      for (size_t i = 0; i < n; ++i) b.out[c][i] *= inv;
+  }
 }
 
 }  // namespace pelt::render

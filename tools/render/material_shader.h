@@ -26,6 +26,8 @@ struct MaterialDesc {
   shading::BasicParams basic;         // blinn
   shading::SkinParams skin;           // skin
   const raster::Texture* color_map = nullptr;  // sampled at the uv varying (v = 0: top row)
+  raster::Filter filter = raster::Filter::Trilinear;  // of the colour map
+  bool double_precision = false;  // shading and sampling by the double references
 };
 
 class MaterialShader final : public raster::Shader {

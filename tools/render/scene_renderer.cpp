@@ -1,8 +1,10 @@
 #include "tools/render/scene_renderer.h"
 
 #include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "shading/normal_blur.h"
+#include "tools/render/budget_check.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/render/animation.h"
@@ -71,14 +73,15 @@ SkinLayer layer_of(Aov aov) {
 
 // The colour map of an object: the material's `color_map`, else the one the mesh file
 // names (glTF baseColorTexture, OBJ map_Kd), else none.
-void load_color_map(const io::SceneObject& so, const io::LoadedMesh& loaded, raster::Texture& out) {
+void load_color_map(const io::SceneObject& so, const io::LoadedMesh& loaded, const io::Budget& budget,
+                    raster::Texture& out) {
   io::ImageRGBA img;
   std::string source;
   if (!so.material.color_map.empty()) {
-    img = io::read_image_rgba(so.material.color_map, io::ColorEncoding::srgb);
+    img = io::read_image_rgba(so.material.color_map, io::ColorEncoding::srgb, budget);
     source = so.material.color_map.string();
   } else if (!loaded.color_map.path.empty()) {
-    img = io::read_image_rgba(loaded.color_map.path, io::ColorEncoding::srgb);
+    img = io::read_image_rgba(loaded.color_map.path, io::ColorEncoding::srgb, budget);
     source = loaded.color_map.path.string();
   } else if (!loaded.color_map.pixels.empty()) {
     img = loaded.color_map.pixels;
@@ -93,37 +96,96 @@ void load_color_map(const io::SceneObject& so, const io::LoadedMesh& loaded, ras
 
 }  // namespace
 
+io::Scene apply_quality(const io::Scene& scene, const io::Quality& q) {
+  io::Scene s = scene;
+  for (io::SceneObject& o : s.objects) {
+    if (o.fur) {
+      if (q.shells && *q.shells != o.fur->shells) {
+        // The same fur sliced into more or fewer layers: opacities rescaled to match.
+        if (o.fur->opacity_shells == 0) o.fur->opacity_shells = o.fur->shells;
+        o.fur->shells = *q.shells;
+      }
+      if (q.fins) o.fur->fins = *q.fins;
+    }
+    if (o.material.type == io::MaterialType::skin) {
+      shading::SkinParams& k = o.material.skin;
+      if (q.multiple_scattering) k.multiple_scattering = *q.multiple_scattering;
+      if (q.single_scattering) k.single_scattering = *q.single_scattering;
+      if (q.exact_physics) {
+        k.fresnel = shading::Fresnel::exact;
+        k.phase = shading::Phase::correct;
+      }
+    }
+  }
+  s.quality = q;
+  return s;
+}
+
+std::vector<glm::vec2> sample_offsets(int spp) {
+  int n = 1;
+  while (n * n < spp) ++n;
+  if (spp < 1 || n * n != spp) throw std::invalid_argument("sample_offsets: spp must be a square");
+  std::vector<glm::vec2> out;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) out.push_back({(float(i) + 0.5f) / float(n) - 0.5f, (float(j) + 0.5f) / float(n) - 0.5f});
+  return out;
+}
+
+namespace {
+
+// A quality the frame cannot honour is the user's request, reported as bad input.
+void check_quality(const io::Scene& scene, const RenderSettings& rs, const io::Quality& q) {
+  if (q.spp > 1 && (rs.aov == Aov::depth || rs.aov == Aov::id))
+    throw io::InputError(scene.file.string(), "quality.spp",
+                         "the depth and id AOVs are point-sampled (one value per pixel); use spp 1, got " +
+                             std::to_string(q.spp));
+}
+
+}  // namespace
+
 SceneRenderer::SceneRenderer(const io::Scene& scene, const RenderSettings& settings)
-    : scene_(scene),
+    : quality_(settings.quality.value_or(scene.quality)),
+      scene_(apply_quality(scene, quality_)),
       settings_(settings),
       width_(settings.width > 0 ? settings.width : scene.image.width),
       height_(settings.height > 0 ? settings.height : scene.image.height),
       renderer_(settings.threads),
       lights_(convert_lights(scene.lights)) {
   setup_stats_.frame = -1;
+  check_quality(scene_, settings_, quality_);
+  // Budgets: what the scene file asks for before any mesh is read, the loaders check faces
+  // and texture sizes as they read headers, and the memory estimate is checked from the
+  // loaded counts before anything else is allocated.
+  check_scene_budget(scene_, width_, height_, quality_.spp, settings_.budget);
   std::vector<io::SceneMesh> meshes;
   {
     StageTimer t(setup_stats_, "meshes");
-    meshes = io::load_scene_meshes(scene);
+    meshes = io::load_scene_meshes(scene_, settings_.budget);
   }
+  check_memory_budget(scene_, meshes, width_, height_, settings_.threads, quality_.spp, settings_.budget);
   build(std::move(meshes));
 }
 
 SceneRenderer::SceneRenderer(const io::Scene& scene, std::vector<io::SceneMesh> meshes,
                              const RenderSettings& settings)
-    : scene_(scene),
+    : quality_(settings.quality.value_or(scene.quality)),
+      scene_(apply_quality(scene, quality_)),
       settings_(settings),
       width_(settings.width > 0 ? settings.width : scene.image.width),
       height_(settings.height > 0 ? settings.height : scene.image.height),
       renderer_(settings.threads),
       lights_(convert_lights(scene.lights)) {
   setup_stats_.frame = -1;
+  check_quality(scene_, settings_, quality_);
   if (meshes.size() != scene.objects.size())
     throw std::invalid_argument("SceneRenderer: one mesh per scene object expected");
+  check_scene_budget(scene_, width_, height_, quality_.spp, settings_.budget);
+  check_memory_budget(scene_, meshes, width_, height_, settings_.threads, quality_.spp, settings_.budget);
   build(std::move(meshes));
 }
 
 void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
+  offsets_ = sample_offsets(quality_.spp);
   const io::Scene& scene = scene_;
   const RenderSettings& settings = settings_;
   uint32_t id_base = 0;
@@ -137,6 +199,8 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     obj->material.color = so.material.color;
     obj->material.basic = so.material.basic;
     obj->material.skin = so.material.skin;
+    obj->material.filter = quality_.filter;
+    obj->material.double_precision = quality_.precision == io::Precision::double_precision;
     obj->translucent = obj->material.kind == MaterialKind::skin && so.material.skin.Opacity < 1.0f;
     obj->id_base = id_base;
     id_base += static_cast<uint32_t>(m.triangle_count());
@@ -144,7 +208,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     // Internally v = 0 is the top row of an image (glTF); OBJ files count v from the bottom.
     if (!so.mesh_path.empty() && so.mesh_path.extension() == ".obj")
       for (glm::vec2& uv : obj->mesh.uvs) uv.y = 1.0f - uv.y;
-    load_color_map(so, meshes[i].loaded, obj->color_map);
+    load_color_map(so, meshes[i].loaded, settings.budget, obj->color_map);
     if (!obj->color_map.empty()) obj->material.color_map = &obj->color_map;
 
     shading::BlurredNormals blurred;
@@ -181,8 +245,12 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
                                                    layer_of(settings.aov));
     if (so.fur) {
       const std::string name = so.name.empty() ? "objects[" + std::to_string(i) + "]" : so.name;
-      obj->fur = std::make_unique<FurObject>(obj->mesh, *so.fur, settings.match_llvmpipe,
-                                              settings.fur_lighting, name, setup_stats_);
+      FurDrawOptions fo;
+      fo.match_llvmpipe = settings.match_llvmpipe;
+      fo.lighting = settings.fur_lighting;
+      fo.filter = quality_.filter;
+      fo.double_precision = quality_.precision == io::Precision::double_precision;
+      obj->fur = std::make_unique<FurObject>(obj->mesh, *so.fur, fo, name, setup_stats_);
     }
     objects_.push_back(std::move(obj));
   }
@@ -238,10 +306,10 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   lights_ = convert_lights(inputs.lights);
   const float aspect = float(width_) / float(height_);
   const glm::mat4 clip_from_world = camera.projection(aspect) * camera.view();
-  const FurSort fur_sort = settings_.fur_sort ? *settings_.fur_sort
-                           : settings_.sort == raster::SortMode::Tile  ? FurSort::tile
-                           : settings_.sort == raster::SortMode::Exact ? FurSort::exact
-                                                                        : FurSort::none;
+  const FurSort fur_sort = quality_.sort == io::SortQuality::none    ? FurSort::none
+                           : quality_.sort == io::SortQuality::layer ? FurSort::layer
+                           : quality_.sort == io::SortQuality::tile  ? FurSort::tile
+                                                                     : FurSort::exact;
   for (size_t i = 0; i < objects_.size(); ++i) {
     if (!objects_[i]->fur) continue;
     FurFrame f;
@@ -300,12 +368,41 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   opt.sort = fur_sort == FurSort::tile    ? raster::SortMode::Tile
              : fur_sort == FurSort::exact ? raster::SortMode::Exact
                                           : raster::SortMode::None;
-  raster::RasterStats rs;
-  renderer_.render(draws, opt, target, &rs);
-  stats.stage("raster_front") = {true, rs.ms_front};
-  stats.stage("raster_tiles") = {true, rs.ms_tiles};
-  stats.triangles = rs.triangles_submitted;
-  stats.fragments = rs.fragments_visible + rs.fragments_blended;
+  // Supersampling: one full pass per stratified sample, the projection shifted by the
+  // sample's sub-pixel offset, the passes' colours summed in double in a fixed order (so
+  // the result is the same on any thread count) and divided once. Each pass composites its
+  // own translucent fragments, so the average is the box-filtered, correctly sorted image.
+  const std::vector<glm::vec2>& offsets = offsets_;
+  if (offsets.size() > 1) {
+    sample_color_.resize(px * 4);
+    accum_.assign(px * 4, 0.0);
+    target.color = sample_color_.data();
+  }
+  double ms_front = 0.0, ms_tiles = 0.0;
+  stats.samples = static_cast<int>(offsets.size());
+  for (const glm::vec2& o : offsets) {
+    if (offsets.size() > 1) {
+      // Image rows grow downward, clip-space y upward.
+      const glm::mat4 jitter = glm::translate(
+          glm::mat4(1.0f), glm::vec3(2.0f * o.x / float(width_), -2.0f * o.y / float(height_), 0.0f));
+      const glm::mat4 m = jitter * clip_from_world;
+      for (raster::DrawCall& d : draws) d.clip_from_object = m;
+    }
+    raster::RasterStats rs;
+    renderer_.render(draws, opt, target, &rs);
+    ms_front += rs.ms_front;
+    ms_tiles += rs.ms_tiles;
+    stats.triangles += rs.triangles_submitted;
+    stats.fragments += rs.fragments_visible + rs.fragments_blended;
+    if (offsets.size() > 1)
+      for (size_t i = 0; i < px * 4; ++i) accum_[i] += sample_color_[i];
+  }
+  if (offsets.size() > 1) {
+    const double inv = 1.0 / double(offsets.size());
+    for (size_t i = 0; i < px * 4; ++i) out.color[i] = static_cast<float>(accum_[i] * inv);
+  }
+  stats.stage("raster_front") = {true, ms_front};
+  stats.stage("raster_tiles") = {true, ms_tiles};
 }
 
 }  // namespace pelt::render

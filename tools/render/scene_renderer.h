@@ -6,7 +6,11 @@
 #include <memory>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 #include "raster/renderer.h"
+#include "tools/io/budget.h"
+#include "tools/io/quality.h"
 #include "tools/io/scene.h"
 #include "tools/render/frame_stats.h"
 #include "tools/render/fur_object.h"
@@ -19,12 +23,23 @@ enum class Aov { color, depth, id, sebum, epidermis, dermis };
 struct RenderSettings {
   int width = 0, height = 0;  // 0: the scene's image size
   int threads = 1;
-  raster::SortMode sort = raster::SortMode::Tile;
-  std::optional<FurSort> fur_sort;  // unset: `none` or `tile` after `sort`
+  // The quality knobs (tools/io/quality.h); unset: the scene's own `quality` block.
+  std::optional<io::Quality> quality;
+  io::Budget budget;
   Aov aov = Aov::color;
   bool match_llvmpipe = false;      // fur as the llvmpipe harness draws it (bench fps)
   FurLighting fur_lighting = FurLighting::vertex;
 };
+
+// The scene as a quality setting draws it: `shells` and `fins` replace every fur block's,
+// `multiple_scattering` and `single_scattering` every skin material's, and the reference's
+// exact physics sets exact Fresnel and the correct phase function. The other knobs act at
+// render time.
+io::Scene apply_quality(const io::Scene& scene, const io::Quality& q);
+
+// Sub-pixel offsets of `spp` = n x n stratified samples (stratum centres), in pixels from the
+// pixel centre, each coordinate in (-0.5, 0.5). Row-major, the order they are accumulated in.
+std::vector<glm::vec2> sample_offsets(int spp);
 
 // The planes of one rendered frame, row 0 at the top. Only the AOV asked for is filled.
 struct FrameImage {
@@ -51,6 +66,7 @@ class SceneRenderer {
   void render(int frame, FrameImage& out, FrameStats& stats, const io::Camera* camera = nullptr);
 
   int width() const { return width_; }
+  const io::Quality& quality() const { return quality_; }
   int height() const { return height_; }
   int frame_count() const;
   uint64_t base_triangles() const;
@@ -63,13 +79,17 @@ class SceneRenderer {
 
  private:
   struct Object;
-  const io::Scene& scene_;
+  io::Quality quality_;
+  io::Scene scene_;  // with the quality's overrides applied
   RenderSettings settings_;
   int width_, height_;
   raster::Renderer renderer_;
   std::vector<shading::Light> lights_;
   std::vector<std::unique_ptr<Object>> objects_;
   std::vector<raster::DrawCall> draws_;  // reused every frame
+  std::vector<glm::vec2> offsets_;       // sub-pixel sample offsets, one per pass
+  std::vector<float> sample_color_;      // one sample's image when spp > 1
+  std::vector<double> accum_;            // the sum of the samples' images
   void build(std::vector<io::SceneMesh> meshes);
   FrameStats setup_stats_;  // stages run by the constructor, reported once
   bool setup_reported_ = false;

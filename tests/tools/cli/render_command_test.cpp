@@ -225,6 +225,19 @@ TEST_F(RenderCommand, StatsListEveryRenderedFrame) {
   EXPECT_TRUE(fs::exists(dir.path() / "s/f_5.exr"));
 }
 
+// The quality flags reach the image: a preset, then a knob on top of it, change the pixels, and the
+// same flags give the same bytes.
+TEST_F(RenderCommand, QualityFlagsChangeTheImage) {
+  ASSERT_EQ(pelt({"-o", (dir.path() / "q/plain.png").string(), "--frame", "3"}).code, 0);
+  ASSERT_EQ(pelt({"-o", (dir.path() / "q/ss.png").string(), "--frame", "3", "--spp", "4"}).code, 0);
+  ASSERT_EQ(pelt({"-o", (dir.path() / "q/ss2.png").string(), "--frame", "3", "--quality", "default", "--spp", "4"}).code, 0);
+  const std::string plain = read_text(dir.path() / "q/plain.png");
+  const std::string ss = read_text(dir.path() / "q/ss.png");
+  EXPECT_FALSE(plain.empty());
+  EXPECT_NE(plain, ss);  // supersampled edges
+  EXPECT_EQ(ss, read_text(dir.path() / "q/ss2.png"));
+}
+
 struct BadOption {
   const char* name;
   std::vector<std::string> args;  // after `render SCENE`
@@ -266,7 +279,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadOption{"GifShard", {"-o", "OUT/a.gif", "--shard", "1/2"}, "--shard: a GIF is one file"},
         BadOption{"GifResume", {"-o", "OUT/a.gif", "--resume"}, "--resume: a GIF is written whole"},
         BadOption{"GifPattern", {"-o", "OUT/a_##.gif"}, "-o: a GIF holds every frame in one file"},
-        BadOption{"UnknownAov", {"-o", "OUT/f_#.png", "--aov", "normals"}, "--aov: unknown AOV"}),
+        BadOption{"UnknownAov", {"-o", "OUT/f_#.png", "--aov", "normals"}, "--aov: unknown AOV"},
+        BadOption{"UnknownPreset", {"-o", "OUT/a.png", "--frame", "0", "--quality", "ultra"}, "--quality: unknown preset `ultra`"},
+        BadOption{"SppNotSquare", {"-o", "OUT/a.png", "--frame", "0", "--spp", "3"}, "--spp: must be a square number"},
+        BadOption{"UnknownSort", {"-o", "OUT/a.png", "--frame", "0", "--sort", "depth"}, "--sort: unknown value `depth`"},
+        BadOption{"BadScattering", {"-o", "OUT/a.png", "--frame", "0", "--multiple-scattering", "dipole"},
+                  "--multiple-scattering: unknown value `dipole` (paper, normal_blur, reference)"},
+        BadOption{"SupersampledDepth", {"-o", "OUT/a.exr", "--frame", "0", "--aov", "depth", "--spp", "4"},
+                  "quality.spp: the depth and id AOVs are point-sampled"}),
     [](const ::testing::TestParamInfo<BadOption>& info) { return std::string(info.param.name); });
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/tools/io/mesh_checks.h"
+#include "tests/tools/io/base64.h"
 #include "tests/tools/io/temp_dir.h"
 #include "tools/io/input_error.h"
 
@@ -236,17 +237,7 @@ std::string tiny_gltf(float x0, uint16_t i2) {
   uint16_t idx[4] = {0, 1, i2, 0};
   std::string bytes(reinterpret_cast<const char*>(pos), sizeof pos);
   bytes.append(reinterpret_cast<const char*>(idx), sizeof idx);
-  static const char* b64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string enc;
-  for (size_t i = 0; i < bytes.size(); i += 3) {
-    uint32_t v = static_cast<uint8_t>(bytes[i]) << 16;
-    if (i + 1 < bytes.size()) v |= static_cast<uint8_t>(bytes[i + 1]) << 8;
-    if (i + 2 < bytes.size()) v |= static_cast<uint8_t>(bytes[i + 2]);
-    enc += b64[(v >> 18) & 63];
-    enc += b64[(v >> 12) & 63];
-    enc += i + 1 < bytes.size() ? b64[(v >> 6) & 63] : '=';
-    enc += i + 2 < bytes.size() ? b64[v & 63] : '=';
-  }
+  const std::string enc = base64(bytes);
   return R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],
   "nodes":[{"mesh":0,"translation":[10,0,0],"scale":[2,2,2]}],
   "meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],

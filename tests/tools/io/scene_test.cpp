@@ -184,6 +184,33 @@ TEST_F(SceneFixture, UnknownKeySuggestsTheNearest) {
   expect_error(edited("\"Eta\"", "\"eta\""), "objects[3].material.skin.eta", "did you mean `Eta`?");
 }
 
+TEST_F(SceneFixture, QualityBlockPresetThenKnobs) {
+  const auto file = write_scene(edited("\"animation\"", R"("quality": {"preset": "fast", "spp": 4, "sort": "exact",
+      "multiple_scattering": "reference", "precision": "double"}, "animation")"));
+  const Scene s = load_scene(file);
+  Quality want = *quality_preset("fast");
+  want.spp = 4;
+  want.sort = SortQuality::exact;
+  want.multiple_scattering = shading::MultipleScattering::reference;
+  want.precision = Precision::double_precision;
+  EXPECT_EQ(s.quality, want);
+  EXPECT_EQ(load_scene(write_scene(full_scene(data_dir()))).quality, Quality{});  // no block: defaults
+}
+
+TEST_F(SceneFixture, QualityBlockErrorsNameTheKnob) {
+  auto with = [&](const std::string& block) { return edited("\"animation\"", "\"quality\": " + block + ", \"animation\""); };
+  expect_error(with(R"({"spp": 3})"), "quality.spp", "must be a square number of samples from 1 to 64");
+  expect_error(with(R"({"spp": 81})"), "quality.spp", "must be a square number");
+  expect_error(with(R"({"shells": 1})"), "quality.shells", "must be an integer in [2, 128]");
+  expect_error(with(R"({"sort": "depth"})"), "quality.sort", "unknown value `depth` (none, layer, tile, exact)");
+  expect_error(with(R"({"filter": "anisotropic"})"), "quality.filter", "(nearest, bilinear, trilinear)");
+  expect_error(with(R"({"precision": "half"})"), "quality.precision", "(simd, double)");
+  expect_error(with(R"({"preset": "ultra"})"), "quality.preset", "unknown preset `ultra` (default, fast");
+  expect_error(with(R"({"sppp": 4})"), "quality.sppp", "did you mean `spp`?");
+  expect_error(with(R"({"spp": "4"})"), "quality.spp", "expected a number, got a string");
+  expect_error(with(R"({"fins": 1})"), "quality.fins", "expected a string");
+}
+
 TEST_F(SceneFixture, WrongType) {
   expect_error(edited("\"width\": 640", "\"width\": \"640\""), "image.width", "expected a number, got a string");
   expect_error(edited("\"double_sided\": true", "\"double_sided\": 1"), "objects[0].material.double_sided",

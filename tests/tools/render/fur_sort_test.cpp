@@ -12,32 +12,19 @@
 namespace pelt::render::test {
 namespace {
 
-std::vector<float> render_sorted(const io::Scene& scene, FurSort sort) {
-  RenderSettings rs;
-  rs.threads = 2;
-  rs.fur_sort = sort;
-  SceneRenderer r(scene, rs);
-  FrameImage img;
-  FrameStats st;
-  r.render(0, img, st);
-  return img.color;
-}
-
-double rmse(const std::vector<float>& a, const std::vector<float>& b) {
-  double sum = 0.0;
-  size_t n = 0;
-  for (size_t i = 0; i < a.size(); i += 4, ++n)
-    for (int c = 0; c < 3; ++c) sum += (a[i + c] - b[i + c]) * (a[i + c] - b[i + c]);
-  return std::sqrt(sum / (3.0 * n));
+std::vector<float> render_sorted(const io::Scene& scene, io::SortQuality sort) {
+  io::Quality q;
+  q.sort = sort;
+  return render_at(scene, q).color;
 }
 
 TEST(FurSort, EveryModeStaysCloseToTheExactPerPixelSort) {
   const io::Scene scene = io::parse_scene(furry_box_scene(R"("fins": "all", "gravity": {})"), "t.json");
-  const std::vector<float> exact = render_sorted(scene, FurSort::exact);
-  EXPECT_EQ(rmse(exact, render_sorted(scene, FurSort::exact)), 0.0);
-  const double none = rmse(render_sorted(scene, FurSort::none), exact);
-  const double layer = rmse(render_sorted(scene, FurSort::layer), exact);
-  const double tile = rmse(render_sorted(scene, FurSort::tile), exact);
+  const std::vector<float> exact = render_sorted(scene, io::SortQuality::exact);
+  EXPECT_EQ(image_rmse(exact, render_sorted(scene, io::SortQuality::exact)), 0.0);
+  const double none = image_rmse(render_sorted(scene, io::SortQuality::none), exact);
+  const double layer = image_rmse(render_sorted(scene, io::SortQuality::layer), exact);
+  const double tile = image_rmse(render_sorted(scene, io::SortQuality::tile), exact);
   std::printf("fur sort RMSE vs exact: none %.5f, layer %.5f, tile %.5f\n", none, layer, tile);
   // Measured on this scene (none 0.022, layer 0.0005, tile 0.004), bounded with headroom:
   // drawing each layer's fins right after its shell is nearly exact here.

@@ -1,7 +1,13 @@
 // Small scenes for the frame-pipeline tests, as JSON text.
 #pragma once
 
+#include <cmath>
 #include <string>
+#include <vector>
+
+#include "tools/io/quality.h"
+#include "tools/io/scene.h"
+#include "tools/render/scene_renderer.h"
 
 namespace pelt::render::test {
 
@@ -26,6 +32,27 @@ inline std::string bare_box_scene(int frames) {
   "animation": {"frames": )" +
          std::to_string(frames) + R"(, "fps": 24},
   "objects": [{"mesh": "box:3", "material": {"type": "lambert"}}]})";
+}
+
+// Frame 0 of `scene` at quality `q`.
+inline FrameImage render_at(const io::Scene& scene, const io::Quality& q, int threads = 2) {
+  RenderSettings rs;
+  rs.threads = threads;
+  rs.quality = q;
+  SceneRenderer r(scene, rs);
+  FrameImage img;
+  FrameStats st;
+  r.render(0, img, st);
+  return img;
+}
+
+// RMSE over the RGB channels of two RGBA float images of the same size.
+inline double image_rmse(const std::vector<float>& a, const std::vector<float>& b) {
+  double sum = 0.0;
+  size_t n = 0;
+  for (size_t i = 0; i + 3 < a.size() && i + 3 < b.size(); i += 4, ++n)
+    for (int c = 0; c < 3; ++c) sum += (double(a[i + c]) - b[i + c]) * (double(a[i + c]) - b[i + c]);
+  return n ? std::sqrt(sum / (3.0 * double(n))) : 0.0;
 }
 
 }  // namespace pelt::render::test

@@ -1,0 +1,262 @@
+// check_scene_budget, estimate_memory and check_memory_budget (tools/render/budget_check.h):
+// each limit refused with the field, both numbers and the flag; a request exactly at the
+// limit accepted; the estimate built from counts and headers only.
+#include "tools/render/budget_check.h"
+
+#include <atomic>
+#include <climits>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "tools/io/image_io.h"
+#include "tools/io/input_error.h"
+#include "tools/render/scene_renderer.h"
+
+namespace pelt::render {
+namespace {
+
+// A folder for the scene files (and colour maps) of one test, removed afterwards.
+class SceneDir {
+ public:
+  SceneDir() {
+    static std::atomic<int> counter{0};
+    path_ = std::filesystem::temp_directory_path() /
+            ("pelt_budget_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    std::filesystem::create_directories(path_);
+  }
+  ~SceneDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  const std::filesystem::path& path() const { return path_; }
+  io::Scene scene(const std::string& json) const { return io::parse_scene(json, path_ / "scene.json"); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// A bare sphere, then a furry box; the image 100 x 50.
+std::string two_objects(int shells = 16, int texture_size = 256, const std::string& extra = "") {
+  return R"({"pelt": 1, "image": {"width": 100, "height": 50},
+  "objects": [{"mesh": "sphere:8", "material": {"type": "lambert"}},
+              {"mesh": "box:2", "material": {"type": "lambert"},
+               "fur": {"shells": )" +
+         std::to_string(shells) + R"(, "texture_size": )" + std::to_string(texture_size) + "}}]" + extra + "}";
+}
+
+template <typename F>
+io::InputError refusal(F&& f) {
+  try {
+    f();
+  } catch (const io::InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "accepted";
+  return io::InputError("", "", "");
+}
+
+void expect_reason_has(const io::InputError& e, const std::vector<std::string>& parts) {
+  for (const std::string& p : parts) EXPECT_NE(e.reason.find(p), std::string::npos) << "`" << p << "` in " << e.what();
+}
+
+// --- check_scene_budget ---------------------------------------------------------------
+
+TEST(SceneBudget, ImagePixelsAtTheLimitAcceptedOneMoreRefused) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(two_objects());
+  io::Budget b;
+  b.max_pixels = 5000;
+  EXPECT_NO_THROW(check_scene_budget(s, 0, 0, 1, b));      // the scene's 100 x 50
+  EXPECT_NO_THROW(check_scene_budget(s, 200, 25, 1, b));   // an override of the same size
+  const io::InputError e = refusal([&] { check_scene_budget(s, 201, 25, 1, b); });
+  EXPECT_EQ(e.file, (dir.path() / "scene.json").string());
+  EXPECT_EQ(e.field, "image.width");
+  expect_reason_has(e, {"201 x 25 = 5025 pixels", "more than the budget of 5000 pixels", "--max-pixels"});
+  b.max_pixels = 4999;
+  expect_reason_has(refusal([&] { check_scene_budget(s, 0, 0, 1, b); }), {"100 x 50 = 5000 pixels"});
+}
+
+TEST(SceneBudget, ImageBuffersAgainstTheMemoryBudget) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(two_objects());
+  EXPECT_EQ(image_bytes(100, 50, 1), 5000u * 20);       // float RGBA and the 8-bit file
+  EXPECT_EQ(image_bytes(100, 50, 4), 5000u * (20 + 48));  // plus a sample image and a double sum
+  io::Budget b;
+  b.max_memory_bytes = image_bytes(100, 50, 1);
+  EXPECT_NO_THROW(check_scene_budget(s, 0, 0, 1, b));
+  // Only the supersampling buffers make it too large: the spp is named.
+  io::InputError e = refusal([&] { check_scene_budget(s, 0, 0, 4, b); });
+  EXPECT_EQ(e.field, "quality.spp");
+  expect_reason_has(e, {"4 samples per pixel", describe_bytes(image_bytes(100, 50, 4)),
+                        describe_bytes(b.max_memory_bytes), "--max-memory"});
+  b.max_memory_bytes -= 1;
+  e = refusal([&] { check_scene_budget(s, 0, 0, 1, b); });
+  EXPECT_EQ(e.field, "image.width");
+}
+
+TEST(SceneBudget, ShellsAtTheLimitAcceptedOneLessRefused) {
+  SceneDir dir;
+  io::Scene s = dir.scene(two_objects(16));
+  io::Budget b;
+  b.max_shells = 16;
+  EXPECT_NO_THROW(check_scene_budget(s, 0, 0, 1, b));
+  b.max_shells = 15;
+  io::InputError e = refusal([&] { check_scene_budget(s, 0, 0, 1, b); });
+  EXPECT_EQ(e.field, "objects[1].fur.shells");
+  expect_reason_has(e, {"16 fur shells", "more than the budget of 15", "--max-shells"});
+  // A quality override sets every fur block's shells: it is what is judged, and named.
+  s.quality.shells = 8;
+  EXPECT_NO_THROW(check_scene_budget(s, 0, 0, 1, b));
+  s.quality.shells = 64;
+  e = refusal([&] { check_scene_budget(s, 0, 0, 1, b); });
+  EXPECT_EQ(e.field, "quality.shells");
+  expect_reason_has(e, {"64 fur shells"});
+}
+
+TEST(SceneBudget, FurTextureSizeAtTheLimitAcceptedOneLessRefused) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(two_objects(16, 512));
+  io::Budget b;
+  b.max_texture_side = 512;
+  EXPECT_NO_THROW(check_scene_budget(s, 0, 0, 1, b));
+  b.max_texture_side = 511;
+  const io::InputError e = refusal([&] { check_scene_budget(s, 0, 0, 1, b); });
+  EXPECT_EQ(e.field, "objects[1].fur.texture_size");
+  expect_reason_has(e, {"512 x 512 texels", "more than the budget of 511", "--max-texture-side"});
+}
+
+TEST(SceneBudget, DefaultBudgetAcceptsTheShippedScale) {
+  SceneDir dir;
+  EXPECT_NO_THROW(check_scene_budget(dir.scene(two_objects(128, 4096)), 8192, 8192, 1, io::Budget{}));
+}
+
+// --- estimate_memory ------------------------------------------------------------------
+
+uint64_t mipmapped(uint64_t texels) { return texels * 16 / 3 + 4; }
+
+TEST(MemoryEstimate, PartsFollowTheCounts) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(two_objects(16, 256));
+  const auto meshes = io::load_scene_meshes(s);
+  const MemoryEstimate e = estimate_memory(s, meshes, 0, 0, 2, 1);
+  ASSERT_EQ(e.parts.size(), 6u);  // sphere mesh; box mesh, fur geometry, fur textures; image; scratch
+  EXPECT_EQ(e.parts[0].field, "objects[0].mesh");
+  EXPECT_EQ(e.parts[1].field, "objects[1].mesh");
+  EXPECT_EQ(e.parts[2].field, "objects[1].fur.shells");
+  EXPECT_EQ(e.parts[3].field, "objects[1].fur.texture_size");
+  EXPECT_EQ(e.parts[4].field, "image.width");
+  EXPECT_EQ(e.parts[5].field, "--threads");
+
+  // Mesh: positions and normals, uvs, 8 varyings a vertex; three indices a triangle.
+  const Mesh& box = meshes[1].loaded.mesh;
+  EXPECT_EQ(e.parts[1].bytes, box.positions.size() * (24 + 8 + 32) + box.triangle_count() * 12);
+  // Strand textures: 16 shells and the fin texture, mipmapped plus the unmipped source.
+  EXPECT_EQ(e.parts[3].bytes, 17 * (mipmapped(256 * 256) + 256 * 256 * 4));
+  EXPECT_EQ(e.parts[4].bytes, image_bytes(100, 50, 1));
+  const MemoryEstimate four = estimate_memory(s, meshes, 0, 0, 4, 1);
+  EXPECT_EQ(four.parts[5].bytes, 2 * e.parts[5].bytes);
+
+  uint64_t sum = 0;
+  for (const MemoryPart& p : e.parts) sum += p.bytes;
+  EXPECT_EQ(e.total, sum);
+  EXPECT_EQ(&e.largest(), &e.parts[3]);
+
+  // More shells: more fur geometry and textures, nothing else changes.
+  const io::Scene s32 = dir.scene(two_objects(32, 256));
+  const MemoryEstimate e32 = estimate_memory(s32, meshes, 0, 0, 2, 1);
+  EXPECT_GT(e32.parts[2].bytes, e.parts[2].bytes * 19 / 10);
+  EXPECT_EQ(e32.parts[3].bytes, 33 * (mipmapped(256 * 256) + 256 * 256 * 4));
+  EXPECT_EQ(e32.parts[1].bytes, e.parts[1].bytes);
+}
+
+// The estimate is judged against what SceneRenderer actually holds once built: never
+// below it (the estimate counts the peak, with transient buffers), and not wildly above.
+TEST(MemoryEstimate, BoundsWhatTheRendererHolds) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(two_objects(16, 128));
+  const auto meshes = io::load_scene_meshes(s);
+  const MemoryEstimate e = estimate_memory(s, meshes, 0, 0, 1, 1);
+  RenderSettings rs;
+  rs.threads = 1;
+  const SceneRenderer r(s, meshes, rs);
+  const uint64_t held = r.memory_estimate();
+  EXPECT_GE(e.total, held);
+  EXPECT_LE(e.total, held * 5 / 2);
+}
+
+TEST(MemoryEstimate, ColourMapSizedFromItsHeader) {
+  SceneDir dir;
+  std::vector<uint8_t> px(64 * 32 * 3, 200);
+  io::write_image_atomic(dir.path() / "map.png", 64, 32, 3, io::PixelType::u8, px.data());
+  const io::Scene s = dir.scene(R"({"pelt": 1, "image": {"width": 10, "height": 10},
+      "objects": [{"mesh": "plane:1", "material": {"type": "lambert", "color_map": "map.png"}}]})");
+  const auto meshes = io::load_scene_meshes(s);
+  const MemoryEstimate e = estimate_memory(s, meshes, 0, 0, 1, 1);
+  ASSERT_EQ(e.parts.size(), 4u);
+  EXPECT_EQ(e.parts[1].field, "objects[0].material.color_map");
+  // Float RGBA as read, the file's 3 bytes a texel, the mipmapped 8-bit texture.
+  EXPECT_EQ(e.parts[1].bytes, 2048u * (16 + 3) + mipmapped(2048));
+  EXPECT_NE(e.parts[1].what.find("64 x 32"), std::string::npos) << e.parts[1].what;
+}
+
+TEST(MemoryEstimate, SaturatesInsteadOfWrapping) {
+  EXPECT_EQ(image_bytes(INT_MAX, INT_MAX, 64), UINT64_MAX);  // 68 bytes x 4.6e18 pixels
+  EXPECT_EQ(io::sat_mul(uint64_t{1} << 40, uint64_t{1} << 30), UINT64_MAX);
+  EXPECT_EQ(io::sat_add(UINT64_MAX - 1, 5), UINT64_MAX);
+  EXPECT_EQ(describe_bytes(uint64_t{8} << 30), "8589934592 bytes (8.0 GiB)");
+  EXPECT_EQ(describe_bytes(1536), "1536 bytes (1.5 KiB)");
+}
+
+// --- check_memory_budget --------------------------------------------------------------
+
+TEST(MemoryBudget, EstimateAtTheLimitAcceptedOneLessRefusedNamingTheLargestPart) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(two_objects(16, 256));
+  const auto meshes = io::load_scene_meshes(s);
+  const MemoryEstimate e = estimate_memory(s, meshes, 0, 0, 2, 1);
+  io::Budget b;
+  b.max_memory_bytes = e.total;
+  EXPECT_NO_THROW(check_memory_budget(s, meshes, 0, 0, 2, b));
+  b.max_memory_bytes = e.total - 1;
+  const io::InputError err = refusal([&] { check_memory_budget(s, meshes, 0, 0, 2, b); });
+  EXPECT_EQ(err.file, (dir.path() / "scene.json").string());
+  EXPECT_EQ(err.field, "objects[1].fur.texture_size");
+  expect_reason_has(err, {describe_bytes(e.total), describe_bytes(e.total - 1), "--max-memory",
+                          "fur strand textures, 17 layers of 256^2"});
+}
+
+// 64 shells of 4096^2 strand textures are over 10 GiB: refused by the default budget from
+// counts alone (building them would allocate it all first).
+TEST(MemoryBudget, HeavyFurRefusedByTheDefaultBudget) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(two_objects(64, 4096));
+  const auto meshes = io::load_scene_meshes(s);
+  EXPECT_NO_THROW(check_scene_budget(s, 0, 0, 1, io::Budget{}));  // each request alone is allowed
+  const io::InputError err = refusal([&] { check_memory_budget(s, meshes, 0, 0, 1, io::Budget{}); });
+  EXPECT_EQ(err.field, "objects[1].fur.texture_size");
+  expect_reason_has(err, {"8589934592 bytes (8.0 GiB)", "--max-memory", "65 layers of 4096^2"});
+}
+
+TEST(MemoryBudget, SppFromTheSceneQualityOrGiven) {
+  SceneDir dir;
+  io::Scene s = dir.scene(two_objects(16, 64));
+  const auto meshes = io::load_scene_meshes(s);
+  const uint64_t one = estimate_memory(s, meshes, 0, 0, 1, 1).total;
+  const uint64_t four = estimate_memory(s, meshes, 0, 0, 1, 4).total;
+  EXPECT_EQ(four - one, image_bytes(100, 50, 4) - image_bytes(100, 50, 1));
+  io::Budget b;
+  b.max_memory_bytes = one;
+  EXPECT_NO_THROW(check_memory_budget(s, meshes, 0, 0, 1, b));
+  EXPECT_THROW(check_memory_budget(s, meshes, 0, 0, 1, 4, b), io::InputError);
+  s.quality.spp = 4;
+  EXPECT_THROW(check_memory_budget(s, meshes, 0, 0, 1, b), io::InputError);
+}
+
+}  // namespace
+}  // namespace pelt::render

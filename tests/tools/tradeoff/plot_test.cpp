@@ -1,0 +1,99 @@
+// The plot: the embedded script draws a PNG from a CSV with Debian's python3-matplotlib
+// (a project dependency), and a missing interpreter or module is reported, not thrown,
+// leaving no file behind.
+#include "tools/tradeoff/plot.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include "tests/tools/io/temp_dir.h"
+#include "tools/tradeoff/plot_script.h"
+#include "tools/tradeoff/report.h"
+
+namespace pelt::tradeoff {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A CSV like pelt tradeoff's: a reference with rmse 0, a knob row equal to the default,
+// presets, and points sharing a position.
+std::string sample_csv() {
+  std::ostringstream s;
+  s << kCsvHeader << "\n"
+    << "reference,reference,900.5,0,inf,0,0\n"
+    << "default,scene,10.2,0.02,33.98,0.3,0.2\n"
+    << "sort,none,8.1,0.05,26.02,0.6,0.4\n"
+    << "sort,tile,10.2,0.02,33.98,0.3,0.2\n"
+    << "spp,16,150.0,0.004,47.96,0.1,0.02\n"
+    << "preset,fast,5.0,0.08,21.94,0.7,0.5\n";
+  return s.str();
+}
+
+size_t files_in(const fs::path& dir) {
+  size_t n = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++n;
+  return n;
+}
+
+TEST(TradeoffPlot, ScriptIsEmbeddedByteForByte) {
+  const char* src = std::getenv("PELT_SOURCE_DIR");
+  ASSERT_NE(src, nullptr);
+  std::ifstream f(fs::path(src) / "tools" / "tradeoff" / "plot_tradeoff.py", std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  EXPECT_EQ(io::embedded::plot_tradeoff_py(), s.str());
+}
+
+TEST(TradeoffPlot, DrawsAPngFromTheCsv) {
+  io::TempDir dir;
+  const fs::path csv = dir.write("tradeoff.csv", sample_csv());
+  const fs::path png = dir.path() / "tradeoff.png";
+  const PlotOutcome r = make_plot(csv, png, "test plot", {true, false, false, false, true, true});
+  ASSERT_TRUE(r.made) << r.problem;
+  auto in = OIIO::ImageInput::open(png.string());
+  ASSERT_TRUE(in) << OIIO::geterror();
+  EXPECT_EQ(std::string(in->format_name()), "png");
+  EXPECT_GT(in->spec().width, 300);
+  EXPECT_GT(in->spec().height, 200);
+  EXPECT_EQ(files_in(dir.path()), 2u);  // the CSV and the PNG: no temporary left
+}
+
+TEST(TradeoffPlot, MissingInterpreterIsReportedAndLeavesNoFile) {
+  io::TempDir dir;
+  const fs::path csv = dir.write("tradeoff.csv", sample_csv());
+  const fs::path png = dir.path() / "tradeoff.png";
+  const PlotOutcome r = make_plot(csv, png, "t", {true}, (dir.path() / "no-such-python3").string());
+  EXPECT_FALSE(r.made);
+  EXPECT_NE(r.problem.find("no-such-python3"), std::string::npos) << r.problem;
+  EXPECT_EQ(files_in(dir.path()), 1u);
+}
+
+TEST(TradeoffPlot, MissingMatplotlibIsNamed) {
+  io::TempDir dir;
+  const fs::path csv = dir.write("tradeoff.csv", sample_csv());
+  // An "interpreter" that behaves like the script does when `import matplotlib` fails.
+  const fs::path fake = dir.write("python3", "#!/bin/sh\nexit 3\n");
+  ::chmod(fake.c_str(), 0755);
+  const PlotOutcome r = make_plot(csv, dir.path() / "tradeoff.png", "t", {true}, fake.string());
+  EXPECT_FALSE(r.made);
+  EXPECT_NE(r.problem.find("matplotlib is missing"), std::string::npos) << r.problem;
+  EXPECT_NE(r.problem.find("python3-matplotlib"), std::string::npos) << r.problem;
+  EXPECT_FALSE(fs::exists(dir.path() / "tradeoff.png"));
+}
+
+TEST(TradeoffPlot, ABadCsvFailsTheScriptWithoutAFile) {
+  io::TempDir dir;
+  const fs::path csv = dir.write("tradeoff.csv", "knob,setting,ms_median\nsort,none,fast\n");
+  const PlotOutcome r = make_plot(csv, dir.path() / "tradeoff.png", "t", {true});
+  EXPECT_FALSE(r.made);
+  EXPECT_NE(r.problem.find("exit code 4"), std::string::npos) << r.problem;
+  EXPECT_FALSE(fs::exists(dir.path() / "tradeoff.png"));
+}
+
+}  // namespace
+}  // namespace pelt::tradeoff

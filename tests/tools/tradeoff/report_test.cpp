@@ -1,0 +1,93 @@
+// The report writers: the CSV's exact header and row format, the markdown table's columns
+// and Pareto flags, and the timing summary.
+#include "tools/tradeoff/report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace pelt::tradeoff {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::vector<Row> sample_rows() {
+  Row ref{"reference", "reference", summarize(std::vector<double>{1234.5678}, false), {0, kInf, 0, 0}, "", false};
+  Row sort{"sort", "none", summarize(std::vector<double>{12.0, 13.5, 12.25, 14.0, 12.5}),
+           {0.0123456789, 38.17, 0.25, 0.125}, "", false};
+  Row fast{"preset", "fast", summarize(std::vector<double>{3.0, 3.5, 2.5, 3.25, 3.125}),
+           {0.05, 26.0206, 0.5, 0.75}, "", true};
+  Row again{"spp", "1", sort.time, sort.error, "default=scene", false};
+  return {ref, sort, fast, again};
+}
+
+TEST(TradeoffReport, SummarizeGivesMedianMinMax) {
+  const Timing odd = summarize(std::vector<double>{5, 1, 4, 2, 3});
+  EXPECT_EQ(odd.median, 3);
+  EXPECT_EQ(odd.min, 1);
+  EXPECT_EQ(odd.max, 5);
+  EXPECT_EQ(odd.runs, 5);
+  EXPECT_TRUE(odd.warmed_up);
+  const Timing even = summarize(std::vector<double>{4, 1, 3, 2}, false);
+  EXPECT_EQ(even.median, 2.5);
+  EXPECT_FALSE(even.warmed_up);
+  EXPECT_THROW(summarize(std::vector<double>{}), std::invalid_argument);
+}
+
+TEST(TradeoffReport, CsvHeaderAndRowsExactly) {
+  std::ostringstream out;
+  write_csv(out, sample_rows());
+  EXPECT_EQ(out.str(),
+            "knob,setting,ms_median,rmse,psnr_db,max_abs,share_over_1_255\n"
+            "reference,reference,1234.568,0,inf,0,0\n"
+            "sort,none,12.500,0.0123457,38.17,0.25,0.125\n"
+            "preset,fast,3.125,0.05,26.0206,0.5,0.75\n"
+            "spp,1,12.500,0.0123457,38.17,0.25,0.125\n");
+}
+
+TEST(TradeoffReport, CsvFieldsAreQuotedOnlyWhenNeeded) {
+  EXPECT_EQ(csv_field("normal_blur"), "normal_blur");
+  EXPECT_EQ(csv_field("a,b"), "\"a,b\"");
+  EXPECT_EQ(csv_field("say \"hi\""), "\"say \"\"hi\"\"\"");
+  EXPECT_EQ(csv_field("two\nlines"), "\"two\nlines\"");
+}
+
+TEST(TradeoffReport, NumbersSpellOutInfinityAndNan) {
+  EXPECT_EQ(format_number(kInf, 6), "inf");
+  EXPECT_EQ(format_number(-kInf, 6), "-inf");
+  EXPECT_EQ(format_number(std::nan(""), 6), "nan");
+  EXPECT_EQ(format_number(0.000123456789, 4), "0.0001235");
+  EXPECT_EQ(format_ms(1234.5678, false), "1234.568");
+  EXPECT_EQ(format_ms(1234.5678, true), "1235");
+  EXPECT_EQ(format_ms(12.345, true), "12.3");
+  EXPECT_EQ(format_ms(1.2345, true), "1.23");
+}
+
+TEST(TradeoffReport, MarkdownTableHasTheColumnsSpreadAndParetoFlags) {
+  const std::vector<Row> rows = sample_rows();
+  const std::string t = markdown_table(rows, {true, false, true, false});
+  std::istringstream in(t);
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  ASSERT_EQ(lines.size(), 2 + rows.size());
+  EXPECT_EQ(lines[0],
+            "| knob | setting | ms_median | rmse | psnr_db | max_abs | share_over_1_255 | runs (min-max ms) | pareto |");
+  EXPECT_EQ(lines[2], "| reference | reference | 1235 | 0 | inf | 0 | 0 | 1 run, no warm-up | yes |");
+  EXPECT_EQ(lines[3], "| sort | none | 12.5 | 0.01235 | 38.17 | 0.25 | 0.125 | 5 runs (12.0-14.0) | no |");
+  EXPECT_EQ(lines[4], "| preset | fast | 3.12 | 0.05 | 26.02 | 0.5 | 0.75 | 5 runs (2.50-3.50) | yes |");
+  EXPECT_NE(lines[5].find("same settings as default=scene"), std::string::npos) << lines[5];
+  // Every line has the same number of cells.
+  for (const std::string& l : lines) EXPECT_EQ(std::count(l.begin(), l.end(), '|'), 10) << l;
+}
+
+TEST(TradeoffReport, MarkdownTableRefusesMismatchedFlags) {
+  EXPECT_THROW(markdown_table(sample_rows(), {true}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace pelt::tradeoff

@@ -1,0 +1,78 @@
+#include "tools/cli/budget_options.h"
+
+#include <cctype>
+#include <climits>
+#include <type_traits>
+
+#include "tools/io/input_error.h"
+
+namespace pelt::cli {
+namespace {
+
+// One flag whose value lands in a uint64_t or int member of the budget.
+template <typename T>
+void add_flag(CLI::App& sub, const char* flag, T& target, bool bytes, const std::string& help) {
+  sub.add_option_function<std::string>(
+         flag,
+         [flag, &target, bytes](const std::string& text) {
+           const uint64_t max = std::is_same_v<T, int> ? uint64_t(INT_MAX) : UINT64_MAX;
+           try {
+             target = static_cast<T>(parse_budget_value(text, flag, max, bytes));
+           } catch (const io::InputError& e) {
+             throw CLI::ValidationError(flag, e.reason);
+           }
+         },
+         help + " (default " + std::to_string(target) + ")")
+      ->type_name(bytes ? "BYTES" : "N");
+}
+
+}  // namespace
+
+uint64_t parse_budget_value(std::string_view text, const std::string& flag, uint64_t max, bool bytes) {
+  const std::string quoted = "`" + std::string(text) + "`";
+  const std::string form = bytes ? "a byte count such as 1500000, 512M or 8G" : "a whole number such as 4096 or 64M";
+  size_t i = 0;
+  uint64_t value = 0;
+  while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]))) {
+    const uint64_t digit = uint64_t(text[i] - '0');
+    if (value > (UINT64_MAX - digit) / 10) throw io::InputError("", flag, quoted + " is too large");
+    value = value * 10 + digit;
+    ++i;
+  }
+  if (i == 0) throw io::InputError("", flag, "expected " + form + ", got " + quoted);
+  int shift = 0;
+  if (i < text.size()) {
+    switch (std::toupper(static_cast<unsigned char>(text[i]))) {
+      case 'K': shift = 10; break;
+      case 'M': shift = 20; break;
+      case 'G': shift = 30; break;
+      case 'T': shift = 40; break;
+      default: break;
+    }
+    if (shift) ++i;
+  }
+  std::string_view rest = text.substr(i);
+  if (bytes && shift && (rest == "iB" || rest == "ib")) rest = {};
+  if (bytes && (rest == "B" || rest == "b")) rest = {};
+  if (!rest.empty())
+    throw io::InputError("", flag, "expected " + form + " (suffixes K, M, G, T are powers of 1024), got " + quoted);
+  if (value > (UINT64_MAX >> shift)) throw io::InputError("", flag, quoted + " is too large");
+  value <<= shift;
+  if (value == 0) throw io::InputError("", flag, "must be at least 1, got " + quoted);
+  if (value > max)
+    throw io::InputError("", flag, quoted + " is " + std::to_string(value) + ", more than the largest accepted value " +
+                                       std::to_string(max));
+  return value;
+}
+
+void add_budget_options(CLI::App& sub, io::Budget& b) {
+  add_flag(sub, io::kMaxPixelsFlag, b.max_pixels, false, "Largest image, width x height pixels");
+  add_flag(sub, io::kMaxTextureSideFlag, b.max_texture_side, false,
+           "Largest colour map or fur strand texture side, texels");
+  add_flag(sub, io::kMaxShellsFlag, b.max_shells, false, "Most fur shells per object");
+  add_flag(sub, io::kMaxFacesFlag, b.max_faces, false, "Most triangles per mesh");
+  add_flag(sub, io::kMaxMemoryFlag, b.max_memory_bytes, true,
+           "Largest estimated memory for one render, bytes (K, M, G, T: powers of 1024)");
+}
+
+}  // namespace pelt::cli

@@ -1,0 +1,47 @@
+#include "tools/cli/quality_options.h"
+
+#include "tools/io/input_error.h"
+
+namespace pelt::cli {
+namespace {
+
+// `multiple_scattering` is spelled `--multiple-scattering` on the command line.
+std::string flag_of(std::string_view knob) {
+  std::string f = "--" + std::string(knob);
+  for (char& c : f)
+    if (c == '_') c = '-';
+  return f;
+}
+
+}  // namespace
+
+void add_quality_options(CLI::App& sub, QualityFlags& flags) {
+  std::string presets;
+  for (std::string_view n : io::quality_preset_names()) presets += (presets.empty() ? "" : " | ") + std::string(n);
+  sub.add_option("--quality", flags.preset, "Quality preset: " + presets + " (default: the scene's `quality`)");
+  for (size_t k = 0; k < std::size(io::kKnobs); ++k) {
+    std::string choices;
+    for (const std::string& v : io::knob_sweep(io::kKnobs[k])) choices += (choices.empty() ? "" : " | ") + v;
+    sub.add_option(flag_of(io::kKnobs[k]), flags.values[k], "Quality knob, e.g. " + choices);
+  }
+}
+
+io::Quality resolve_quality(const io::Scene& scene, const QualityFlags& flags) {
+  io::Quality q = scene.quality;
+  if (!flags.preset.empty()) {
+    const auto p = io::quality_preset(flags.preset);
+    if (!p) {
+      std::string names;
+      for (std::string_view n : io::quality_preset_names()) names += (names.empty() ? "" : ", ") + std::string(n);
+      throw io::InputError("", "--quality", "unknown preset `" + flags.preset + "` (" + names + ")");
+    }
+    q = *p;
+  }
+  for (size_t k = 0; k < std::size(io::kKnobs); ++k) {
+    if (flags.values[k].empty()) continue;
+    if (auto e = io::set_knob(q, io::kKnobs[k], flags.values[k])) throw io::InputError("", flag_of(io::kKnobs[k]), *e);
+  }
+  return q;
+}
+
+}  // namespace pelt::cli

@@ -1,0 +1,228 @@
+// `pelt tradeoff SCENE.json`: what each quality knob costs in time and buys in accuracy.
+// Renders the reference once, then every knob's settings one at a time on top of the
+// scene's own quality, then the presets; times each frame, measures its error against the
+// reference and writes a CSV, a markdown table and a plot of error against time.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <unistd.h>
+
+#include "tools/cli/budget_options.h"
+#include "tools/cli/commands.h"
+#include "tools/io/image_io.h"
+#include "tools/io/input_error.h"
+#include "tools/io/scene.h"
+#include "tools/render/scene_renderer.h"
+#include "tools/tradeoff/image_compare.h"
+#include "tools/tradeoff/pareto.h"
+#include "tools/tradeoff/plot.h"
+#include "tools/tradeoff/report.h"
+#include "tools/tradeoff/sweep.h"
+
+namespace pelt::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TradeoffOptions {
+  std::string scene;
+  std::string output;  // empty: out/tradeoff/<scene file stem>
+  int runs = 5;
+  int threads = 0;
+  int width = 0, height = 0;
+  std::string knobs;  // --knobs
+  bool knobs_given = false;  // false: every knob of io::kKnobs
+  bool no_plot = false;
+  bool images = false;
+  io::Budget budget;
+};
+
+// One setting's measurement: its timed runs and the image it made.
+struct Measured {
+  tradeoff::Timing time;
+  tradeoff::DisplayImage image;
+};
+
+// The reference is slow (64 samples a pixel in double precision): one timed frame, the
+// first, is enough to place it on the plot.
+Measured measure(const io::Scene& scene, const io::Quality& q, const io::Budget& budget, int threads, int width,
+                 int height, int runs, bool warm_up) {
+  render::RenderSettings rs;
+  rs.budget = budget;
+  rs.width = width;
+  rs.height = height;
+  rs.threads = threads;
+  rs.quality = q;
+  render::SceneRenderer renderer(scene, rs);
+  render::FrameImage img;
+  render::FrameStats stats;
+  if (warm_up) renderer.render(0, img, stats);
+  std::vector<double> ms;
+  for (int i = 0; i < runs; ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    renderer.render(0, img, stats);
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
+  return {tradeoff::summarize(ms, warm_up), tradeoff::to_display(img.width, img.height, img.color)};
+}
+
+// Writes `text` to `path` through a temporary renamed into place, like the images.
+void write_text_atomic(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.parent_path() / ("." + path.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f << text;
+    if (!f) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw io::InputError(path.string(), "-o", "cannot write the file");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw io::InputError(path.string(), "-o", "cannot move the file into place: " + ec.message());
+  }
+}
+
+std::string label(const tradeoff::Setting& s) { return s.knob + "=" + s.setting; }
+
+int run_tradeoff(const TradeoffOptions& o) {
+  // Everything that can be refused is checked before the first render and the first file.
+  const std::vector<std::string> knobs = o.knobs_given ? tradeoff::parse_knob_list(o.knobs)
+                                                       : std::vector<std::string>(std::begin(io::kKnobs),
+                                                                                  std::end(io::kKnobs));
+  const io::Scene scene = io::load_scene(o.scene);
+  const fs::path dir = o.output.empty() ? fs::path("out") / "tradeoff" / fs::path(o.scene).stem() : fs::path(o.output);
+  if (fs::exists(dir) && !fs::is_directory(dir))
+    throw io::InputError(dir.string(), "-o", "exists and is not a folder");
+  const int threads = o.threads > 0 ? o.threads : std::max(1, int(std::thread::hardware_concurrency()));
+  const std::vector<tradeoff::Setting> plan = tradeoff::plan_sweep(scene.quality, knobs);
+
+  std::vector<tradeoff::Row> rows;
+  std::vector<tradeoff::DisplayImage> images;  // per row, kept only with --images
+  tradeoff::DisplayImage reference;
+  int rendered = 0;
+  const int to_render = int(std::count_if(plan.begin(), plan.end(), [](const auto& s) { return !s.same_as; }));
+  for (size_t i = 0; i < plan.size(); ++i) {
+    const tradeoff::Setting& s = plan[i];
+    tradeoff::Row row;
+    row.knob = s.knob;
+    row.setting = s.setting;
+    row.preset = s.knob == tradeoff::kPresetKnob;
+    if (s.same_as) {
+      const tradeoff::Row& earlier = rows[*s.same_as];
+      row.time = earlier.time;
+      row.error = earlier.error;
+      row.same_as = earlier.knob + "=" + earlier.setting;
+      std::fprintf(stderr, "pelt tradeoff: %s: same settings as %s, measurement reused\n", label(s).c_str(),
+                   row.same_as.c_str());
+      if (o.images) images.push_back(images[*s.same_as]);
+    } else {
+      const bool is_reference = i == 0;
+      std::fprintf(stderr, "pelt tradeoff: [%d/%d] %s (%s)...\n", ++rendered, to_render, label(s).c_str(),
+                   io::describe(s.quality).c_str());
+      Measured m = measure(scene, s.quality, o.budget, threads, o.width, o.height, is_reference ? 1 : o.runs, !is_reference);
+      if (is_reference) reference = m.image;
+      row.time = m.time;
+      row.error = tradeoff::compare(m.image, reference);
+      std::fprintf(stderr, "pelt tradeoff:        %s ms median, rmse %s, psnr %s dB\n",
+                   tradeoff::format_ms(row.time.median, true).c_str(),
+                   tradeoff::format_number(row.error.rmse, 4).c_str(),
+                   tradeoff::format_number(row.error.psnr_db, 4).c_str());
+      if (o.images) images.push_back(std::move(m.image));
+    }
+    rows.push_back(std::move(row));
+  }
+
+  std::vector<tradeoff::CostPoint> points;
+  for (const tradeoff::Row& r : rows) points.push_back({r.time.median, r.error.rmse});
+  const std::vector<bool> front = tradeoff::pareto_front(points);
+
+  std::ostringstream csv;
+  tradeoff::write_csv(csv, rows);
+  const std::string table = tradeoff::markdown_table(rows, front);
+  char about[512];
+  std::snprintf(about, sizeof about,
+                "`pelt tradeoff %s`: %dx%d, %d thread(s); each row is the median of %d timed frames after one "
+                "warm-up frame, except the reference: one timed frame, its first, no warm-up. Error against the "
+                "reference on the 8-bit sRGB RGB image `pelt render` writes. `pareto` = no other row is both "
+                "faster and closer.\n\n",
+                fs::path(o.scene).filename().string().c_str(), reference.width, reference.height, threads, o.runs);
+  const std::string markdown = std::string(about) + table;
+
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw io::InputError(dir.string(), "-o", "cannot create the folder: " + ec.message());
+  write_text_atomic(dir / "tradeoff.csv", csv.str());
+  write_text_atomic(dir / "tradeoff.md", markdown);
+  if (o.images) {
+    fs::create_directories(dir / "images", ec);
+    if (ec) throw io::InputError((dir / "images").string(), "--images", "cannot create the folder: " + ec.message());
+    for (size_t i = 0; i < rows.size(); ++i)
+      io::write_image_atomic(dir / "images" / (rows[i].knob + "_" + rows[i].setting + ".png"), images[i].width,
+                             images[i].height, 4, io::PixelType::u8, images[i].rgba.data());
+  }
+  std::fwrite(table.data(), 1, table.size(), stdout);
+  std::fflush(stdout);
+
+  if (o.no_plot) {
+    std::fprintf(stderr, "pelt tradeoff: wrote %s and %s (no plot: --no-plot)\n",
+                 (dir / "tradeoff.csv").string().c_str(), (dir / "tradeoff.md").string().c_str());
+    return 0;
+  }
+  const tradeoff::PlotOutcome plot =
+      tradeoff::make_plot(dir / "tradeoff.csv", dir / "tradeoff.png",
+                          "pelt tradeoff " + fs::path(o.scene).filename().string() + " (" +
+                              std::to_string(reference.width) + "x" + std::to_string(reference.height) + ", " +
+                              std::to_string(threads) + " thread(s))",
+                          front);
+  if (!plot.made) {
+    std::fprintf(stderr,
+                 "pelt: error: plot: %s; %s and %s were written, the plot was not made (or pass --no-plot)\n",
+                 plot.problem.c_str(), (dir / "tradeoff.csv").string().c_str(),
+                 (dir / "tradeoff.md").string().c_str());
+    return 2;
+  }
+  std::fprintf(stderr, "pelt tradeoff: wrote %s, %s and %s\n", (dir / "tradeoff.csv").string().c_str(),
+               (dir / "tradeoff.md").string().c_str(), (dir / "tradeoff.png").string().c_str());
+  return 0;
+}
+
+}  // namespace
+
+Run add_tradeoff_command(CLI::App& app) {
+  auto o = std::make_shared<TradeoffOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "tradeoff", "Measure what each quality knob costs in time and error against the reference renderer");
+  sub->add_option("scene", o->scene, "Scene file (JSON, version 1); its `quality` block is the default row")
+      ->required();
+  sub->add_option("-o,--output", o->output, "Output folder (default: out/tradeoff/<scene file stem>)");
+  sub->add_option("--runs", o->runs, "Timed frames per setting after one warm-up (at least 5)")
+      ->check(CLI::Range(5, 1000));
+  sub->add_option("--threads", o->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 256));
+  sub->add_option("--width", o->width, "Image width (default: the scene's)")->check(CLI::Range(1, 16384));
+  sub->add_option("--height", o->height, "Image height (default: the scene's)")->check(CLI::Range(1, 16384));
+  std::string knob_names;
+  for (std::string_view k : io::kKnobs) knob_names += (knob_names.empty() ? "" : ",") + std::string(k);
+  CLI::Option* knobs =
+      sub->add_option("--knobs", o->knobs, "Knobs to sweep, comma-separated (default: " + knob_names + ")");
+  add_budget_options(*sub, o->budget);
+  sub->add_flag("--no-plot", o->no_plot, "Write the CSV and markdown only, without running python3");
+  sub->add_flag("--images", o->images, "Also write every setting's image as <output>/images/<knob>_<setting>.png");
+  return [o, knobs] {
+    o->knobs_given = knobs->count() > 0;
+    return run_tradeoff(*o);
+  };
+}
+
+}  // namespace pelt::cli

@@ -1,0 +1,53 @@
+// Resource budgets: the largest request pelt accepts before it allocates anything for it.
+// A request beyond a budget is refused with an io::InputError naming the file, the field
+// and both numbers; every budget is configurable from the command line (tools/cli,
+// --max-pixels, --max-texture-side, --max-shells, --max-faces, --max-memory).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace pelt::io {
+
+// Why each default is what it is:
+// - max_pixels 2^26 (64 Mpx, 8192 x 8192): the float colour image alone is 1 GiB there, and
+//   supersampling adds 48 bytes a pixel (one sample image and a double accumulator), so
+//   64 Mpx at spp > 1 is 4 GiB, half the memory budget; a print-size frame still fits.
+// - max_texture_side 16384: raster::kMaxTextureSide, the largest texture the rasterizer
+//   samples; a 16384^2 colour map costs 5.3 GiB while it is read (float RGBA plus mips).
+// - max_shells 128: the fur block's own upper bound (fur/fur_params.h); a lower budget lets
+//   a shared machine refuse heavy fur early.
+// - max_faces 2^25 (33.5 million triangles per mesh): a dense photogrammetry scan, over
+//   250x the largest mesh the benchmarks draw (120,518 triangles); one such closed mesh
+//   (~16.8M vertices) is about 1.5 GiB with its varyings, before any fur.
+// - max_memory_bytes 8 GiB: a third of this 23 GiB machine, so two renders and a build fit
+//   side by side; raise it with --max-memory on a bigger machine.
+struct Budget {
+  uint64_t max_pixels = uint64_t{1} << 26;        // image width x height
+  int max_texture_side = 16384;                   // colour maps and fur strand textures, per side
+  int max_shells = 128;                           // fur shells per object
+  uint64_t max_faces = uint64_t{1} << 25;         // triangles per mesh
+  uint64_t max_memory_bytes = uint64_t{8} << 30;  // estimated bytes for one render
+};
+
+// The command-line flags that raise each budget, for error messages.
+inline constexpr const char* kMaxPixelsFlag = "--max-pixels";
+inline constexpr const char* kMaxTextureSideFlag = "--max-texture-side";
+inline constexpr const char* kMaxShellsFlag = "--max-shells";
+inline constexpr const char* kMaxFacesFlag = "--max-faces";
+inline constexpr const char* kMaxMemoryFlag = "--max-memory";
+
+// The tail every budget refusal ends with: "more than the budget of LIMIT (raise it with FLAG)".
+inline std::string over_budget(const std::string& limit, const char* flag) {
+  return "more than the budget of " + limit + " (raise it with " + flag + ")";
+}
+
+// Saturating arithmetic for request sizes computed from untrusted counts: a product that
+// would wrap reads as UINT64_MAX, which every budget refuses.
+inline uint64_t sat_mul(uint64_t a, uint64_t b) {
+  if (a != 0 && b > UINT64_MAX / a) return UINT64_MAX;
+  return a * b;
+}
+inline uint64_t sat_add(uint64_t a, uint64_t b) { return b > UINT64_MAX - a ? UINT64_MAX : a + b; }
+
+}  // namespace pelt::io

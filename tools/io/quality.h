@@ -1,0 +1,65 @@
+// The quality knobs: every setting that trades accuracy for time, as one plain struct that
+// a scene's `quality` block, the CLI's flags and `pelt tradeoff` all write. Unset members
+// keep what the scene itself says (its fur and skin blocks); the rest default to the
+// renderer's normal behaviour, so an empty `quality` block changes nothing.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fur/fur_params.h"
+#include "raster/texture.h"
+#include "shading/skin_params.h"
+
+namespace pelt::io {
+
+// Translucent order (the fur sort modes of tools/render/fur_object.h).
+enum class SortQuality { none, layer, tile, exact };
+// Shading arithmetic: the SIMD float kernels, or the double-precision scalar references
+// (shading/skin_reference.h, the fur lighting reference, raster::sample_reference).
+enum class Precision { simd, double_precision };
+
+inline constexpr int kMaxSppSide = 8;  // spp = n x n stratified samples, n in [1, 8]
+
+struct Quality {
+  std::optional<int> shells;             // "shells": every fur block's shell count, [2, 128]
+  std::optional<fur::FinMode> fins;      // "fins": off | all | silhouette
+  SortQuality sort = SortQuality::tile;  // "sort": none | layer | tile | exact
+  int spp = 1;                           // "spp": 1, 4, 9, ..., 64 (a square)
+  raster::Filter filter = raster::Filter::Trilinear;  // "filter": nearest | bilinear | trilinear
+  std::optional<shading::MultipleScattering> multiple_scattering;  // every skin material's
+  std::optional<shading::SingleScattering> single_scattering;      // every skin material's
+  Precision precision = Precision::simd;  // "precision": simd | double
+  // Set by the `reference` preset only: skin Fresnel exact and the correct phase function
+  // whatever the material says (the paper's variants are approximations of these).
+  bool exact_physics = false;
+
+  bool operator==(const Quality&) const = default;
+};
+
+// The knobs, in the order `pelt tradeoff` sweeps them and the CSV lists them.
+inline constexpr std::string_view kKnobs[] = {"shells", "fins",     "sort",
+                                              "spp",    "filter",   "multiple_scattering",
+                                              "single_scattering",  "precision"};
+
+// Sets `knob` (a name of kKnobs) to `value` as written in JSON or on the command line.
+// Returns the reason when the knob or value is unknown or out of range (listing what is
+// valid); `q` is then unchanged.
+std::optional<std::string> set_knob(Quality& q, std::string_view knob, std::string_view value);
+// The knob's current value as set_knob reads it, or "scene" for an unset override.
+std::string knob_value(const Quality& q, std::string_view knob);
+// The settings `pelt tradeoff` tries for `knob` (the list, e.g. shells 4..64).
+std::vector<std::string> knob_sweep(std::string_view knob);
+
+// Named presets: "default" (the renderer's normal behaviour), "fast", "balanced", "high",
+// and "reference" (8x8 stratified samples, exact per-pixel sort, double precision, exact
+// physics, level-0 textures filtered by the supersampling, 64 shells). nullopt for an
+// unknown name.
+std::optional<Quality> quality_preset(std::string_view name);
+std::vector<std::string_view> quality_preset_names();
+// One line per knob, "knob=value", for logs and `pelt tradeoff`'s table.
+std::string describe(const Quality& q);
+
+}  // namespace pelt::io

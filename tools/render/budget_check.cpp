@@ -1,0 +1,233 @@
+#include "tools/render/budget_check.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "fur/fur_geometry.h"
+#include "tools/io/image_io.h"
+#include "tools/io/input_error.h"
+#include "tools/render/varyings.h"
+
+namespace pelt::render {
+namespace {
+
+using io::sat_add;
+using io::sat_mul;
+
+// Per worker: four colour planes, depth, visibility and batch buffers (raster/frame.h),
+// the same constant as SceneRenderer::memory_estimate.
+constexpr uint64_t kTileScratchBytes = 64 * 64 * 6 * 4 + 64 * 16 * (24 + 6) * 4;
+
+// FurObject's arrays, by what they are sized on (tools/render/fur_object.*, fur/fur_geometry.h).
+// Per base vertex: unit normal, growth direction, dynamics force.
+constexpr uint64_t kFurBytesPerBaseVertex = 3 * sizeof(glm::vec3);
+// Per fur vertex: rest position, shell and fin uvs, layer, the gravity, wind and current
+// poses, tangent, the 26-row lighting SoA of vertex lighting, and shell and fin varyings of
+// the larger (pixel lighting) layout.
+constexpr uint64_t kFurBytesPerVertex = sizeof(glm::vec3) + 2 * sizeof(glm::vec2) + sizeof(uint16_t) +
+                                        4 * sizeof(glm::vec3) + 26 * sizeof(float) +
+                                        2 * std::max(FurVaryings::kCount, FurPixelVaryings::kCount) * sizeof(float);
+// Per base face: its unit normal. Per shell or fin triangle: three indices. Per edge: the
+// FurEdge, its fin weight, and the fin list entries of its (shells - 1) quads, counted
+// per fin triangle (one uint32 per quad, two triangles a quad).
+constexpr uint64_t kFurBytesPerBaseFace = sizeof(glm::vec3);
+constexpr uint64_t kFurBytesPerTriangle = 3 * sizeof(uint32_t);
+constexpr uint64_t kFurBytesPerEdge = sizeof(fur::FurEdge) + sizeof(float);
+constexpr uint64_t kFurBytesPerFinTriangle = sizeof(uint32_t) / 2;
+
+std::string object_field(size_t i) { return "objects[" + std::to_string(i) + "]"; }
+
+int effective_side(int requested, int scene_side) { return requested > 0 ? requested : scene_side; }
+
+// The shell count the renderer will use for object i, and the field that set it.
+int effective_shells(const io::Scene& scene, size_t i, std::string& field) {
+  if (scene.quality.shells) {
+    field = "quality.shells";
+    return *scene.quality.shells;
+  }
+  field = object_field(i) + ".fur.shells";
+  return scene.objects[i].fur->shells;
+}
+
+// Mipmapped 8-bit RGBA: the levels add a third to level 0 (rounded up).
+uint64_t mipmapped_rgba8(uint64_t texels) { return sat_mul(sat_mul(texels, 4), 4) / 3 + 4; }
+
+MemoryPart mesh_part(const io::SceneObject& so, const Mesh& m, size_t i) {
+  const uint64_t v = m.positions.size(), f = m.indices.size() / 3;
+  const bool blur = so.material.type == io::MaterialType::skin &&
+                    so.material.skin.multiple_scattering == shading::MultipleScattering::normal_blur;
+  const uint64_t varyings = blur ? SurfaceVaryings::kCountBlurred : SurfaceVaryings::kCount;
+  uint64_t per_vertex = 2 * sizeof(glm::vec3) + (m.uvs.empty() ? 0 : sizeof(glm::vec2)) + varyings * sizeof(float);
+  if (blur) per_vertex += 9 * sizeof(float);  // the three blurred normals, held while varyings are filled
+  MemoryPart p;
+  p.field = object_field(i) + ".mesh";
+  p.what = "mesh, " + std::to_string(v) + " vertices and " + std::to_string(f) + " triangles with varyings";
+  p.bytes = sat_add(sat_mul(v, per_vertex), sat_mul(f, 3 * sizeof(uint32_t)));
+  return p;
+}
+
+// The colour map the renderer will load for object i, sized from its header; nullopt-like
+// (bytes 0, empty field) when the object has none.
+MemoryPart color_map_part(const io::SceneObject& so, const io::LoadedMesh& loaded, size_t i) {
+  MemoryPart p;
+  uint64_t texels = 0, file_bytes_per_texel = 0;
+  if (!so.material.color_map.empty() || !loaded.color_map.path.empty()) {
+    const bool material = !so.material.color_map.empty();
+    const std::filesystem::path& path = material ? so.material.color_map : loaded.color_map.path;
+    const io::ImageHeader h = io::read_image_header(path);
+    texels = uint64_t(h.width) * uint64_t(h.height);
+    file_bytes_per_texel = uint64_t(std::min(h.channels, 4)) * uint64_t(h.bytes_per_channel);
+    p.field = object_field(i) + (material ? ".material.color_map" : ".mesh");
+    p.what = "colour map " + path.filename().string() + ", " + std::to_string(h.width) + " x " +
+             std::to_string(h.height) + " texels";
+  } else if (!loaded.color_map.pixels.empty()) {
+    texels = uint64_t(loaded.color_map.pixels.width) * uint64_t(loaded.color_map.pixels.height);
+    p.field = object_field(i) + ".mesh";
+    p.what = "embedded colour map, " + std::to_string(loaded.color_map.pixels.width) + " x " +
+             std::to_string(loaded.color_map.pixels.height) + " texels";
+  } else {
+    return p;
+  }
+  // Float RGBA as read (or as decoded from the mesh file), the file's own pixels while
+  // they are converted, and the mipmapped texture the shader samples.
+  p.bytes = sat_add(sat_mul(texels, 4 * sizeof(float) + file_bytes_per_texel), mipmapped_rgba8(texels));
+  return p;
+}
+
+void add_fur_parts(const io::Scene& scene, const Mesh& m, size_t i, std::vector<MemoryPart>& parts) {
+  const fur::FurParams& fp = *scene.objects[i].fur;
+  std::string shells_field;
+  const int shells = effective_shells(scene, i, shells_field);
+  const uint64_t faces = m.indices.size() / 3;
+  const uint64_t edges = (3 * faces + 1) / 2;
+  const fur::FurCounts c = fur::fur_counts(m.positions.size(), faces, edges, shells);
+
+  MemoryPart geo;
+  geo.field = shells_field;
+  geo.what = "fur geometry, " + std::to_string(shells) + " shells: " + std::to_string(c.shell_vertices) +
+             " vertices, " + std::to_string(c.shell_faces + c.fin_faces) + " shell and fin triangles";
+  uint64_t g = sat_mul(c.base_vertices, kFurBytesPerBaseVertex);
+  g = sat_add(g, sat_mul(c.shell_vertices, kFurBytesPerVertex));
+  g = sat_add(g, sat_mul(c.base_faces, kFurBytesPerBaseFace));
+  g = sat_add(g, sat_mul(sat_add(c.shell_faces, c.fin_faces), kFurBytesPerTriangle));
+  g = sat_add(g, sat_mul(c.edges, kFurBytesPerEdge));
+  g = sat_add(g, sat_mul(c.fin_faces, kFurBytesPerFinTriangle));
+  geo.bytes = g;
+  parts.push_back(std::move(geo));
+
+  // Strand textures: every shell layer and the fin texture are texture_size^2 RGBA8,
+  // generated unmipped and then copied into mipmapped textures.
+  const uint64_t layer_texels = uint64_t(fp.texture_size) * uint64_t(fp.texture_size);
+  const uint64_t layers = uint64_t(std::max(shells, 0)) + 1;
+  MemoryPart tex;
+  tex.field = object_field(i) + ".fur.texture_size";
+  tex.what = "fur strand textures, " + std::to_string(layers) + " layers of " + std::to_string(fp.texture_size) +
+             "^2 texels with mips";
+  tex.bytes = sat_mul(layers, sat_add(mipmapped_rgba8(layer_texels), sat_mul(layer_texels, 4)));
+  parts.push_back(std::move(tex));
+}
+
+void refuse(const io::Scene& scene, const std::string& field, const std::string& reason) {
+  throw io::InputError(scene.file.string(), field, reason);
+}
+
+}  // namespace
+
+std::string describe_bytes(uint64_t bytes) {
+  char rounded[32];
+  const double b = double(bytes);
+  if (b >= double(uint64_t{1} << 30)) std::snprintf(rounded, sizeof rounded, "%.1f GiB", b / double(uint64_t{1} << 30));
+  else if (b >= double(uint64_t{1} << 20)) std::snprintf(rounded, sizeof rounded, "%.1f MiB", b / double(uint64_t{1} << 20));
+  else std::snprintf(rounded, sizeof rounded, "%.1f KiB", b / 1024.0);
+  return std::to_string(bytes) + " bytes (" + rounded + ")";
+}
+
+uint64_t image_bytes(int width, int height, int spp) {
+  const uint64_t px = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0));
+  uint64_t per_pixel = 4 * sizeof(float) + 4;  // float RGBA, and the 8-bit RGBA written to the file
+  if (spp > 1) per_pixel += 4 * sizeof(float) + 4 * sizeof(double);  // one sample's image, the sum
+  return sat_mul(px, per_pixel);
+}
+
+void check_scene_budget(const io::Scene& scene, int width, int height, int spp, const io::Budget& budget) {
+  const int w = effective_side(width, scene.image.width), h = effective_side(height, scene.image.height);
+  const uint64_t px = uint64_t(std::max(w, 0)) * uint64_t(std::max(h, 0));
+  if (px > budget.max_pixels)
+    refuse(scene, "image.width",
+           "the image is " + std::to_string(w) + " x " + std::to_string(h) + " = " + std::to_string(px) +
+               " pixels, " + io::over_budget(std::to_string(budget.max_pixels) + " pixels", io::kMaxPixelsFlag));
+  const uint64_t image = image_bytes(w, h, spp);
+  if (image > budget.max_memory_bytes) {
+    const bool spp_made_it = spp > 1 && image_bytes(w, h, 1) <= budget.max_memory_bytes;
+    refuse(scene, spp_made_it ? "quality.spp" : "image.width",
+           "the " + std::to_string(w) + " x " + std::to_string(h) + " image" +
+               (spp > 1 ? " at " + std::to_string(spp) + " samples per pixel" : std::string()) + " needs " +
+               describe_bytes(image) + " of buffers, " +
+               io::over_budget(describe_bytes(budget.max_memory_bytes), io::kMaxMemoryFlag));
+  }
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    if (!scene.objects[i].fur) continue;
+    std::string field;
+    const int shells = effective_shells(scene, i, field);
+    if (shells > budget.max_shells)
+      refuse(scene, field,
+             std::to_string(shells) + " fur shells, " +
+                 io::over_budget(std::to_string(budget.max_shells), io::kMaxShellsFlag));
+    const int side = scene.objects[i].fur->texture_size;
+    if (side > budget.max_texture_side)
+      refuse(scene, object_field(i) + ".fur.texture_size",
+             "fur strand textures of " + std::to_string(side) + " x " + std::to_string(side) + " texels, a side " +
+                 io::over_budget(std::to_string(budget.max_texture_side), io::kMaxTextureSideFlag));
+  }
+}
+
+const MemoryPart& MemoryEstimate::largest() const {
+  return *std::max_element(parts.begin(), parts.end(),
+                           [](const MemoryPart& a, const MemoryPart& b) { return a.bytes < b.bytes; });
+}
+
+MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
+                               int height, int threads, int spp) {
+  if (meshes.size() != scene.objects.size())
+    throw std::invalid_argument("estimate_memory: one mesh per scene object expected");
+  MemoryEstimate e;
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const io::SceneObject& so = scene.objects[i];
+    const Mesh& m = meshes[i].loaded.mesh;
+    e.parts.push_back(mesh_part(so, m, i));
+    if (MemoryPart cm = color_map_part(so, meshes[i].loaded, i); !cm.field.empty()) e.parts.push_back(std::move(cm));
+    if (so.fur) add_fur_parts(scene, m, i, e.parts);
+  }
+  const int w = effective_side(width, scene.image.width), h = effective_side(height, scene.image.height);
+  e.parts.push_back({"image.width",
+                     "image buffers, " + std::to_string(w) + " x " + std::to_string(h) +
+                         (spp > 1 ? " at " + std::to_string(spp) + " samples per pixel" : std::string()),
+                     image_bytes(w, h, spp)});
+  const uint64_t workers = uint64_t(std::max(threads, 1));
+  e.parts.push_back({"--threads", "tile scratch of " + std::to_string(workers) + " worker(s)",
+                     sat_mul(workers, kTileScratchBytes)});
+  for (const MemoryPart& p : e.parts) e.total = sat_add(e.total, p.bytes);
+  return e;
+}
+
+void check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width, int height,
+                         int threads, int spp, const io::Budget& budget) {
+  const MemoryEstimate e = estimate_memory(scene, meshes, width, height, threads, spp);
+  if (e.total <= budget.max_memory_bytes) return;
+  const MemoryPart& big = e.largest();
+  refuse(scene, big.field,
+         "this render needs an estimated " + describe_bytes(e.total) + ", " +
+             io::over_budget(describe_bytes(budget.max_memory_bytes), io::kMaxMemoryFlag) +
+             "; the largest part is the " + big.what + ": " + describe_bytes(big.bytes));
+}
+
+void check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width, int height,
+                         int threads, const io::Budget& budget) {
+  check_memory_budget(scene, meshes, width, height, threads, scene.quality.spp, budget);
+}
+
+}  // namespace pelt::render

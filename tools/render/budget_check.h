@@ -1,0 +1,78 @@
+// Resource budgets of a whole render (io::Budget), checked from counts before the
+// renderer allocates: the image size, every fur block's shells and texture size, and an
+// estimate of the memory the render will hold at its peak. Mesh faces and texture sides
+// are checked by the loaders themselves (tools/io), which are the first to know them.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tools/io/budget.h"
+#include "tools/io/scene.h"
+
+namespace pelt::render {
+
+// Checks what the scene asks for before any mesh is loaded:
+//   image.width   width x height against budget.max_pixels, and the image buffers alone
+//                 (image_bytes) against budget.max_memory_bytes (`quality.spp` when only
+//                 the supersampling buffers make them too large);
+//   objects[i].fur.shells (or quality.shells when the scene's quality overrides every
+//                 fur block) against budget.max_shells;
+//   objects[i].fur.texture_size against budget.max_texture_side.
+// width or height <= 0 means the scene's own image size (as RenderSettings does). The
+// caller applies the command line's quality flags to scene.quality first; spp is the
+// samples per pixel the render will take. Throws io::InputError(scene file, field,
+// reason) whose reason gives the requested number, the budget and the flag raising it.
+void check_scene_budget(const io::Scene& scene, int width, int height, int spp, const io::Budget& budget);
+
+// Bytes of the image buffers of a render: the float RGBA colour image, its 8-bit encoding
+// for the file, and with spp > 1 one sample's image and a double accumulator.
+uint64_t image_bytes(int width, int height, int spp);
+
+// One part of a memory estimate: where it comes from (a scene field path, or `--threads`
+// for the per-worker scratch), what it is, and its bytes.
+struct MemoryPart {
+  std::string field;
+  std::string what;
+  uint64_t bytes = 0;
+};
+
+struct MemoryEstimate {
+  std::vector<MemoryPart> parts;  // objects in order (mesh, colour map, fur), then image, scratch
+  uint64_t total = 0;             // saturating sum of the parts
+
+  const MemoryPart& largest() const;  // the first of the largest parts; parts must not be empty
+};
+
+// Estimates, from counts only, the bytes a render of `scene` with these loaded meshes
+// (one per object, in order, as io::load_scene_meshes returns them) holds at its peak:
+//   per object: positions, normals, uvs, indices and varyings (17 floats a vertex for
+//   normal_blur skin, 8 otherwise, plus the blurred normals); the colour map (the
+//   material's, else the mesh file's) sized from its header: float RGBA as read, the
+//   file's pixels, and the mipmapped 8-bit texture; fur: fur::fur_counts for the
+//   effective shell count with edges = ceil(3F/2) (exact for a closed mesh, where every
+//   edge has two faces) and the per-vertex, per-face and per-edge arrays of FurObject
+//   (both lighting modes' varyings: the larger), and the strand textures,
+//   shells x texture_size^2 x 4 x 4/3 (mips) plus the unmipped layers they are made
+//   from, and the fin texture likewise;
+//   the image buffers (image_bytes) and each worker's tile scratch as
+//   SceneRenderer::memory_estimate counts it.
+// Colour-map headers are read from disk (io::read_image_header). width or height <= 0
+// means the scene's image size; threads < 1 counts as one worker.
+MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
+                               int height, int threads, int spp);
+
+// Refuses an estimate above budget.max_memory_bytes: io::InputError(scene file, the
+// largest part's field, reason with the estimate, the budget, --max-memory and the
+// largest part). Called after the meshes are loaded and before fur, textures, varyings
+// or the image are allocated. The first form takes spp from scene.quality.
+void check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
+                         int height, int threads, const io::Budget& budget);
+void check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
+                         int height, int threads, int spp, const io::Budget& budget);
+
+// "1234567890 bytes (1.1 GiB)": exact for the record, rounded for the reader.
+std::string describe_bytes(uint64_t bytes);
+
+}  // namespace pelt::render

@@ -1,0 +1,85 @@
+#include "tools/tradeoff/plot.h"
+
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "tools/tradeoff/plot_script.h"
+
+extern char** environ;
+
+namespace pelt::tradeoff {
+
+// Exit codes of plot_tradeoff.py.
+constexpr int kNoMatplotlib = 3;
+
+std::string default_python() {
+  if (::access("/usr/bin/python3", X_OK) == 0) return "/usr/bin/python3";
+  return "python3";
+}
+
+PlotOutcome make_plot(const std::filesystem::path& csv, const std::filesystem::path& png, const std::string& title,
+                      const std::vector<bool>& front, const std::string& python) {
+  namespace fs = std::filesystem;
+  std::string indices;
+  for (size_t i = 0; i < front.size(); ++i) {
+    if (!front[i]) continue;
+    if (!indices.empty()) indices += ',';
+    indices += std::to_string(i);
+  }
+  // matplotlib picks the format from the name, so the temporary keeps the .png ending.
+  std::string tmp_name = ".";
+  tmp_name.append(png.stem().string()).append(".tmp-").append(std::to_string(::getpid())).append(".png");
+  const fs::path tmp = png.parent_path() / tmp_name;
+  std::string script(io::embedded::plot_tradeoff_py());
+  std::vector<std::string> args{python, "-c", script, csv.string(), tmp.string(), title, indices};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+
+  PlotOutcome out;
+  const auto cleanup = [&] {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+  };
+  pid_t pid = -1;
+  // posix_spawnp reports an interpreter that cannot be executed as its return value.
+  const int spawn_err = ::posix_spawnp(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ);
+  if (spawn_err != 0) {
+    out.problem = "cannot run `" + python + "`: " + std::strerror(spawn_err) +
+                  " (install Debian's python3 and python3-matplotlib)";
+    return out;
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) {
+      out.problem = std::string("waiting for the plot script failed: ") + std::strerror(errno);
+      cleanup();
+      return out;
+    }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    out.problem = code == kNoMatplotlib
+                      ? "matplotlib is missing for `" + python + "` (Debian: apt-get install python3-matplotlib)"
+                  : code == 127 ? "cannot run `" + python + "` (install Debian's python3 and python3-matplotlib)"
+                  : WIFEXITED(status) ? "the plot script failed with exit code " + std::to_string(code)
+                                      : "the plot script was killed by signal " + std::to_string(WTERMSIG(status));
+    cleanup();
+    return out;
+  }
+  std::error_code ec;
+  fs::rename(tmp, png, ec);
+  if (ec) {
+    out.problem = "cannot move the plot into place at " + png.string() + ": " + ec.message();
+    cleanup();
+    return out;
+  }
+  out.made = true;
+  return out;
+}
+
+}  // namespace pelt::tradeoff

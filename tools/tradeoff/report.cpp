@@ -1,0 +1,84 @@
+#include "tools/tradeoff/report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace pelt::tradeoff {
+
+Timing summarize(std::span<const double> ms, bool warmed_up) {
+  if (ms.empty()) throw std::invalid_argument("summarize: no timed runs");
+  std::vector<double> s(ms.begin(), ms.end());
+  std::sort(s.begin(), s.end());
+  const size_t n = s.size();
+  Timing t;
+  t.median = n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
+  t.min = s.front();
+  t.max = s.back();
+  t.runs = int(n);
+  t.warmed_up = warmed_up;
+  return t;
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+std::string format_number(double v, int digits) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+std::string format_ms(double ms, bool for_people) {
+  if (!std::isfinite(ms)) return format_number(ms, 4);
+  const int decimals = !for_people ? 3 : ms >= 100 ? 0 : ms >= 10 ? 1 : 2;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, ms);
+  return buf;
+}
+
+void write_csv(std::ostream& out, std::span<const Row> rows) {
+  out << kCsvHeader << "\n";
+  for (const Row& r : rows)
+    out << csv_field(r.knob) << ',' << csv_field(r.setting) << ',' << format_ms(r.time.median, false) << ','
+        << format_number(r.error.rmse, 6) << ',' << format_number(r.error.psnr_db, 6) << ','
+        << format_number(r.error.max_abs, 6) << ',' << format_number(r.error.share_over_1_255, 6) << "\n";
+}
+
+namespace {
+
+std::string spread(const Row& r) {
+  std::string s = std::to_string(r.time.runs) + (r.time.runs == 1 ? " run" : " runs");
+  if (!r.time.warmed_up) s += ", no warm-up";
+  if (r.time.runs > 1) s += " (" + format_ms(r.time.min, true) + "-" + format_ms(r.time.max, true) + ")";
+  if (!r.same_as.empty()) s += "; same settings as " + r.same_as;
+  return s;
+}
+
+}  // namespace
+
+std::string markdown_table(std::span<const Row> rows, const std::vector<bool>& front) {
+  if (front.size() != rows.size())
+    throw std::invalid_argument("markdown_table: " + std::to_string(front.size()) + " Pareto flags for " +
+                                std::to_string(rows.size()) + " rows");
+  std::string t =
+      "| knob | setting | ms_median | rmse | psnr_db | max_abs | share_over_1_255 | runs (min-max ms) | pareto |\n"
+      "|---|---|---:|---:|---:|---:|---:|---|---|\n";
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    t += "| " + r.knob + " | " + r.setting + " | " + format_ms(r.time.median, true) + " | " +
+         format_number(r.error.rmse, 4) + " | " + format_number(r.error.psnr_db, 4) + " | " +
+         format_number(r.error.max_abs, 4) + " | " + format_number(r.error.share_over_1_255, 4) + " | " +
+         spread(r) + " | " + (front[i] ? "yes" : "no") + " |\n";
+  }
+  return t;
+}
+
+}  // namespace pelt::tradeoff

@@ -1,0 +1,54 @@
+// The tradeoff report: one row per measured setting, written as CSV (for the plot and for
+// other tools) and as a markdown table (for people and the README).
+#pragma once
+
+#include <ostream>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "tools/tradeoff/image_compare.h"
+
+namespace pelt::tradeoff {
+
+// Frame times of one setting, in milliseconds.
+struct Timing {
+  double median = 0, min = 0, max = 0;
+  int runs = 0;
+  bool warmed_up = true;  // false for the reference: its single run is the first frame
+};
+// Median (mean of the middle two for an even count), min and max. Throws
+// std::invalid_argument for no runs.
+Timing summarize(std::span<const double> ms, bool warmed_up = true);
+
+struct Row {
+  std::string knob, setting;
+  Timing time;
+  ImageError error;
+  std::string same_as;  // "knob=setting" of the row whose measurement this one reuses, or ""
+  bool preset = false;  // a named preset (highlighted in the plot)
+};
+
+// The CSV's first line, exactly.
+inline constexpr const char* kCsvHeader = "knob,setting,ms_median,rmse,psnr_db,max_abs,share_over_1_255";
+
+// One field as CSV: quoted (with doubled quotes) only when it holds a comma, quote or line
+// break.
+std::string csv_field(const std::string& s);
+// A number for the report: `inf` / `-inf` / `nan` spelled out, otherwise %.*g with
+// `digits` significant digits (C locale).
+std::string format_number(double v, int digits);
+
+// Milliseconds in fixed notation: 3 decimals for the CSV (`for_people` false), else to about 3
+// significant digits for people (1234, 123, 12.3, 1.23).
+std::string format_ms(double ms, bool for_people);
+
+// Header line and one line per row, "\n"-terminated. ms with 3 decimals, errors with 6
+// significant digits (enough to tell rows apart, few enough to read).
+void write_csv(std::ostream& out, std::span<const Row> rows);
+
+// A markdown table: the CSV's columns, then `runs (min-max ms)` and `pareto` (yes/no from
+// `front`, which has one entry per row). Throws std::invalid_argument on a size mismatch.
+std::string markdown_table(std::span<const Row> rows, const std::vector<bool>& front);
+
+}  // namespace pelt::tradeoff

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# The whole test suite, built with AddressSanitizer and UndefinedBehaviorSanitizer: the
+# README's test command and CI (.ci/run) run this after tools/install-deps.sh.
+#
+# One instrumented build serves both purposes: every GoogleTest case runs (Highway kernels
+# on every target the machine supports) and any memory error or undefined behaviour on the
+# way fails the run (-fno-sanitize-recover). -O1 keeps the Highway kernels fast enough for
+# the 10-million-input sweeps while compiling in about half the time of -O2; benchmarks
+# are built too, so a change that breaks them is caught. The libFuzzer targets need clang
+# and run separately (tools/fuzz.sh, docs/robustness.md).
+#   PELT_TEST_JOBS   build and ctest parallelism (default: nproc)
+#   PELT_TEST_BUILD  build folder (default: build-test)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+jobs=${PELT_TEST_JOBS:-$(nproc)}
+build=${PELT_TEST_BUILD:-build-test}
+
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1" \
+  -DPELT_SANITIZE=address,undefined
+cmake --build "$build" -j"$jobs"
+# ASan's leak checker and UBSan both end the process with an error; halt_on_error makes
+# ASan stop at the first report so the failing test names the cause.
+ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:halt_on_error=1} \
+  UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
+  ctest --test-dir "$build" --output-on-failure -j"$jobs"

@@ -92,6 +92,12 @@ FurCounts fur_counts(size_t base_vertices, size_t base_faces, size_t edges, int 
 // Unit growth direction from a unit normal and the optional combing (see CombParams).
 glm::vec3 growth_direction(const glm::vec3& normal, const std::optional<CombParams>& comb);
 
+// The per-vertex comb directions of CombField::uv (see CombParams::uv_direction): unit
+// vectors in each vertex's tangent plane, or zero where the uvs (or the normal) give no
+// direction. `normals`: one per vertex, any length; base.uvs must have one per vertex.
+std::vector<glm::vec3> uv_comb_directions(const Mesh& base, const std::vector<glm::vec3>& normals,
+                                          glm::vec2 uv_direction);
+
 // Builds the fur of `base` with params.shells layers, params.length and params.comb.
 // Uses base.normals when present (one per position), otherwise computes them as
 // pelt::compute_vertex_normals does; uses base.uvs when present, otherwise the

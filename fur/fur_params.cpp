@@ -87,6 +87,9 @@ std::optional<ParamError> validate(const FurParams& p) {
   if (p.comb) {
     if (auto e = check_direction("comb.direction", p.comb->direction)) return e;
     if (auto e = check_range("comb.weight", p.comb->weight, 0.0, 1.0)) return e;
+    const glm::vec2 uvd = p.comb->uv_direction;
+    if (!std::isfinite(uvd.x) || !std::isfinite(uvd.y) || !(uvd.x * uvd.x + uvd.y * uvd.y > 1e-12f))
+      return ParamError{"comb.uv_direction", "must be a finite, non-zero [du, dv]"};
   }
   return std::nullopt;
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace pelt::fur {
@@ -33,12 +34,27 @@ struct WindParams {
   float gust_scale = 0.5f;                // "gust_scale": in [0, 1]; 0 = steady wind
 };
 
+// Where the comb direction d comes from.
+enum class CombField {
+  uniform,  // one direction for the whole mesh ("direction")
+  uv,       // per vertex, from the mesh: the surface direction along which the texture
+            // coordinates move as "uv_direction" says, so fur follows the UV layout an
+            // artist laid out (e.g. [0, 1]: toward growing v, down the head in glTF's v)
+};
+
 // Combing (seed Fig. 6): growth direction g = normalize((1 - weight) n + weight d).
 // Optional: without it g is the vertex normal n. Where the blend cancels (d = -n at
 // weight 0.5) the normal is used.
 struct CombParams {
   glm::vec3 direction{0.0f, -1.0f, 0.0f};  // "direction": any non-zero vector; normalised
   float weight = 0.5f;                     // "weight": in [0, 1]; 0 = plain normals
+  CombField field = CombField::uniform;    // "field": "uniform" | "uv"
+  // "uv_direction": field "uv" only: [du, dv], any non-zero vector. A vertex's d is
+  // du T_u + dv T_v, with T_u, T_v its surface derivatives of position with respect to
+  // u and v (the area-weighted sum over its triangles, projected onto its tangent plane),
+  // normalised; where the mesh's uvs give no direction (degenerate uv triangles only),
+  // that vertex keeps its normal.
+  glm::vec2 uv_direction{1.0f, 0.0f};
 };
 
 struct FurParams {

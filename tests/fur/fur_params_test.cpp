@@ -70,6 +70,9 @@ TEST(FurParams, EachBadFieldIsNamedByItsKeyPath) {
   EXPECT_EQ(bad_field(with([](FurParams& p) { p.wind->gust_scale = 1.5f; })), "wind.gust_scale");
   EXPECT_EQ(bad_field(with([](FurParams& p) { p.comb->direction = {0, 0, 0}; })),
             "comb.direction");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.comb->uv_direction = {0, 0}; })), "comb.uv_direction");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.comb->uv_direction = {NAN, 1}; })), "comb.uv_direction");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.opacity_shells = 1; })), "opacity_shells");
   EXPECT_EQ(bad_field(with([](FurParams& p) { p.comb->weight = -0.25f; })), "comb.weight");
 }
 

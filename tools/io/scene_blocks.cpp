@@ -76,10 +76,21 @@ fur::FurParams parse_fur_block(const JsonFields& js, const json& j, const std::s
   }
   if (const json* v = JsonFields::find(j, "comb")) {
     const std::string c = json_child(path, "comb");
-    js.expect_object(*v, c, {"direction", "weight"});
+    js.expect_object(*v, c, {"direction", "weight", "field", "uv_direction"});
     fur::CombParams cp;
     cp.direction = vec(js, *v, c, "direction", cp.direction);
     cp.weight = num(js, *v, c, "weight", cp.weight);
+    if (const json* f = JsonFields::find(*v, "field")) {
+      const std::string field = json_child(c, "field");
+      const std::string text = js.string(*f, field);
+      if (text == "uniform") cp.field = fur::CombField::uniform;
+      else if (text == "uv") cp.field = fur::CombField::uv;
+      else js.fail(field, "must be \"uniform\" or \"uv\", got \"" + text + "\"");
+    }
+    if (const json* d = JsonFields::find(*v, "uv_direction")) {
+      const auto n = js.numbers(*d, json_child(c, "uv_direction"), 2, 2);
+      cp.uv_direction = glm::vec2(float(n[0]), float(n[1]));
+    }
     p.comb = cp;
   }
   if (auto e = fur::validate(p)) js.fail(json_child(path, e->field), e->reason);

@@ -197,6 +197,20 @@ TEST_F(SceneFixture, QualityBlockPresetThenKnobs) {
   EXPECT_EQ(load_scene(write_scene(full_scene(data_dir()))).quality, Quality{});  // no block: defaults
 }
 
+TEST_F(SceneFixture, CombFieldFromTheUvLayout) {
+  const Scene s = load_scene(write_scene(edited("\"gravity\": {\"strength\": 0.5}",
+      R"("gravity": {"strength": 0.5}, "comb": {"field": "uv", "uv_direction": [0, -1], "weight": 0.4})")));
+  ASSERT_TRUE(s.objects[1].fur->comb);
+  EXPECT_EQ(s.objects[1].fur->comb->field, fur::CombField::uv);
+  EXPECT_EQ(s.objects[1].fur->comb->uv_direction, glm::vec2(0, -1));
+  expect_error(edited("\"gravity\": {\"strength\": 0.5}", R"("comb": {"field": "radial"})"),
+               "objects[1].fur.comb.field", "must be \"uniform\" or \"uv\"");
+  expect_error(edited("\"gravity\": {\"strength\": 0.5}", R"("comb": {"field": "uv", "uv_direction": [0, 0]})"),
+               "objects[1].fur.comb.uv_direction", "non-zero");
+  expect_error(edited("\"gravity\": {\"strength\": 0.5}", R"("comb": {"uv_direction": [1]})"),
+               "objects[1].fur.comb.uv_direction", "");
+}
+
 TEST_F(SceneFixture, QualityBlockErrorsNameTheKnob) {
   auto with = [&](const std::string& block) { return edited("\"animation\"", "\"quality\": " + block + ", \"animation\""); };
   expect_error(with(R"({"spp": 3})"), "quality.spp", "must be a square number of samples from 1 to 64");

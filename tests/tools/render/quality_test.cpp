@@ -23,7 +23,7 @@ namespace {
 // dermis): every knob has something to act on.
 std::string knob_scene() {
   return R"({"pelt": 1,
-  "image": {"width": 96, "height": 72, "background": [0.05, 0.05, 0.08]},
+  "image": {"width": 64, "height": 48, "background": [0.05, 0.05, 0.08]},
   "camera": {"eye": [0, 1.5, 7.0], "target": [0, 0, 0], "fovy_deg": 40, "near": 0.5, "far": 30},
   "lights": [{"type": "directional", "direction": [0.3, 0.8, 0.5]},
              {"type": "ambient", "color": [0.2, 0.2, 0.25]}],

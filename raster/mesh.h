@@ -7,6 +7,7 @@
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 namespace pelt {
 
@@ -24,5 +25,14 @@ struct Mesh {
 // triangles (unweighted), the convention of the fur paper's harness. A vertex with
 // no usable triangle gets (0, 1, 0) so that later code never sees a zero vector.
 void compute_vertex_normals(Mesh& mesh);
+
+// Per-vertex tangent frames for tangent-space normal maps: xyz = T, the surface direction
+// of growing u (summed over the adjacent triangles, each weighted by its uv-space area,
+// projected onto the vertex's tangent plane, normalised); w = +-1, the handedness, such
+// that the bitangent B = w cross(N, T) points toward the TOP of the texture image (v
+// decreasing: v = 0 is the top row in pelt, as in glTF), the OpenGL/glTF convention for the
+// green channel. Needs normals and uvs (one per position). Where the uvs give no direction
+// (degenerate uv triangles), T is any unit vector orthogonal to N and w = 1.
+std::vector<glm::vec4> compute_vertex_tangents(const Mesh& mesh);
 
 }  // namespace pelt

@@ -160,13 +160,13 @@ Material parse_material(const JsonFields& js, const json& j, const std::string& 
   }
   switch (m.type) {
     case MaterialType::blinn:
-      js.expect_object(j, path, {"type", "color", "specular", "shininess", "color_map", "double_sided"});
+      js.expect_object(j, path, {"type", "color", "specular", "shininess", "color_map", "normal_map", "double_sided"});
       break;
     case MaterialType::skin:
-      js.expect_object(j, path, {"type", "color_map", "double_sided", "skin"});
+      js.expect_object(j, path, {"type", "color_map", "normal_map", "double_sided", "skin"});
       break;
     default:
-      js.expect_object(j, path, {"type", "color", "color_map", "double_sided"});
+      js.expect_object(j, path, {"type", "color", "color_map", "normal_map", "double_sided"});
   }
   if (const json* v = JsonFields::find(j, "color")) m.color = js.vec3_in(*v, json_child(path, "color"), 0.0, 1.0);
   if (const json* v = JsonFields::find(j, "specular")) {
@@ -179,6 +179,11 @@ Material parse_material(const JsonFields& js, const json& j, const std::string& 
     const std::string field = json_child(path, "color_map");
     m.color_map = resolve(scene_file, js.string(*v, field));
     check_readable(js, m.color_map, field, "colour map");
+  }
+  if (const json* v = JsonFields::find(j, "normal_map")) {
+    const std::string field = json_child(path, "normal_map");
+    m.normal_map = resolve(scene_file, js.string(*v, field));
+    check_readable(js, m.normal_map, field, "normal map");
   }
   if (const json* v = JsonFields::find(j, "double_sided"))
     m.double_sided = js.boolean(*v, json_child(path, "double_sided"));

@@ -65,6 +65,9 @@ struct Material {
   glm::vec3 color{0.8f, 0.8f, 0.8f};          // "color": linear albedo, each in [0, 1]
   shading::BasicParams basic;                 // "specular" [3], "shininess" (blinn)
   std::filesystem::path color_map;            // "color_map": resolved against the scene folder
+  // "normal_map": a tangent-space normal map (glTF / OpenGL convention: red along +u, green
+  // toward the top of the image, blue out of the surface), stored linear; needs mesh uvs.
+  std::filesystem::path normal_map;
   bool double_sided = false;                  // "double_sided"
   shading::SkinParams skin;                   // "skin": {...} (type "skin" only)
 };

@@ -26,7 +26,11 @@ struct MaterialDesc {
   shading::BasicParams basic;         // blinn
   shading::SkinParams skin;           // skin
   const raster::Texture* color_map = nullptr;  // sampled at the uv varying (v = 0: top row)
-  raster::Filter filter = raster::Filter::Trilinear;  // of the colour map
+  // Tangent-space normal map (linear texels) and the first of the 4 varyings holding the
+  // vertex tangent frame (xyz, handedness; raster/mesh.h compute_vertex_tangents).
+  const raster::Texture* normal_map = nullptr;
+  int tangent_slot = -1;
+  raster::Filter filter = raster::Filter::Trilinear;  // of the colour and normal maps
   bool double_precision = false;  // shading and sampling by the double references
 };
 
@@ -35,7 +39,7 @@ class MaterialShader final : public raster::Shader {
   MaterialShader(const MaterialDesc& desc, std::vector<shading::Light> lights, glm::vec3 eye,
                  SkinLayer layer = SkinLayer::all);
   void shade(const raster::FragmentBatch& batch) const override;
-  bool uses_derivatives() const override { return desc_.color_map != nullptr; }
+  bool uses_derivatives() const override { return desc_.color_map != nullptr || desc_.normal_map != nullptr; }
   // Lights and eye for the next frames; call between renders, never during one.
   void set_view(const std::vector<shading::Light>& lights, const glm::vec3& eye);
 

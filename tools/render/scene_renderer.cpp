@@ -22,6 +22,7 @@ struct SceneRenderer::Object {
   std::unique_ptr<MaterialShader> shader;
   std::unique_ptr<FurObject> fur;
   raster::Texture color_map;
+  raster::Texture normal_map;
 };
 
 namespace {
@@ -211,6 +212,18 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     load_color_map(so, meshes[i].loaded, settings.budget, obj->color_map);
     if (!obj->color_map.empty()) obj->material.color_map = &obj->color_map;
 
+    if (!so.material.normal_map.empty()) {
+      const std::string field = "objects[" + std::to_string(i) + "].material.normal_map";
+      if (obj->mesh.uvs.size() != obj->mesh.vertex_count())
+        throw io::InputError(scene.file.string(), field,
+                             "a normal map needs texture coordinates, and mesh `" + so.mesh + "` has none");
+      const io::ImageRGBA img =
+          io::read_image_rgba(so.material.normal_map, io::ColorEncoding::linear, settings.budget);
+      if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(),
+                                                      raster::TexelEncoding::Linear, obj->normal_map))
+        throw io::InputError(so.material.normal_map.string(), e->field, e->reason);
+      obj->material.normal_map = &obj->normal_map;
+    }
     shading::BlurredNormals blurred;
     const bool blur = obj->material.kind == MaterialKind::skin &&
                       obj->material.skin.multiple_scattering == shading::MultipleScattering::normal_blur;
@@ -222,6 +235,12 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
         throw io::InputError(scene.file.string(), "objects[" + std::to_string(i) + "].material.skin." + e->field,
                              e->reason);
       obj->varying_count = SurfaceVaryings::kCountBlurred;
+    }
+    std::vector<glm::vec4> tangents;
+    if (obj->material.normal_map) {
+      tangents = compute_vertex_tangents(m);
+      obj->material.tangent_slot = obj->varying_count;
+      obj->varying_count += 4;
     }
     const int vc = obj->varying_count;
     obj->varyings.assign(m.vertex_count() * vc, 0.0f);
@@ -240,6 +259,8 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       if (blur)
         for (int c = 0; c < 3; ++c)
           for (int k = 0; k < 3; ++k) dst[SurfaceVaryings::kBlurred + 3 * c + k] = blurred.channel[c][3 * v + k];
+      if (!tangents.empty())
+        for (int k = 0; k < 4; ++k) dst[obj->material.tangent_slot + k] = tangents[v][k];
     }
     obj->shader = std::make_unique<MaterialShader>(obj->material, lights_, scene.camera.eye,
                                                    layer_of(settings.aov));

@@ -304,6 +304,8 @@ TEST_F(SceneFixture, UnknownEnumValues) {
 TEST_F(SceneFixture, MissingFiles) {
   expect_error(edited("\"head.obj\"", "\"nothere.obj\""), "objects[3].mesh", "not found");
   expect_error(edited("\"tex.png\"", "\"nothere.png\""), "objects[2].material.color_map", "not found");
+  expect_error(edited("\"color_map\": \"tex.png\"", "\"normal_map\": \"nothere.png\""),
+               "objects[2].material.normal_map", "normal map `");
   dir.write("sub/file.txt", "");
   expect_error(edited("\"head.obj\"", "\"sub\""), "objects[3].mesh", "is a folder");
   TempDir other;

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/tools/render/render_test_scenes.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/render/scene_renderer.h"
@@ -21,25 +22,8 @@
 namespace pelt::render {
 namespace {
 
-// A folder for the scene files (and colour maps) of one test, removed afterwards.
-class SceneDir {
- public:
-  SceneDir() {
-    static std::atomic<int> counter{0};
-    path_ = std::filesystem::temp_directory_path() /
-            ("pelt_budget_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    std::filesystem::create_directories(path_);
-  }
-  ~SceneDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  const std::filesystem::path& path() const { return path_; }
-  io::Scene scene(const std::string& json) const { return io::parse_scene(json, path_ / "scene.json"); }
+using test::SceneDir;
 
- private:
-  std::filesystem::path path_;
-};
 
 // A bare sphere, then a furry box; the image 100 x 50.
 std::string two_objects(int shells = 16, int texture_size = 256, const std::string& extra = "") {

@@ -90,27 +90,10 @@ FurCounts fur_counts(size_t base_vertices, size_t base_faces, size_t edges, int 
 std::vector<glm::vec3> uv_comb_directions(const Mesh& base, const std::vector<glm::vec3>& normals,
                                           glm::vec2 uv_direction) {
   const size_t n = base.positions.size();
-  std::vector<glm::dvec3> acc(n, glm::dvec3(0.0));
-  const glm::dvec2 w(uv_direction);
-  for (size_t t = 0; t + 2 < base.indices.size(); t += 3) {
-    const uint32_t i0 = base.indices[t], i1 = base.indices[t + 1], i2 = base.indices[t + 2];
-    const glm::dvec3 e1 = glm::dvec3(base.positions[i1]) - glm::dvec3(base.positions[i0]);
-    const glm::dvec3 e2 = glm::dvec3(base.positions[i2]) - glm::dvec3(base.positions[i0]);
-    const glm::dvec2 d1 = glm::dvec2(base.uvs[i1]) - glm::dvec2(base.uvs[i0]);
-    const glm::dvec2 d2 = glm::dvec2(base.uvs[i2]) - glm::dvec2(base.uvs[i0]);
-    // e = T_u du + T_v dv for both edges. Solving needs det; multiplying through by |det|
-    // instead of dividing weights each triangle by its uv area, and a degenerate uv
-    // triangle (det 0) adds nothing.
-    const double det = d1.x * d2.y - d2.x * d1.y;
-    if (!(std::abs(det) > 1e-20)) continue;
-    const double sign = det > 0.0 ? 1.0 : -1.0;
-    const glm::dvec3 tu = (e1 * d2.y - e2 * d1.y) * sign;   // T_u |det|
-    const glm::dvec3 tv = (e2 * d1.x - e1 * d2.x) * sign;   // T_v |det|
-    const glm::dvec3 d = w.x * tu + w.y * tv;
-    acc[i0] += d;
-    acc[i1] += d;
-    acc[i2] += d;
-  }
+  std::vector<glm::dvec3> tu, tv;
+  uv_derivatives(base, tu, tv);
+  std::vector<glm::dvec3> acc(n);
+  for (size_t i = 0; i < n; ++i) acc[i] = double(uv_direction.x) * tu[i] + double(uv_direction.y) * tv[i];
   std::vector<glm::vec3> out(n, glm::vec3(0.0f));
   for (size_t i = 0; i < n; ++i) {
     const glm::dvec3 n0(normals[i]);

@@ -8,6 +8,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
+#include <glm/ext/vector_double3.hpp>
 
 namespace pelt {
 
@@ -34,5 +35,11 @@ void compute_vertex_normals(Mesh& mesh);
 // green channel. Needs normals and uvs (one per position). Where the uvs give no direction
 // (degenerate uv triangles), T is any unit vector orthogonal to N and w = 1.
 std::vector<glm::vec4> compute_vertex_tangents(const Mesh& mesh);
+
+// Per-vertex sums, over the adjacent triangles, of the surface derivatives dP/du and dP/dv,
+// each triangle's scaled by its uv-space area (so a degenerate uv triangle adds nothing), in
+// double. Both outputs get one entry per position; zero where no triangle has uv extent.
+// Needs uvs (one per position). The building block of tangent frames and uv combing.
+void uv_derivatives(const Mesh& mesh, std::vector<glm::dvec3>& dpdu, std::vector<glm::dvec3>& dpdv);
 
 }  // namespace pelt

@@ -72,6 +72,23 @@ MemoryPart mesh_part(const io::SceneObject& so, const Mesh& m, size_t i) {
 
 // The colour map the renderer will load for object i, sized from its header; nullopt-like
 // (bytes 0, empty field) when the object has none.
+// The material's normal map, sized from its header like a colour map, plus the four
+// tangent-frame varyings per vertex it adds; empty field when the object has none.
+MemoryPart normal_map_part(const io::SceneObject& so, const Mesh& m, size_t i) {
+  MemoryPart p;
+  if (so.material.normal_map.empty()) return p;
+  const io::ImageHeader h = io::read_image_header(so.material.normal_map);
+  const uint64_t texels = uint64_t(h.width) * uint64_t(h.height);
+  const uint64_t file_bytes_per_texel = uint64_t(std::min(h.channels, 4)) * uint64_t(h.bytes_per_channel);
+  p.field = object_field(i) + ".material.normal_map";
+  p.what = "normal map " + so.material.normal_map.filename().string() + ", " + std::to_string(h.width) + " x " +
+           std::to_string(h.height) + " texels, and the tangent frames";
+  const uint64_t tangents = sat_mul(uint64_t(m.positions.size()), 2 * 4 * sizeof(float));  // frames + varyings
+  p.bytes = sat_add(sat_add(sat_mul(texels, 4 * sizeof(float) + file_bytes_per_texel), mipmapped_rgba8(texels)),
+                    tangents);
+  return p;
+}
+
 MemoryPart color_map_part(const io::SceneObject& so, const io::LoadedMesh& loaded, size_t i) {
   MemoryPart p;
   uint64_t texels = 0, file_bytes_per_texel = 0;
@@ -200,6 +217,8 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
     const Mesh& m = meshes[i].loaded.mesh;
     e.parts.push_back(mesh_part(so, m, i));
     if (MemoryPart cm = color_map_part(so, meshes[i].loaded, i); !cm.field.empty()) e.parts.push_back(std::move(cm));
+    if (MemoryPart nm = normal_map_part(so, meshes[i].loaded.mesh, i); !nm.field.empty())
+      e.parts.push_back(std::move(nm));
     if (so.fur) add_fur_parts(scene, m, i, e.parts);
   }
   const int w = effective_side(width, scene.image.width), h = effective_side(height, scene.image.height);

@@ -298,7 +298,8 @@ size_t SceneRenderer::memory_estimate() const {
   size_t n = 0;
   for (const auto& o : objects_) {
     n += o->mesh.positions.size() * sizeof(glm::vec3) * 2 + o->mesh.uvs.size() * sizeof(glm::vec2) +
-         o->mesh.indices.size() * sizeof(uint32_t) + o->varyings.size() * sizeof(float) + o->color_map.bytes();
+         o->mesh.indices.size() * sizeof(uint32_t) + o->varyings.size() * sizeof(float) + o->color_map.bytes() +
+         o->normal_map.bytes();
     if (o->fur) n += o->fur->memory_bytes();
   }
   const size_t pixels = size_t(width_) * height_;

@@ -14,6 +14,7 @@
 #include "tools/io/builtin_meshes.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
+#include "tools/render/budget_check.h"
 
 namespace pelt::render::test {
 namespace {
@@ -67,6 +68,23 @@ TEST(NormalMap, FlatMapMatchesNoMap) {
   const FrameImage without = render_at(dir.scene(plane_scene("", light)), {});
   EXPECT_LT(image_rmse(with.color, without.color), 0.01);
   EXPECT_GT(image_rmse(with.color, without.color), 0.0);  // the map was applied
+}
+
+TEST(NormalMap, CountedInTheMemoryEstimate) {
+  SceneDir dir;
+  write_map(dir.path() / "n.png", 128, 128, 255);
+  const io::Scene s = dir.scene(plane_scene(R"(, "normal_map": "n.png")", glm::vec3(0, 1, 0)));
+  const MemoryEstimate e = estimate_memory(s, io::load_scene_meshes(s), 0, 0, 1, 1);
+  size_t found = 0;
+  for (const MemoryPart& p : e.parts)
+    if (p.field == "objects[0].material.normal_map") {
+      ++found;
+      EXPECT_GE(p.bytes, 4u * 4u * 4u * sizeof(float));  // at least the 4 x 4 map as float RGBA
+    }
+  EXPECT_EQ(found, 1u);
+  RenderSettings rs;
+  SceneRenderer r(s, rs);
+  EXPECT_GE(e.total, r.memory_estimate());
 }
 
 TEST(NormalMap, MeshWithoutUvsIsRefused) {

@@ -34,7 +34,7 @@ for scene in box_fur head_skin; do
 done
 
 # Replace what lies between each pair of markers with the scene's tradeoff.md.
-tmp="$(mktemp README.md.XXXXXX)"
+tmp="README.md.regenerate-$$"  # beside README.md, so the final mv is a rename
 trap 'rm -f "$tmp"' EXIT
 awk '
   function splice(scene,   file, line) {

@@ -18,9 +18,6 @@ namespace {
 using io::sat_add;
 using io::sat_mul;
 
-// Per worker: four colour planes, depth, visibility and batch buffers (raster/frame.h),
-// the same constant as SceneRenderer::memory_estimate.
-constexpr uint64_t kTileScratchBytes = 64 * 64 * 6 * 4 + 64 * 16 * (24 + 6) * 4;
 
 // FurObject's arrays, by what they are sized on (tools/render/fur_object.*, fur/fur_geometry.h).
 // Per base vertex: unit normal, growth direction, dynamics force.
@@ -72,6 +69,12 @@ MemoryPart mesh_part(const io::SceneObject& so, const Mesh& m, size_t i) {
 
 // The colour map the renderer will load for object i, sized from its header; nullopt-like
 // (bytes 0, empty field) when the object has none.
+// A texture read from an image file: float RGBA as read, the file's own pixels while they
+// are converted, and the mipmapped 8-bit texture the shader samples.
+uint64_t image_texture_bytes(uint64_t texels, uint64_t file_bytes_per_texel) {
+  return sat_add(sat_mul(texels, 4 * sizeof(float) + file_bytes_per_texel), mipmapped_rgba8(texels));
+}
+
 // The material's normal map, sized from its header like a colour map, plus the four
 // tangent-frame varyings per vertex it adds; empty field when the object has none.
 MemoryPart normal_map_part(const io::SceneObject& so, const Mesh& m, size_t i) {
@@ -79,12 +82,11 @@ MemoryPart normal_map_part(const io::SceneObject& so, const Mesh& m, size_t i) {
   if (so.material.normal_map.empty()) return p;
   const io::ImageHeader h = io::read_image_header(so.material.normal_map);
   const uint64_t texels = uint64_t(h.width) * uint64_t(h.height);
-  const uint64_t file_bytes_per_texel = uint64_t(std::min(h.channels, 4)) * uint64_t(h.bytes_per_channel);
   p.field = object_field(i) + ".material.normal_map";
   p.what = "normal map " + so.material.normal_map.filename().string() + ", " + std::to_string(h.width) + " x " +
            std::to_string(h.height) + " texels, and the tangent frames";
   const uint64_t tangents = sat_mul(uint64_t(m.positions.size()), 2 * 4 * sizeof(float));  // frames + varyings
-  p.bytes = sat_add(sat_add(sat_mul(texels, 4 * sizeof(float) + file_bytes_per_texel), mipmapped_rgba8(texels)),
+  p.bytes = sat_add(image_texture_bytes(texels, uint64_t(std::min(h.channels, 4)) * uint64_t(h.bytes_per_channel)),
                     tangents);
   return p;
 }
@@ -109,9 +111,7 @@ MemoryPart color_map_part(const io::SceneObject& so, const io::LoadedMesh& loade
   } else {
     return p;
   }
-  // Float RGBA as read (or as decoded from the mesh file), the file's own pixels while
-  // they are converted, and the mipmapped texture the shader samples.
-  p.bytes = sat_add(sat_mul(texels, 4 * sizeof(float) + file_bytes_per_texel), mipmapped_rgba8(texels));
+  p.bytes = image_texture_bytes(texels, file_bytes_per_texel);  // embedded: no file pixels
   return p;
 }
 

@@ -304,9 +304,7 @@ size_t SceneRenderer::memory_estimate() const {
   }
   const size_t pixels = size_t(width_) * height_;
   n += pixels * 4 * sizeof(float);  // the colour image
-  // Per worker: four colour planes, depth, visibility and batch buffers (raster/frame.h).
-  constexpr size_t kScratch = 64 * 64 * 6 * 4 + 64 * 16 * (24 + 6) * 4;
-  return n + size_t(std::max(1, settings_.threads)) * kScratch;
+  return n + size_t(std::max(1, settings_.threads)) * size_t(kTileScratchBytes);
 }
 
 const fur::FurCounts* SceneRenderer::fur_counts(size_t object) const {

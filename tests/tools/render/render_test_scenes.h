@@ -1,13 +1,11 @@
 // Small scenes for the frame-pipeline tests, as JSON text.
 #pragma once
 
-#include <atomic>
 #include <cmath>
-#include <filesystem>
 #include <string>
 #include <vector>
 
-#include <unistd.h>
+#include "tests/tools/io/temp_dir.h"
 
 #include "tools/io/quality.h"
 #include "tools/io/scene.h"
@@ -39,25 +37,9 @@ inline std::string bare_box_scene(int frames) {
 }
 
 // A scratch folder for scenes that refer to files, removed with the object.
-class SceneDir {
+class SceneDir : public io::TempDir {
  public:
-  SceneDir() {
-    static std::atomic<int> counter{0};
-    path_ = std::filesystem::temp_directory_path() /
-            ("pelt_render_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    std::filesystem::create_directories(path_);
-  }
-  ~SceneDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  SceneDir(const SceneDir&) = delete;
-  SceneDir& operator=(const SceneDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-  io::Scene scene(const std::string& json) const { return io::parse_scene(json, path_ / "scene.json"); }
-
- private:
-  std::filesystem::path path_;
+  io::Scene scene(const std::string& json) const { return io::parse_scene(json, path() / "scene.json"); }
 };
 
 // Frame 0 of `scene` at quality `q`.

@@ -11,21 +11,15 @@
 
 namespace pelt::raster {
 
-// Bin item flags, decided at bin time over the block-aligned part of the tile the
-// triangle's bounding box touches.
-inline constexpr uint32_t kItemFull = 1u;  // every pixel of that region is inside
-inline constexpr uint32_t kItemTiny = 2u;  // that region is a single 4x4 block
-inline constexpr uint32_t kItemFlagBits = 2;
-
 // Triangles of consecutive submission order, set up and binned by one worker.
 struct BinChunk {
   uint32_t draw = 0, first = 0, count = 0;  // triangles [first, first+count) of draw
   uint32_t setup_base = 0;                  // frame-wide index of setups[0]
   std::vector<TriSetup> setups;
   std::vector<uint32_t> tile_offsets;       // tiles + 1
-  std::vector<uint32_t> items;              // (setup index << kItemFlagBits) | flags, by tile
+  std::vector<uint32_t> items;              // setup index within the chunk, by tile
   std::vector<uint64_t> pairs;              // scratch: (tile << 32) | item
-  uint64_t culled = 0, clipped = 0, full_items = 0;
+  uint64_t culled = 0, clipped = 0;
 };
 
 struct FrameView {
@@ -43,8 +37,7 @@ inline constexpr uint32_t kBatchLanes = kMaxBatchLanes;
 
 struct TranslucentRef {
   const TriSetup* tri;
-  uint32_t id;     // frame-wide setup index
-  uint32_t flags;
+  uint32_t id;  // frame-wide setup index
 };
 
 // Per-worker state, reused for every tile the worker takes. Tile planes are stored
@@ -88,7 +81,7 @@ struct alignas(64) TileScratch {
   std::vector<uint32_t> fragment_order;  // scratch: fragment indices grouped by pixel
   std::vector<uint32_t> pixel_start;     // kTilePixels + 1
 
-  uint64_t fragments_visible = 0, pixels_shaded = 0, fragments_blended = 0;
+  uint64_t fragments_visible = 0, pixels_shaded = 0, fragments_blended = 0, lanes_shaded = 0;
 };
 
 // Lane layout of a 4x4 block.

@@ -88,7 +88,7 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
                                int tiles_y) {
   ch.setups.clear();
   ch.pairs.clear();
-  ch.culled = ch.clipped = ch.full_items = 0;
+  ch.culled = ch.clipped = 0;
   const uint32_t tiles = static_cast<uint32_t>(tiles_x * tiles_y);
   ClipPolygon poly;
   for (uint32_t p = ch.first; p < ch.first + ch.count; ++p) {
@@ -130,18 +130,18 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
       any = true;
       const int32_t tx0 = t.x0 / kTileSize, tx1 = t.xmax / kTileSize;
       const int32_t ty0 = t.y0 / kTileSize, ty1 = t.ymax / kTileSize;
+      if (tx0 == tx1 && ty0 == ty1) {
+        // Most triangles of a dense mesh lie in one tile: the tile kernel tests their edges
+        // anyway, so testing them here too would only double the work.
+        ch.pairs.push_back((static_cast<uint64_t>(ty0) * tiles_x + tx0) << 32 | local);
+        continue;
+      }
       for (int32_t ty = ty0; ty <= ty1; ++ty)
         for (int32_t tx = tx0; tx <= tx1; ++tx) {
           TileEdges te;
           if (!tile_region_edges(t, tx * kTileSize, ty * kTileSize, te)) continue;
-          uint32_t flags = 0;
-          if (te.all_accepted) {
-            flags |= kItemFull;
-            ++ch.full_items;
-          }
-          if (te.rx1 - te.rx0 < kBlockSize && te.ry1 - te.ry0 < kBlockSize) flags |= kItemTiny;
           const uint64_t tile = static_cast<uint64_t>(ty) * tiles_x + tx;
-          ch.pairs.push_back((tile << 32) | (local << kItemFlagBits) | flags);
+          ch.pairs.push_back((tile << 32) | local);
         }
     }
     if (!any) ++ch.culled;
@@ -219,7 +219,7 @@ void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& opti
 
   while (im.scratch.size() < static_cast<size_t>(im.pool.slots()))
     im.scratch.push_back(std::make_unique<TileScratch>());
-  for (auto& s : im.scratch) s->fragments_visible = s->pixels_shaded = s->fragments_blended = 0;
+  for (auto& s : im.scratch) s->fragments_visible = s->pixels_shaded = s->fragments_blended = s->lanes_shaded = 0;
 
   FrameView view;
   view.vp = vp;
@@ -242,12 +242,12 @@ void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& opti
       st.triangles_clipped += ch.clipped;
       st.triangles_setup += ch.setups.size();
       st.bin_items += ch.items.size();
-      st.bin_items_full += ch.full_items;
     }
     for (auto& s : im.scratch) {
       st.fragments_visible += s->fragments_visible;
       st.pixels_shaded += s->pixels_shaded;
       st.fragments_blended += s->fragments_blended;
+      st.lanes_shaded += s->lanes_shaded;
     }
     st.ms_front = ms_front;
     st.ms_tiles = ms_since(t1);

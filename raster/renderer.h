@@ -43,10 +43,11 @@ struct RasterStats {
   uint64_t triangles_clipped = 0;  // needed near/far/guard-band clipping
   uint64_t triangles_setup = 0;    // set up (after clipping's fans)
   uint64_t bin_items = 0;          // (tile, triangle) pairs
-  uint64_t bin_items_full = 0;     // of which the triangle covers the whole tile region
   uint64_t fragments_visible = 0;  // opaque fragments that passed the depth test
   uint64_t pixels_shaded = 0;      // opaque pixels shaded (once each)
   uint64_t fragments_blended = 0;  // translucent fragments that passed the depth test
+  uint64_t lanes_shaded = 0;       // lanes handed to shaders (whole 4x4 blocks): the shading
+                                   // work, of which pixels_shaded + fragments_blended were used
   double ms_front = 0.0;           // transform, clip, set-up and binning
   double ms_tiles = 0.0;           // rasterization, shading, blending, resolve
 };

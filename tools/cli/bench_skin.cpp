@@ -52,6 +52,7 @@ struct Measurement {
   double ms_median = 0, ms_min = 0, ms_max = 0;
   double front_median = 0, tiles_median = 0;  // the rasterizer's own split of the frame
   uint64_t fragments = 0;
+  uint64_t pixels_shaded = 0, lanes_shaded = 0;  // shading work used / computed (last frame)
 };
 
 void check_options(const SkinBenchOptions& o) {
@@ -171,6 +172,8 @@ Measurement measure(const bench::SkinBenchMesh& m, const ShaderColumn& shader, c
   out.front_median = median(front);
   out.tiles_median = median(tiles);
   out.fragments = st.fragments;
+  out.pixels_shaded = st.pixels_shaded;
+  out.lanes_shaded = st.lanes_shaded;
   return out;
 }
 
@@ -219,6 +222,10 @@ void print_table(const std::vector<bench::SkinBenchMesh>& meshes, const std::vec
   for (size_t i = 0; i < ms.size(); ++i)
     std::printf("%s %s %s %.2f/%.2f", i % ns == 0 ? "\n " : ",", i % ns == 0 ? ms[i].mesh.c_str() : "",
                 ms[i].shader.c_str(), ms[i].front_median, ms[i].tiles_median);
+  std::printf("\nShading work (visible pixels / lanes the shader computed, whole 4x4 blocks):");
+  for (size_t i = 0; i < ms.size(); ++i)
+    std::printf("%s %s %s %s/%s", i % ns == 0 ? "\n " : ",", i % ns == 0 ? ms[i].mesh.c_str() : "",
+                ms[i].shader.c_str(), thousands(ms[i].pixels_shaded).c_str(), thousands(ms[i].lanes_shaded).c_str());
   std::printf("\n");
 }
 
@@ -228,6 +235,8 @@ void write_json_atomic(const std::string& path, const std::vector<Measurement>& 
     list.push_back({{"mesh", m.mesh},
                     {"triangles", m.triangles},
                     {"shader", m.shader},
+                    {"pixels_shaded", m.pixels_shaded},
+                    {"lanes_shaded", m.lanes_shaded},
                     {"width", o.width},
                     {"height", o.height},
                     {"threads", o.threads},

@@ -22,7 +22,18 @@ nlohmann::json FrameStats::to_json() const {
   nlohmann::json list = nlohmann::json::array();
   for (size_t i = 0; i < kStageCount; ++i)
     list.push_back({{"name", kStageNames[i]}, {"ran", stages[i].ran}, {"ms", stages[i].ms}});
-  return {{"frame", frame}, {"stages", list}, {"samples", samples}, {"triangles", triangles}, {"fragments", fragments}};
+  return {{"frame", frame},
+          {"stages", list},
+          {"samples", samples},
+          {"triangles", triangles},
+          {"fragments", fragments},
+          {"raster",
+           {{"triangles_culled", triangles_culled},
+            {"triangles_setup", triangles_setup},
+            {"bin_items", bin_items},
+            {"pixels_shaded", pixels_shaded},
+            {"fragments_blended", fragments_blended},
+            {"lanes_shaded", lanes_shaded}}}};
 }
 
 }  // namespace pelt::render

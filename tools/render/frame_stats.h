@@ -40,6 +40,13 @@ struct FrameStats {
   int samples = 1;         // rasterizer passes: the quality's samples per pixel
   uint64_t triangles = 0;  // submitted to the rasterizer, summed over the passes
   uint64_t fragments = 0;  // visible opaque + blended translucent fragments, summed over the passes
+  // The rasterizer's counters (raster::RasterStats), summed over the passes.
+  uint64_t triangles_culled = 0;   // outside, back-facing, zero-area or covering no pixel
+  uint64_t triangles_setup = 0;    // set up after clipping
+  uint64_t bin_items = 0;          // (tile, triangle) pairs
+  uint64_t pixels_shaded = 0;      // visible opaque pixels, each shaded once
+  uint64_t fragments_blended = 0;  // translucent fragments
+  uint64_t lanes_shaded = 0;       // lanes the shaders computed (whole 4x4 blocks)
 
   StageRecord& stage(const char* name);
   const StageRecord& stage(const char* name) const;

@@ -237,6 +237,8 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
         throw io::InputError(scene.file.string(), "objects[" + std::to_string(i) + "].material.skin." + e->field,
                              e->reason);
       obj->varying_count = SurfaceVaryings::kCountBlurred;
+    } else if (!obj->material.color_map && !obj->material.normal_map) {
+      obj->varying_count = SurfaceVaryings::kCountWithoutUv;
     }
     std::vector<glm::vec4> tangents;
     if (obj->material.normal_map) {
@@ -254,7 +256,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       dst[SurfaceVaryings::kNormal + 0] = m.normals[v].x;
       dst[SurfaceVaryings::kNormal + 1] = m.normals[v].y;
       dst[SurfaceVaryings::kNormal + 2] = m.normals[v].z;
-      if (!m.uvs.empty()) {
+      if (!m.uvs.empty() && vc > SurfaceVaryings::kUv) {
         dst[SurfaceVaryings::kUv + 0] = m.uvs[v].x;
         dst[SurfaceVaryings::kUv + 1] = m.uvs[v].y;
       }

@@ -480,6 +480,34 @@ void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& 
   }
 }
 
+// A tile no triangle touches: the background written straight into the caller's planes,
+// the same values ClearTile + ResolveTile would give, without the tile planes' round trip
+// (most tiles of a frame with one object in the middle are empty).
+void FillEmptyTile(const FrameView& frame, int32_t tx0, int32_t ty0) {
+  const RenderTarget& t = frame.target;
+  const int32_t w = std::min(kTileSize, frame.vp.width - tx0);
+  const int32_t h = std::min(kTileSize, frame.vp.height - ty0);
+  const glm::vec4 bg = frame.options.background;
+  for (int32_t y = 0; y < h; ++y) {
+    const size_t row = static_cast<size_t>(ty0 + y) * t.width + tx0;
+    if (t.color) {
+      float* dst = t.color + row * 4;
+      int32_t x = 0;
+#if HWY_TARGET != HWY_SCALAR
+      const hn::CappedTag<float, 4> d4;
+      alignas(16) const float rgba[4] = {bg.r, bg.g, bg.b, bg.a};
+      const auto px = hn::Load(d4, rgba);
+      if ((reinterpret_cast<uintptr_t>(dst) & 15) == 0)
+        for (; x < w; ++x) hn::Stream(px, d4, dst + 4 * x);
+#endif
+      for (; x < w; ++x)
+        for (int c = 0; c < 4; ++c) dst[4 * x + c] = bg[c];
+    }
+    if (t.depth) std::fill(t.depth + row, t.depth + row + w, 1.0f);
+    if (t.id) std::fill(t.id + row, t.id + row + w, 0u);
+  }
+}
+
 // SortMode::Exact: each pixel's fragments, farthest first (submission order among equal
 // depths), composited src-over onto the opaque result. Called per tile, after pass 3.
 void CompositeExact(TileScratch& s) {
@@ -517,6 +545,13 @@ void CompositeExact(TileScratch& s) {
 void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   const int32_t tx0 = static_cast<int32_t>(tile % frame.tiles_x) * kTileSize;
   const int32_t ty0 = static_cast<int32_t>(tile / frame.tiles_x) * kTileSize;
+  bool empty = true;
+  for (size_t c = 0; c < frame.chunk_count && empty; ++c)
+    empty = frame.chunks[c].tile_offsets[tile] == frame.chunks[c].tile_offsets[tile + 1];
+  if (empty) {
+    FillEmptyTile(frame, tx0, ty0);
+    return;
+  }
   ClearTile(frame, tx0, ty0, s);
   s.translucent.clear();
   s.fragments.clear();

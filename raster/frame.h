@@ -5,16 +5,30 @@
 #include <cstdint>
 #include <vector>
 
+#include "raster/clip.h"
 #include "raster/config.h"
 #include "raster/renderer.h"
 #include "raster/setup.h"
 
 namespace pelt::raster {
 
+// Triangles per front-end chunk: large enough to amortise a chunk's per-tile offsets,
+// small enough to balance two workers on a 36k-triangle fur frame.
+inline constexpr uint32_t kChunkTriangles = 1024;
+
+// A set-up triangle's frame-wide id, as stored in the visibility buffer: its chunk in the
+// high bits and its index among the chunk's set-ups (clipping fans a triangle into at most
+// kMaxClipVertices - 2) in the low ones, so a pixel finds its triangle with two loads.
+inline constexpr uint32_t kSetupIndexBits = 13;
+static_assert(kChunkTriangles * (kMaxClipVertices - 2) <= (1u << kSetupIndexBits));
+inline constexpr size_t kMaxChunks = (kNoPrimitive >> kSetupIndexBits);  // kNoPrimitive stays free
+inline uint32_t setup_id(size_t chunk, uint32_t local) {
+  return static_cast<uint32_t>(chunk << kSetupIndexBits) | local;
+}
+
 // Triangles of consecutive submission order, set up and binned by one worker.
 struct BinChunk {
   uint32_t draw = 0, first = 0, count = 0;  // triangles [first, first+count) of draw
-  uint32_t setup_base = 0;                  // frame-wide index of setups[0]
   std::vector<TriSetup> setups;
   std::vector<uint32_t> tile_offsets;       // tiles + 1
   std::vector<uint32_t> items;              // setup index within the chunk, by tile
@@ -37,7 +51,7 @@ inline constexpr uint32_t kBatchLanes = kMaxBatchLanes;
 
 struct TranslucentRef {
   const TriSetup* tri;
-  uint32_t id;  // frame-wide setup index
+  uint32_t id;  // setup_id
 };
 
 // Per-worker state, reused for every tile the worker takes. Tile planes are stored
@@ -46,7 +60,7 @@ struct TranslucentRef {
 struct alignas(64) TileScratch {
   alignas(64) float color[4][kTilePixels];
   alignas(64) float depth[kTilePixels];
-  alignas(64) uint32_t vis[kTilePixels];  // frame-wide setup index of the visible triangle
+  alignas(64) uint32_t vis[kTilePixels];  // setup_id of the visible triangle
   alignas(64) uint16_t block_valid[kBlocksPerTile];  // lanes inside the viewport
 
   // The batch being assembled for the shader: blocks of one draw.

@@ -14,9 +14,6 @@
 namespace pelt::raster {
 namespace {
 
-// Triangles per front-end chunk: large enough to amortise a chunk's per-tile offsets,
-// small enough to balance two workers on a 36k-triangle fur frame.
-constexpr uint32_t kChunkTriangles = 1024;
 constexpr uint32_t kVertexChunk = 4096;
 
 using Clock = std::chrono::steady_clock;
@@ -169,17 +166,15 @@ void Renderer::Impl::front_end(std::span<const DrawCall> draws, const Viewport& 
       ch.count = std::min(kChunkTriangles, draws[d].triangle_count - f);
     }
   chunks.resize(n);
+  if (n > kMaxChunks)
+    throw std::length_error("render: " + std::to_string(n) + " chunks of " + std::to_string(kChunkTriangles) +
+                            " triangles exceed the visibility buffer's " + std::to_string(kMaxChunks));
   const ClipBounds bounds = make_clip_bounds(vp.width, vp.height);
   pool.parallel_for(chunks.size(), [&](size_t c, int) {
     BinChunk& ch = chunks[c];
     bin_chunk(ch, draws[ch.draw], clip[ch.draw], vp, bounds, tiles_x, tiles_y);
     for (TriSetup& t : ch.setups) t.draw = ch.draw;
   });
-  uint32_t base = 0;
-  for (BinChunk& ch : chunks) {
-    ch.setup_base = base;
-    base += static_cast<uint32_t>(ch.setups.size());
-  }
 }
 
 void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& options,

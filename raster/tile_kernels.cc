@@ -353,7 +353,7 @@ HWY_INLINE void PrefetchSetup(const TriSetup* t) {
   hwy::Prefetch(reinterpret_cast<const char*>(t) + 64);
 }
 
-// Calls fn(setup, frame-wide id) for the tile's items in submission order.
+// Calls fn(setup, setup_id) for the tile's items in submission order.
 template <class Fn>
 HWY_INLINE void ForEachItem(const FrameView& frame, uint32_t tile, Fn&& fn) {
   for (size_t c = 0; c < frame.chunk_count; ++c) {
@@ -362,7 +362,7 @@ HWY_INLINE void ForEachItem(const FrameView& frame, uint32_t tile, Fn&& fn) {
     const uint32_t* end = ch.items.data() + ch.tile_offsets[tile + 1];
     for (; it != end; ++it) {
       if (end - it > ptrdiff_t{kPrefetchAhead}) PrefetchSetup(&ch.setups[it[kPrefetchAhead]]);
-      fn(ch.setups[*it], ch.setup_base + *it);
+      fn(ch.setups[*it], setup_id(c, *it));
     }
   }
 }
@@ -393,29 +393,10 @@ void ClearTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& s)
     }
 }
 
-// Maps a frame-wide setup index to its triangle, remembering the last chunk hit:
-// neighbouring pixels mostly share a triangle.
-struct SetupLookup {
-  const FrameView& frame;
-  size_t chunk = 0;
-  const TriSetup& operator()(uint32_t id) {
-    const BinChunk* ch = &frame.chunks[chunk];
-    if (id < ch->setup_base || id >= ch->setup_base + ch->setups.size()) {
-      size_t lo = 0, hi = frame.chunk_count;
-      while (hi - lo > 1) {
-        const size_t mid = (lo + hi) / 2;
-        (frame.chunks[mid].setup_base <= id ? lo : hi) = mid;
-      }
-      // Chunks with no setups share a base with the next one; step to the one that holds id.
-      while (frame.chunks[lo].setups.empty() ||
-             id >= frame.chunks[lo].setup_base + frame.chunks[lo].setups.size())
-        ++lo;
-      chunk = lo;
-      ch = &frame.chunks[chunk];
-    }
-    return ch->setups[id - ch->setup_base];
-  }
-};
+// The triangle of a visibility-buffer id (setup_id in frame.h).
+inline const TriSetup& SetupOf(const FrameView& frame, uint32_t id) {
+  return frame.chunks[id >> kSetupIndexBits].setups[id & ((1u << kSetupIndexBits) - 1)];
+}
 
 void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& s) {
   const RenderTarget& t = frame.target;
@@ -423,7 +404,6 @@ void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& 
   const int32_t h = std::min(kTileSize, frame.vp.height - ty0);
   const int32_t whole = w & ~(kBlockSize - 1);  // columns resolved 4 at a time
   [[maybe_unused]] const hn::CappedTag<float, 4> d4;
-  SetupLookup lookup{frame};
   for (int32_t y = 0; y < h; ++y) {
     const size_t row = static_cast<size_t>(ty0 + y) * t.width + tx0;
     const uint32_t lane_row = (y % kBlockSize) * kBlockSize;
@@ -473,7 +453,7 @@ void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& 
         if (v == kNoPrimitive) {
           t.id[row + x] = 0;
         } else {
-          const TriSetup& tri = lookup(v);
+          const TriSetup& tri = SetupOf(frame, v);
           t.id[row + x] = frame.draws[tri.draw].id_base + tri.primitive + 1;
         }
       }
@@ -578,8 +558,7 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   // full blocks rather than one block per (triangle, block) pair.
   s.visible.clear();
   {
-    SetupLookup lookup{frame};
-    const DU du;
+      const DU du;
     const size_t n = hn::Lanes(du);
     // Lanes of the block whose visible triangle is `id`, as block bits.
     auto lanes_equal = [&](const uint32_t* vis, uint32_t id) {
@@ -595,7 +574,7 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
         const uint32_t id = vis[std::countr_zero(left)];
         const uint32_t bits = lanes_equal(vis, id);
         left &= ~bits;
-        const TriSetup& t = lookup(id);
+        const TriSetup& t = SetupOf(frame, id);
         s.visible.push_back({&t, blk, bits});
       }
     }

@@ -2,8 +2,10 @@
 // validate once and dispatch once per call. Every formula mirrors skin_reference.cpp (double
 // precision); comments there state the terms' bounds and the deviations from the paper.
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include "shading/skin_kernels.h"
@@ -23,6 +25,32 @@ struct LightSums {
   float ambient[3];  // sum of the ambient lights' colours
 };
 enum class Basic : int { unlit, lambert, blinn };
+
+// Per-call constants of one non-ambient light for the skin kernel. Computed once per call: the
+// outputs are float stores that may alias the Light array as far as the compiler knows, so it
+// cannot hoist them out of the lane loop itself, and renormalising a directional light in double
+// (a scalar sqrt and three divisions) then sat on the critical path of every lane vector.
+struct SkinLight {
+  float vec[3];  // unit direction to the light (directional) or its position (point)
+  bool point;
+  float color[3];
+  float sebum[3];  // Opacity Specularity SheenColor color: the sebum layer per unit lobe
+};
+inline SkinLight make_skin_light(const SkinParams& p, const Light& l) {
+  SkinLight k{};
+  k.point = l.type == Light::Type::Point;
+  const double len = k.point ? 1.0
+                             : std::sqrt(double(l.vec[0]) * l.vec[0] + double(l.vec[1]) * l.vec[1] +
+                                         double(l.vec[2]) * l.vec[2]);
+  for (int c = 0; c < 3; ++c) {
+    k.vec[c] = float(l.vec[c] / len);
+    k.color[c] = l.color[c];
+    k.sebum[c] = float(double(p.Opacity) * p.Specularity * p.SheenColor[c] * l.color[c]);
+  }
+  return k;
+}
+// Lights cached per call; a call with more non-ambient lights rebuilds them per lane vector.
+inline constexpr size_t kCachedSkinLights = 16;
 }  // namespace pelt::shading::detail
 #endif
 
@@ -130,21 +158,6 @@ HWY_INLINE V RefractCos(D d, V c, V eta2m1, V inv_eta2, M& ok) {
   return hn::Sqrt(hn::Max(k, hn::Zero(d)));
 }
 
-// Unpolarised Fresnel transmittance 1 - F for c in [0, 1] with refracted cosine ct (ok false on
-// total internal reflection, where the result is 0).
-// Evaluated as 2 eta c ct (1/(c + eta ct)^2 + 1/(eta c + ct)^2) (1 - r^2 factored), which keeps
-// its relative precision at grazing angles where 1 - F would cancel.
-HWY_INLINE V FresnelKt(D d, V c, V ct, M ok, V eta) {
-  const V one = hn::Set(d, 1.0f);
-  // The denominators vanish only where ct = 0, i.e. where !ok; those lanes are replaced below.
-  const V ds = hn::IfThenElse(ok, hn::Add(c, hn::Mul(eta, ct)), one);
-  const V dp = hn::IfThenElse(ok, hn::Add(hn::Mul(eta, c), ct), one);
-  const V ds2 = hn::Mul(ds, ds), dp2 = hn::Mul(dp, dp);
-  const V sum = hn::Div(hn::Add(ds2, dp2), hn::Mul(ds2, dp2));  // 1/ds^2 + 1/dp^2
-  const V kt = hn::Mul(hn::Mul(hn::Mul(hn::Set(d, 2.0f), eta), hn::Mul(c, ct)), sum);
-  return hn::IfThenElseZero(ok, Clamp(kt, hn::Zero(d), one));
-}
-
 // Transmittance after Pharr's efresnel boost, 1 - smoothstep(0, 0.5, F), from the exact
 // transmittance Kt = 1 - F. Uses 1 - smoothstep(t) = smoothstep(1 - t), with 1 - t = 2 Kt - 1:
 // subtracting a smoothstep near 1 from 1 would lose the small result to cancellation.
@@ -164,6 +177,74 @@ HWY_INLINE V DipoleRd(D d, V alpha, float A) {
 HWY_INLINE void StoreLayer(D d, float* const dst[3], size_t i, const V v[3]) {
   for (int c = 0; c < 3; ++c)
     if (dst[c]) hn::Store(v[c], d, dst[c] + i);
+}
+
+// Unpolarised Fresnel transmittance 1 - F = num / den for c in [0, 1] with refracted cosine ct
+// (ok false on total internal reflection, where the caller sets the result to 0), clamped to
+// [0, 1] by the caller. Evaluated as 2 eta c ct (1/(c + eta ct)^2 + 1/(eta c + ct)^2) (1 - r^2
+// factored), which keeps its relative precision at grazing angles where 1 - F would cancel,
+// with the two fractions over the common denominator (c + eta ct)^2 (eta c + ct)^2, so one
+// division; returned as a fraction so that the caller may share that division with another.
+// The denominators vanish only where ct = 0, i.e. where !ok: those lanes get den = 1.
+HWY_INLINE void FresnelKtParts(D d, V c, V ct, M ok, V eta, V& num, V& den) {
+  const V one = hn::Set(d, 1.0f);
+  const V ds = hn::IfThenElse(ok, hn::MulAdd(eta, ct, c), one);
+  const V dp = hn::IfThenElse(ok, hn::MulAdd(eta, c, ct), one);
+  const V ds2 = hn::Mul(ds, ds), dp2 = hn::Mul(dp, dp);
+  den = hn::Mul(ds2, dp2);
+  num = hn::Mul(hn::Mul(hn::Add(eta, eta), hn::Mul(c, ct)), hn::Add(ds2, dp2));
+}
+
+// MakeFrame for the skin kernel, into separate vectors: GCC copied the Frame and V3 aggregates
+// through the stack in 64-bit pieces (store-forwarding stalls in every lane vector). Same rules
+// as ref::make_frame.
+HWY_INLINE void SkinFrame(D d, const SurfaceSoA& s, size_t i, const float eye[3], V& nx, V& ny, V& nz, V& vx,
+                          V& vy, V& vz, V& co, M& flipped) {
+  const V px = hn::Load(d, s.pos[0] + i), py = hn::Load(d, s.pos[1] + i), pz = hn::Load(d, s.pos[2] + i);
+  const V ax = hn::Load(d, s.normal[0] + i), ay = hn::Load(d, s.normal[1] + i), az = hn::Load(d, s.normal[2] + i);
+  const V bx = hn::Sub(hn::Set(d, eye[0]), px), by = hn::Sub(hn::Set(d, eye[1]), py),
+          bz = hn::Sub(hn::Set(d, eye[2]), pz);
+  const V lo = hn::Set(d, kDegenerateNormal2), hi = hn::Set(d, FLT_MAX), one = hn::Set(d, 1.0f);
+  const V la = hn::MulAdd(az, az, hn::MulAdd(ay, ay, hn::Mul(ax, ax)));
+  const V lb = hn::MulAdd(bz, bz, hn::MulAdd(by, by, hn::Mul(bx, bx)));
+  const M n_ok = hn::And(hn::Ge(la, lo), hn::Le(la, hi));
+  const M v_ok = hn::And(hn::Ge(lb, lo), hn::Le(lb, hi));
+  // Two divisions, not one shared by both lengths: a rounding more in |N| moves R.V by a few
+  // 1e-7, which a Phong exponent of 200 amplifies past the 1e-4 tolerance.
+  const V ia = hn::Div(one, hn::Sqrt(Clamp(la, lo, hi)));
+  const V ib = hn::Div(one, hn::Sqrt(Clamp(lb, lo, hi)));
+  const V n0x = hn::Mul(ax, ia), n0y = hn::Mul(ay, ia), n0z = hn::Mul(az, ia);
+  const V v0x = hn::Mul(bx, ib), v0y = hn::Mul(by, ib), v0z = hn::Mul(bz, ib);
+  const V zero = hn::Zero(d);
+  vx = hn::IfThenElse(v_ok, v0x, hn::IfThenElseZero(n_ok, n0x));
+  vy = hn::IfThenElse(v_ok, v0y, hn::IfThenElseZero(n_ok, n0y));
+  vz = hn::IfThenElse(v_ok, v0z, hn::IfThenElse(n_ok, n0z, one));
+  const V n1x = hn::IfThenElse(n_ok, n0x, vx), n1y = hn::IfThenElse(n_ok, n0y, vy),
+          n1z = hn::IfThenElse(n_ok, n0z, vz);
+  flipped = hn::Lt(hn::MulAdd(n1z, vz, hn::MulAdd(n1y, vy, hn::Mul(n1x, vx))), zero);
+  nx = hn::IfThenElse(flipped, hn::Neg(n1x), n1x);
+  ny = hn::IfThenElse(flipped, hn::Neg(n1y), n1y);
+  nz = hn::IfThenElse(flipped, hn::Neg(n1z), n1z);
+  co = Clamp(hn::MulAdd(nz, vz, hn::MulAdd(ny, vy, hn::Mul(nx, vx))), zero, one);
+}
+
+// 1/x and 1/y from ONE division of x y where both factors are in (0, 2^20] and the product is at
+// least 2^-96 in every lane (the pairwise products are then normal floats, and the reciprocals
+// carry two roundings more than separate divisions: a few 1e-7 relative); otherwise two. Used
+// where the division is off the light loop's latency chains: merging the three divisions of the
+// dermis term per light this way was measured slower, because it serialises them behind the
+// last one's inputs (sqrt of the phase base).
+HWY_INLINE void Reciprocals2(D d, V x, V y, V& rx, V& ry) {
+  const V one = hn::Set(d, 1.0f);
+  const V xy = hn::Mul(x, y);
+  if (HWY_LIKELY(hn::AllTrue(d, hn::Ge(xy, hn::Set(d, 0x1p-96f))))) {
+    const V r = hn::Div(one, xy);
+    rx = hn::Mul(y, r);
+    ry = hn::Mul(x, r);
+  } else {
+    rx = hn::Div(one, x);
+    ry = hn::Div(one, y);
+  }
 }
 
 void ShadeSkinBatch(const SkinParams& p, const Light* lights, size_t light_count,
@@ -189,117 +270,211 @@ void ShadeSkinBatch(const SkinParams& p, const Light* lights, size_t light_count
   const V tiny = hn::Set(d, 1e-20f);
   const V power = hn::Set(d, p.Power);
   const int int_power = IntegerPower(p.Power);
-  const V ms = hn::Set(d, p.MultipleScatteringCoeff);
   const bool ss_on = p.single_scattering != SingleScattering::off;
   const bool ss_correct = p.single_scattering == SingleScattering::correct;
   const bool efres = p.fresnel == Fresnel::efresnel;
   const MultipleScattering mode = p.multiple_scattering;
+  const bool blur = mode == MultipleScattering::normal_blur;
   const double fdr_raw = -1.440 / (double(eta) * eta) + 0.710 / eta + 0.668 + 0.0636 * eta;
   const double fdr = std::fmin(std::fmax(fdr_raw, 0.0), 0.99);
   const float dipole_A = float((1.0 + fdr) / (1.0 - fdr));
 
-  for (size_t base = 0; base < s.n; base += 16) {
-    for (size_t i = base; i < base + 16; i += N) {
-      const Frame f = MakeFrame(d, s, i, eye);
-      V A[3], a[3], cd[3];
-      for (int c = 0; c < 3; ++c) {
-        A[c] = Clamp(hn::Load(d, s.albedo[c] + i), zero, one);
-        a[c] = hn::Mul(hn::Set(d, p.SkinColor[c]), A[c]);
-        cd[c] = hn::Mul(hn::Set(d, p.DiffusionColor[c]), A[c]);
-      }
-      V3 nb[3] = {f.n, f.n, f.n};
-      if (mode == MultipleScattering::normal_blur)
+  // Colour factors of each layer, Opacity included: the light loop sums colour x weight per
+  // channel and the per-lane factors (albedo, Kt_out, Rd) multiply the sums once afterwards.
+  const double op = p.Opacity, ms = p.MultipleScatteringCoeff;
+  float amb_k[3], epi_k[3], derm_k[3], blur_w[3], blur_1mw[3];
+  for (int c = 0; c < 3; ++c) {
+    amb_k[c] = float(op * p.AmbientCoeff * sums.ambient[c] * p.SkinColor[c]);
+    epi_k[c] = float(mode == MultipleScattering::paper ? op * ms * p.DiffusionColor[c] * sums.all[c]
+                     : blur                            ? op * ms * p.DiffusionColor[c]
+                                                       : op * ms);
+    derm_k[c] = float(op * p.SingleScatteringCoeff * p.SkinColor[c]);
+    blur_w[c] = p.normal_blur_mix[c];
+    blur_1mw[c] = 1.0f - p.normal_blur_mix[c];
+  }
+  detail::SkinLight cached[detail::kCachedSkinLights];
+  size_t direct = 0, first_uncached = light_count;
+  for (size_t li = 0; li < light_count; ++li) {
+    if (lights[li].type == Light::Type::Ambient) continue;
+    if (direct < detail::kCachedSkinLights) cached[direct] = detail::make_skin_light(p, lights[li]);
+    else if (direct == detail::kCachedSkinLights) first_uncached = li;
+    ++direct;
+  }
+  const V lo2 = hn::Set(d, kDegenerateNormal2), hi2 = hn::Set(d, FLT_MAX);
+
+  // The lanes are shaded in blocks, in three passes over the block: the frame and the
+  // transmission out per lane, then each light over every lane vector, then the layers. One
+  // pass of every stage over a lane vector was a single chain of several hundred instructions
+  // (two square roots and a division, then per light a square root, a division and expm1 after
+  // one another), longer than the out-of-order window, so the core idled on latency; a loop over
+  // the lanes for one light has short iterations that are independent of one another and
+  // overlap. The per-lane values between the passes live in this block's scratch (L1).
+  constexpr size_t kBlock = 64;
+  enum : int { kNx, kNy, kNz, kVx, kVy, kVz, kCo, kCot, kVtx, kVty, kVtz, kKtOut, kKtOutExact, kFake,
+               kSebum, kDerm = kSebum + 3, kEpi = kDerm + 3, kBlur = kEpi + 3, kArrays = kBlur + 9 };
+  HWY_ALIGN float scratch[kArrays][kBlock];
+  auto at = [&](int k, size_t j) { return scratch[k] + j; };
+
+  for (size_t base = 0; base < s.n; base += kBlock) {
+    const size_t count = std::min(kBlock, s.n - base);  // a multiple of 16, hence of N
+
+    for (size_t j = 0; j < count; j += N) {
+      const size_t i = base + j;
+      V nx, ny, nz, vx, vy, vz, co;
+      M flipped;
+      SkinFrame(d, s, i, eye, nx, ny, nz, vx, vy, vz, co, flipped);
+      if (blur)
         for (int c = 0; c < 3; ++c) {
-          M ok;
-          const V3 b = Normalize(d, Load3(d, s.blurred_normal[c], i), ok);
-          const V3 bf = {hn::IfThenElse(f.flipped, hn::Neg(b.x), b.x),
-                         hn::IfThenElse(f.flipped, hn::Neg(b.y), b.y),
-                         hn::IfThenElse(f.flipped, hn::Neg(b.z), b.z)};
-          nb[c] = Select(ok, bf, f.n);
+          const V bx = hn::Load(d, s.blurred_normal[c][0] + i), by = hn::Load(d, s.blurred_normal[c][1] + i),
+                  bz = hn::Load(d, s.blurred_normal[c][2] + i);
+          const V l2 = hn::MulAdd(bz, bz, hn::MulAdd(by, by, hn::Mul(bx, bx)));
+          const M ok = hn::And(hn::Ge(l2, lo2), hn::Le(l2, hi2));
+          const V inv = hn::IfThenElseZero(ok, hn::Div(one, hn::Sqrt(Clamp(l2, lo2, hi2))));
+          const V flip = hn::IfThenElse(flipped, hn::Neg(inv), inv);
+          hn::Store(hn::IfThenElse(ok, hn::Mul(bx, flip), nx), d, at(kBlur + 3 * c, j));
+          hn::Store(hn::IfThenElse(ok, hn::Mul(by, flip), ny), d, at(kBlur + 3 * c + 1, j));
+          hn::Store(hn::IfThenElse(ok, hn::Mul(bz, flip), nz), d, at(kBlur + 3 * c + 2, j));
         }
       M out_ok;
-      const V cot = RefractCos(d, f.co, eta2m1, inv_eta2, out_ok);
-      const V kt_out_exact = FresnelKt(d, f.co, cot, out_ok, veta);
-      V kt_out = one;
-      if (ss_correct) kt_out = efres ? EfresnelKt(d, kt_out_exact) : kt_out_exact;
-      V rd[3] = {zero, zero, zero};
-      if (mode == MultipleScattering::reference)
-        for (int c = 0; c < 3; ++c) rd[c] = DipoleRd(d, cd[c], dipole_A);
-
-      V sebum[3] = {zero, zero, zero}, epi[3] = {zero, zero, zero}, dermis[3] = {zero, zero, zero};
-      if (mode == MultipleScattering::paper) {
-        const V fake = hn::Div(ms, hn::Max(hn::Add(f.co, hn::Set(d, p.ClampCoeff)), hn::Set(d, kClampFloor)));
-        for (int c = 0; c < 3; ++c) epi[c] = hn::Mul(hn::Mul(cd[c], hn::Set(d, sums.all[c])), fake);
+      const V cot = RefractCos(d, co, eta2m1, inv_eta2, out_ok);
+      V kt_out_exact = zero, kt_out = one, fake = zero;
+      if (ss_correct || mode == MultipleScattering::reference) {
+        V num, den, rden;
+        FresnelKtParts(d, co, cot, out_ok, veta, num, den);
+        if (mode == MultipleScattering::paper)
+          Reciprocals2(d, den, hn::Max(hn::Add(co, hn::Set(d, p.ClampCoeff)), hn::Set(d, kClampFloor)), rden, fake);
+        else
+          rden = hn::Div(one, den);
+        kt_out_exact = hn::IfThenElseZero(out_ok, Clamp(hn::Mul(num, rden), zero, one));
+        if (ss_correct) kt_out = efres ? EfresnelKt(d, kt_out_exact) : kt_out_exact;
+      } else if (mode == MultipleScattering::paper) {
+        fake = hn::Div(one, hn::Max(hn::Add(co, hn::Set(d, p.ClampCoeff)), hn::Set(d, kClampFloor)));
       }
+      hn::Store(nx, d, at(kNx, j));
+      hn::Store(ny, d, at(kNy, j));
+      hn::Store(nz, d, at(kNz, j));
+      hn::Store(vx, d, at(kVx, j));
+      hn::Store(vy, d, at(kVy, j));
+      hn::Store(vz, d, at(kVz, j));
+      hn::Store(co, d, at(kCo, j));
+      // cot > 0 exactly where the view ray refracts out (out_ok): the light pass re-derives it.
+      hn::Store(cot, d, at(kCot, j));
+      // Tangential part of V, shared by every light's phase angle.
+      hn::Store(hn::NegMulAdd(co, nx, vx), d, at(kVtx, j));
+      hn::Store(hn::NegMulAdd(co, ny, vy), d, at(kVty, j));
+      hn::Store(hn::NegMulAdd(co, nz, vz), d, at(kVtz, j));
+      hn::Store(kt_out, d, at(kKtOut, j));
+      hn::Store(kt_out_exact, d, at(kKtOutExact, j));
+      hn::Store(fake, d, at(kFake, j));
+    }
+    // The sums over the lights start at zero: one contiguous clear (stores of zero in the loop
+    // above were turned into a `rep stos` per array and block, a tenth of the kernel's time).
+    const bool epi_sums = blur || mode == MultipleScattering::reference;
+    std::memset(scratch[kSebum], 0, size_t(epi_sums ? kBlur - kSebum : kEpi - kSebum) * sizeof(scratch[0]));
 
-      for (size_t li = 0; li < light_count; ++li) {
-        const Light& l = lights[li];
-        if (l.type == Light::Type::Ambient) continue;
-        const V cl[3] = {hn::Set(d, l.color[0]), hn::Set(d, l.color[1]), hn::Set(d, l.color[2])};
-        const V3 L = LightDir(d, l, s, i, f.n);
-        const V ci = Clamp(Dot(f.n, L), hn::Set(d, -1.0f), one);
-        if (mode == MultipleScattering::normal_blur)
+    size_t li = first_uncached;
+    for (size_t k = 0; k < direct; ++k) {
+      detail::SkinLight rebuilt;
+      const detail::SkinLight* sl = &cached[k % detail::kCachedSkinLights];
+      if (k >= detail::kCachedSkinLights) {
+        while (lights[li].type == Light::Type::Ambient) ++li;
+        rebuilt = detail::make_skin_light(p, lights[li++]);
+        sl = &rebuilt;
+      }
+      const V cl[3] = {hn::Set(d, sl->color[0]), hn::Set(d, sl->color[1]), hn::Set(d, sl->color[2])};
+      const V sheen[3] = {hn::Set(d, sl->sebum[0]), hn::Set(d, sl->sebum[1]), hn::Set(d, sl->sebum[2])};
+      const bool point = sl->point;
+      const V Lx0 = hn::Set(d, sl->vec[0]), Ly0 = hn::Set(d, sl->vec[1]), Lz0 = hn::Set(d, sl->vec[2]);
+
+      for (size_t j = 0; j < count; j += N) {
+        const size_t i = base + j;
+        const V nx = hn::Load(d, at(kNx, j)), ny = hn::Load(d, at(kNy, j)), nz = hn::Load(d, at(kNz, j));
+        V Lx = Lx0, Ly = Ly0, Lz = Lz0;
+        if (point) {
+          // A point light at the shaded point (or beyond float range) shines along n.
+          const V dx = hn::Sub(Lx0, hn::Load(d, s.pos[0] + i)), dy = hn::Sub(Ly0, hn::Load(d, s.pos[1] + i)),
+                  dz = hn::Sub(Lz0, hn::Load(d, s.pos[2] + i));
+          const V l2 = hn::MulAdd(dz, dz, hn::MulAdd(dy, dy, hn::Mul(dx, dx)));
+          const M ok = hn::And(hn::Ge(l2, lo2), hn::Le(l2, hi2));
+          const V inv = hn::Div(one, hn::Sqrt(Clamp(l2, lo2, hi2)));
+          Lx = hn::IfThenElse(ok, hn::Mul(dx, inv), nx);
+          Ly = hn::IfThenElse(ok, hn::Mul(dy, inv), ny);
+          Lz = hn::IfThenElse(ok, hn::Mul(dz, inv), nz);
+        }
+        const V ci = Clamp(hn::MulAdd(nz, Lz, hn::MulAdd(ny, Ly, hn::Mul(nx, Lx))), hn::Set(d, -1.0f), one);
+        if (blur)
           for (int c = 0; c < 3; ++c) {
-            const V w = hn::Set(d, p.normal_blur_mix[c]);
-            const V lit = hn::Add(hn::Mul(hn::Sub(one, w), hn::Max(ci, zero)),
-                                  hn::Mul(w, hn::Max(Dot(nb[c], L), zero)));
-            epi[c] = hn::Add(epi[c], hn::Mul(hn::Mul(hn::Mul(cd[c], ms), cl[c]), lit));
+            const V nbl = hn::MulAdd(hn::Load(d, at(kBlur + 3 * c + 2, j)), Lz,
+                                     hn::MulAdd(hn::Load(d, at(kBlur + 3 * c + 1, j)), Ly,
+                                                hn::Mul(hn::Load(d, at(kBlur + 3 * c, j)), Lx)));
+            const V lit = hn::MulAdd(hn::Set(d, blur_1mw[c]), hn::Max(ci, zero),
+                                     hn::Mul(hn::Set(d, blur_w[c]), hn::Max(nbl, zero)));
+            hn::Store(hn::MulAdd(cl[c], lit, hn::Load(d, at(kEpi + c, j))), d, at(kEpi + c, j));
           }
         const M lit = hn::Gt(ci, zero);
         if (hn::AllFalse(d, lit)) continue;
 
-        const V LdotV = Dot(L, f.v);
+        const V vx = hn::Load(d, at(kVx, j)), vy = hn::Load(d, at(kVy, j)), vz = hn::Load(d, at(kVz, j));
+        const V co = hn::Load(d, at(kCo, j));
+        const V LdotV = hn::MulAdd(Lz, vz, hn::MulAdd(Ly, vy, hn::Mul(Lx, vx)));
         V lobe;
         if (p.specular == Specular::phong) {
-          lobe = SpecularLobe(d, hn::Sub(hn::Mul(hn::Add(ci, ci), f.co), LdotV), power, int_power);
+          lobe = SpecularLobe(d, hn::Sub(hn::Mul(hn::Add(ci, ci), co), LdotV), power, int_power);
         } else {
           // |L + V| from the summed vector, not 2 + 2 L.V, which cancels at grazing angles.
-          const V3 H = {hn::Add(L.x, f.v.x), hn::Add(L.y, f.v.y), hn::Add(L.z, f.v.z)};
-          const V h2 = Dot(H, H);
+          const V hx = hn::Add(Lx, vx), hy = hn::Add(Ly, vy), hz = hn::Add(Lz, vz);
+          const V h2 = hn::MulAdd(hz, hz, hn::MulAdd(hy, hy, hn::Mul(hx, hx)));
           const M h_ok = hn::Gt(h2, hn::Set(d, 1e-30f));
-          const V sh = hn::Div(Dot(f.n, H), hn::Sqrt(hn::IfThenElse(h_ok, h2, one)));
+          const V nh = hn::MulAdd(nz, hz, hn::MulAdd(ny, hy, hn::Mul(nx, hx)));
+          const V sh = hn::Div(nh, hn::Sqrt(hn::IfThenElse(h_ok, h2, one)));
           lobe = hn::IfThenElseZero(h_ok, SpecularLobe(d, sh, power, int_power));
         }
         lobe = hn::IfThenElseZero(lit, lobe);
         for (int c = 0; c < 3; ++c)
-          sebum[c] = hn::Add(sebum[c], hn::Mul(hn::Set(d, p.Specularity * p.SheenColor[c]), hn::Mul(cl[c], lobe)));
+          hn::Store(hn::MulAdd(sheen[c], lobe, hn::Load(d, at(kSebum + c, j))), d, at(kSebum + c, j));
 
+        if (!ss_on && mode != MultipleScattering::reference) continue;
         const V cip = hn::Max(ci, zero);
         M in_ok;
         const V cit = RefractCos(d, cip, eta2m1, inv_eta2, in_ok);
-        const V kt_in_exact = FresnelKt(d, cip, cit, in_ok, veta);
+        const M lit_in = hn::And(lit, in_ok);
+        V fnum, fden;
+        FresnelKtParts(d, cip, cit, lit_in, veta, fnum, fden);
+        const V kt_in_exact = hn::IfThenElseZero(lit_in, Clamp(hn::Div(fnum, fden), zero, one));
         if (mode == MultipleScattering::reference) {
-          const V w = hn::IfThenElseZero(lit, hn::Mul(hn::Mul(ms, cip), hn::Mul(kt_in_exact, kt_out_exact)));
-          for (int c = 0; c < 3; ++c) epi[c] = hn::Add(epi[c], hn::Mul(hn::Mul(cl[c], w), rd[c]));
+          const V w = hn::Mul(cip, kt_in_exact);
+          for (int c = 0; c < 3; ++c)
+            hn::Store(hn::MulAdd(cl[c], w, hn::Load(d, at(kEpi + c, j))), d, at(kEpi + c, j));
         }
         if (!ss_on) continue;
         V kt_in = one;
         if (ss_correct) kt_in = efres ? EfresnelKt(d, kt_in_exact) : kt_in_exact;
+        const V cot = hn::Load(d, at(kCot, j));
         // 1 -+ cos(theta) of the refracted directions from the difference or sum of the unit
         // vectors: t_o -+ t_i = (V_t +- L_t) / eta + (co_t +- ci_t) n, so 1 -+ cos = abs(t_o -+ t_i)^2 / 2
         // (well conditioned at both phase peaks, unlike 1 - a dot product).
-        const V3 Lt = {hn::Sub(L.x, hn::Mul(ci, f.n.x)), hn::Sub(L.y, hn::Mul(ci, f.n.y)),
-                       hn::Sub(L.z, hn::Mul(ci, f.n.z))};
-        const V3 Vt = {hn::Sub(f.v.x, hn::Mul(f.co, f.n.x)), hn::Sub(f.v.y, hn::Mul(f.co, f.n.y)),
-                       hn::Sub(f.v.z, hn::Mul(f.co, f.n.z))};
+        const V ltx = hn::NegMulAdd(ci, nx, Lx), lty = hn::NegMulAdd(ci, ny, Ly), ltz = hn::NegMulAdd(ci, nz, Lz);
+        const V vtx = hn::Load(d, at(kVtx, j)), vty = hn::Load(d, at(kVty, j)), vtz = hn::Load(d, at(kVtz, j));
         V b;
         if (paper_phase || g >= 0.0) {
-          const V3 sum = {hn::Add(Lt.x, Vt.x), hn::Add(Lt.y, Vt.y), hn::Add(Lt.z, Vt.z)};
+          const V sx = hn::Add(ltx, vtx), sy = hn::Add(lty, vty), sz = hn::Add(ltz, vtz);
           const V cc = hn::Add(cit, cot);
-          const V omc = Clamp(hn::Mul(hn::Set(d, 0.5f), hn::Add(hn::Mul(Dot(sum, sum), inv_eta2), hn::Mul(cc, cc))),
-                              zero, hn::Set(d, 2.0f));  // 1 - cos(theta)
+          const V s2 = hn::MulAdd(sz, sz, hn::MulAdd(sy, sy, hn::Mul(sx, sx)));
+          const V omc = Clamp(hn::Mul(hn::Set(d, 0.5f), hn::MulAdd(s2, inv_eta2, hn::Mul(cc, cc))), zero,
+                              hn::Set(d, 2.0f));  // 1 - cos(theta)
           if (paper_phase) {
             // 1 - g^2 - 2 g cos = 1 - g^2 - 2 g + 2 g (1 - cos)
-            b = hn::Max(hn::Add(hn::Sub(hg_1mg2, hg_2g), hn::Mul(hg_2g, omc)), hg_floor);
+            b = hn::Max(hn::MulAdd(hg_2g, omc, hn::Sub(hg_1mg2, hg_2g)), hg_floor);
           } else {
-            b = hn::Add(hg_floor, hn::Mul(hg_2ag, omc));
+            b = hn::MulAdd(hg_2ag, omc, hg_floor);
           }
         } else {
-          const V3 dif = {hn::Sub(Vt.x, Lt.x), hn::Sub(Vt.y, Lt.y), hn::Sub(Vt.z, Lt.z)};
+          const V dx = hn::Sub(vtx, ltx), dy = hn::Sub(vty, lty), dz = hn::Sub(vtz, ltz);
           const V cd2 = hn::Sub(cot, cit);
-          const V opc = Clamp(hn::Mul(hn::Set(d, 0.5f), hn::Add(hn::Mul(Dot(dif, dif), inv_eta2), hn::Mul(cd2, cd2))),
-                              zero, hn::Set(d, 2.0f));  // 1 + cos(theta)
-          b = hn::Add(hg_floor, hn::Mul(hg_2ag, opc));
+          const V d2 = hn::MulAdd(dz, dz, hn::MulAdd(dy, dy, hn::Mul(dx, dx)));
+          const V opc = Clamp(hn::Mul(hn::Set(d, 0.5f), hn::MulAdd(d2, inv_eta2, hn::Mul(cd2, cd2))), zero,
+                              hn::Set(d, 2.0f));  // 1 + cos(theta)
+          b = hn::MulAdd(hg_2ag, opc, hg_floor);
         }
         // 1/ci + 1/co as (ci + co) / (ci co) with both floored at 1e-20 (their product is then
         // >= 1e-40, a float denormal, so it is floored at FLT_MIN instead: the exponent is
@@ -307,27 +482,46 @@ void ShadeSkinBatch(const SkinParams& p, const Light* lights, size_t light_count
         const V cim = hn::Max(cit, tiny), com = hn::Max(cot, tiny);
         const V sum_inv = hn::Div(hn::Add(cim, com), hn::Max(hn::Mul(cim, com), hn::Set(d, FLT_MIN)));
         const V arg = hn::Max(hn::Neg(hn::Mul(thickness, sum_inv)), hn::Set(d, -100.0f));
-        const V att = hn::Neg(hn::Expm1(d, arg));
-        // phase x geometry in one division: hg_k att / (b^1.5 max(ci + co, 1e-20)).
+        // phase x geometry: hg_k / (b^1.5 max(ci + co, 1e-20)), divided while expm1 runs.
         const V den = hn::Mul(hn::Mul(b, hn::Sqrt(b)), hn::Max(hn::Add(cit, cot), tiny));
-        const V ph_geom = hn::Div(hn::Mul(hg_k, att), den);
-        const M ok = hn::And(lit, hn::And(in_ok, out_ok));
-        const V w = hn::IfThenElseZero(
-            ok, hn::Mul(hn::Mul(hn::Mul(hn::Set(d, p.SingleScatteringCoeff), cip), hn::Mul(kt_in, kt_out)), ph_geom));
-        for (int c = 0; c < 3; ++c) dermis[c] = hn::Add(dermis[c], hn::Mul(hn::Mul(cl[c], w), a[c]));
+        const V ph_geom = hn::Mul(hn::Neg(hn::Expm1(d, arg)), hn::Div(hg_k, den));
+        const M ok = hn::And(lit_in, hn::Gt(cot, zero));
+        const V w = hn::IfThenElseZero(ok, hn::Mul(hn::Mul(cip, kt_in), ph_geom));
+        for (int c = 0; c < 3; ++c)
+          hn::Store(hn::MulAdd(cl[c], w, hn::Load(d, at(kDerm + c, j))), d, at(kDerm + c, j));
       }
+    }
 
-      const V op = hn::Set(d, p.Opacity);
-      V rgb[3];
+    for (size_t j = 0; j < count; j += N) {
+      const size_t i = base + j;
+      const V kt_out = hn::Load(d, at(kKtOut, j));
+      V rgb[3], sebum[3], epi[3], dermis[3];
       for (int c = 0; c < 3; ++c) {
-        sebum[c] = hn::Mul(sebum[c], op);
-        epi[c] = hn::Mul(epi[c], op);
-        dermis[c] = hn::Mul(dermis[c], op);
-        const V amb = hn::Mul(hn::Mul(hn::Set(d, p.AmbientCoeff * sums.ambient[c]), a[c]), op);
-        rgb[c] = hn::Add(hn::Add(amb, sebum[c]), hn::Add(epi[c], dermis[c]));
+        const V A = Clamp(hn::Load(d, s.albedo[c] + i), zero, one);
+        const V k = hn::Set(d, epi_k[c]);
+        const V acc = hn::Load(d, at(kEpi + c, j));
+        switch (mode) {
+          case MultipleScattering::off:
+            epi[c] = zero;
+            break;
+          case MultipleScattering::paper:
+            epi[c] = hn::Mul(hn::Mul(k, A), hn::Load(d, at(kFake, j)));
+            break;
+          case MultipleScattering::normal_blur:
+            epi[c] = hn::Mul(hn::Mul(k, A), acc);
+            break;
+          case MultipleScattering::reference: {
+            const V rd = DipoleRd(d, hn::Mul(hn::Set(d, p.DiffusionColor[c]), A), dipole_A);
+            epi[c] = hn::Mul(hn::Mul(hn::Mul(k, hn::Load(d, at(kKtOutExact, j))), rd), acc);
+            break;
+          }
+        }
+        sebum[c] = hn::Load(d, at(kSebum + c, j));
+        dermis[c] = hn::Mul(hn::Mul(hn::Mul(hn::Set(d, derm_k[c]), A), kt_out), hn::Load(d, at(kDerm + c, j)));
+        rgb[c] = hn::Add(hn::MulAdd(hn::Set(d, amb_k[c]), A, sebum[c]), hn::Add(epi[c], dermis[c]));
       }
       StoreLayer(d, o.rgb, i, rgb);
-      hn::Store(op, d, o.alpha + i);
+      hn::Store(hn::Set(d, p.Opacity), d, o.alpha + i);
       StoreLayer(d, o.sebum, i, sebum);
       StoreLayer(d, o.epidermis, i, epi);
       StoreLayer(d, o.dermis, i, dermis);

@@ -315,6 +315,36 @@ TEST(SkinHardCases, ClampCoeffZeroWithGrazingView) {
   });
 }
 
+// More non-ambient lights than the kernel caches per call (16): the rest are rebuilt per lane
+// vector and must shade exactly like the cached ones.
+TEST(SkinHardCases, MoreLightsThanTheKernelCaches) {
+  std::vector<Light> lights;
+  for (int k = 0; k < 21; ++k) {
+    const double a = 0.3 * k;
+    if (k % 7 == 3) lights.push_back(ambient(0.05f));
+    else if (k % 5 == 4) lights.push_back(point(float(std::cos(a)), float(std::sin(a)), 0.6f, 0.2f));
+    else lights.push_back(directional(0.6 * std::cos(a), 0.6 * std::sin(a), 0.8, 0.15f));
+  }
+  Case cs{lights, {0.4f, -0.3f, 4.0f}, plane_lanes()};
+  run_case(SkinParams{}, cs);
+}
+
+// Eta = 1 and a view a hair above the horizon: the outgoing Fresnel denominator (c + ct)^4 and
+// the floored |I.N| + ClampCoeff multiply to below 2^-96, where the kernel's shared division of
+// the two would lose precision, so it takes two divisions.
+TEST(SkinHardCases, EtaOneGrazingViewTakesSeparateDivisions) {
+  SkinParams p;
+  p.Eta = 1.0f;
+  p.ClampCoeff = 0.0f;
+  for (double c : {1e-7, 1e-5, 3e-3}) {
+    SCOPED_TRACE("cos_o " + std::to_string(c));
+    const double s = std::sqrt(1.0 - c * c);
+    Case cs{{at_cos(0.6), ambient()}, {float(-5.0 * s), 0.0f, float(5.0 * c)},
+            std::vector<Lane>(16, Lane{{0, 0, 0}, {0, 0, 1}})};
+    run_case(p, cs);
+  }
+}
+
 TEST(BasicHardCases, DegenerateNormalsGrazingAndCoincidentLights) {
   const float eye[3] = {5.0f, 0.0f, 0.0f};  // grazing view of the +z plane
   std::vector<Lane> lanes = {{{0, 0, 0}, {0, 0, 0}}, {{0, 0, 0}, {1e-40f, 0, 0}}, {{0, 0, 0}, {0, 0, 1}},

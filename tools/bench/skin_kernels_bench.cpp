@@ -1,0 +1,158 @@
+// Skin shading throughput: lanes (visible pixels) per second per Highway target, for the layered
+// skin kernel with the default SkinParams (the configuration `pelt bench skin` renders), for the
+// Normal Blur SSS epidermis (which also reads three blurred normals per lane), for the Lambert
+// kernel as the yardstick the skin frame is compared with, and for the double-precision
+// reference once (it does not dispatch). One batch is a 64x64 tile's worth of pixels, as the
+// renderer calls it; the lighting is the skin benchmark's: a key and a fill directional light and
+// an ambient term. Normals are random unit vectors turned toward the viewer and positions lie in
+// front of the eye, so the lanes' work is representative of a head seen from the front (some
+// lanes unlit by one light, grazing angles present).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <hwy/targets.h>
+
+#include "shading/skin_kernels.h"
+
+namespace {
+
+using namespace pelt::shading;
+
+constexpr size_t kLanes = 64 * 64;
+constexpr float kEye[3] = {0.0f, 0.0f, 30.0f};
+
+struct Batch {
+  // pos, normal, albedo (3 each), blurred normals (9), then rgb, alpha and the three layers (13);
+  // 64-byte aligned.
+  std::vector<float*> arrays;
+  Batch() {
+    std::mt19937 gen(11);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    std::normal_distribution<float> nd;
+    for (int k = 0; k < 31; ++k) arrays.push_back(static_cast<float*>(std::aligned_alloc(64, kLanes * sizeof(float))));
+    for (size_t i = 0; i < kLanes; ++i) {
+      // A point of a head-sized object around the origin, seen from kEye.
+      const float p[3] = {4.0f * u(gen), 4.5f * u(gen), 3.0f * u(gen)};
+      float n[3], l2 = 0.0f;
+      do {
+        l2 = 0.0f;
+        for (float& c : n) {
+          c = nd(gen);
+          l2 += c * c;
+        }
+      } while (l2 < 1e-6f);
+      const float inv = 1.0f / std::sqrt(l2);
+      float nv = 0.0f;
+      for (int c = 0; c < 3; ++c) {
+        n[c] *= inv;
+        nv += n[c] * (kEye[c] - p[c]);
+      }
+      if (nv < 0.0f)
+        for (float& c : n) c = -c;
+      for (int c = 0; c < 3; ++c) {
+        arrays[c][i] = p[c];
+        arrays[3 + c][i] = n[c];
+        arrays[6 + c][i] = 0.5f + 0.5f * u(gen);
+        for (int ch = 0; ch < 3; ++ch) arrays[9 + 3 * ch + c][i] = n[c] + 0.2f * u(gen);
+      }
+    }
+    for (int k = 18; k < 31; ++k)
+      for (size_t i = 0; i < kLanes; ++i) arrays[k][i] = 0.0f;
+  }
+  ~Batch() {
+    for (float* p : arrays) std::free(p);
+  }
+  Batch(const Batch&) = delete;
+  Batch& operator=(const Batch&) = delete;
+  SurfaceSoA surface() const {
+    SurfaceSoA s{};
+    s.n = kLanes;
+    for (int c = 0; c < 3; ++c) {
+      s.pos[c] = arrays[c];
+      s.normal[c] = arrays[3 + c];
+      s.albedo[c] = arrays[6 + c];
+      for (int a = 0; a < 3; ++a) s.blurred_normal[c][a] = arrays[9 + 3 * c + a];
+    }
+    return s;
+  }
+  // The renderer asks for rgb and alpha only unless a single layer is displayed.
+  ShadeOutSoA out() const {
+    ShadeOutSoA o{};
+    for (int c = 0; c < 3; ++c) o.rgb[c] = arrays[18 + c];
+    o.alpha = arrays[21];
+    return o;
+  }
+};
+
+std::vector<Light> bench_lights() {
+  auto unit = [](float x, float y, float z) {
+    const float len = std::sqrt(x * x + y * y + z * z);
+    return std::vector<float>{x / len, y / len, z / len};
+  };
+  const std::vector<float> key = unit(-0.5f, 0.6f, 0.8f), fill = unit(0.7f, 0.1f, 0.6f);
+  return {{Light::Type::Directional, {key[0], key[1], key[2]}, {1.0f, 1.0f, 1.0f}},
+          {Light::Type::Directional, {fill[0], fill[1], fill[2]}, {0.35f, 0.35f, 0.35f}},
+          {Light::Type::Ambient, {0.0f, 0.0f, 0.0f}, {0.1f, 0.1f, 0.1f}}};
+}
+
+enum class Kernel { skin, skin_reference, lambert };
+
+void BM_Skin(benchmark::State& state, int64_t target, Kernel kernel, MultipleScattering ms) {
+  if (target != 0) hwy::SetSupportedTargetsForTest(target);
+  const Batch b;
+  const SurfaceSoA s = b.surface();
+  const ShadeOutSoA o = b.out();
+  SkinParams p;
+  p.multiple_scattering = ms;
+  const std::vector<Light> lights = bench_lights();
+  for (auto _ : state) {
+    switch (kernel) {
+      case Kernel::skin:
+        shade_skin(p, lights.data(), lights.size(), kEye, s, o);
+        break;
+      case Kernel::skin_reference:
+        shade_skin_reference(p, lights.data(), lights.size(), kEye, s, o);
+        break;
+      case Kernel::lambert:
+        shade_lambert(lights.data(), lights.size(), kEye, s, o);
+        break;
+    }
+    benchmark::DoNotOptimize(o.rgb[0]);
+    benchmark::ClobberMemory();
+  }
+  state.counters["lanes/s"] = benchmark::Counter(double(state.iterations()) * kLanes, benchmark::Counter::kIsRate);
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+int RegisterAll() {
+  struct Case {
+    const char* name;
+    Kernel kernel;
+    MultipleScattering ms;
+  };
+  const Case cases[] = {
+      {"skin/default", Kernel::skin, MultipleScattering::paper},
+      {"skin/normal_blur", Kernel::skin, MultipleScattering::normal_blur},
+      {"lambert", Kernel::lambert, MultipleScattering::paper},
+  };
+  for (int64_t target : hwy::SupportedAndGeneratedTargets())
+    for (const Case& c : cases) {
+      const std::string name = std::string("SkinKernels/") + c.name + "/" + hwy::TargetName(target);
+      benchmark::RegisterBenchmark(name.c_str(), BM_Skin, target, c.kernel, c.ms)->Unit(benchmark::kMicrosecond);
+    }
+  // Scalar double precision: the same for every target, so measured once.
+  benchmark::RegisterBenchmark("SkinKernels/skin_reference/default", BM_Skin, int64_t{0}, Kernel::skin_reference,
+                               MultipleScattering::paper)
+      ->Unit(benchmark::kMicrosecond);
+  return 0;
+}
+const int kRegistered = RegisterAll();
+
+}  // namespace
+
+BENCHMARK_MAIN();

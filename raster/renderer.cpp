@@ -119,7 +119,7 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
                                                 draw.state.cull, t)
                                 : setup_triangle(poly.v[0], poly.v[k], poly.v[k + 1], vp, draw.state.cull, t);
       if (!ok) continue;
-      t.draw = 0;  // set by the caller's draw index below
+      t.draw = ch.draw;
       t.primitive = p;
       t.sort_key = key;
       const uint32_t local = static_cast<uint32_t>(ch.setups.size());
@@ -173,7 +173,6 @@ void Renderer::Impl::front_end(std::span<const DrawCall> draws, const Viewport& 
   pool.parallel_for(chunks.size(), [&](size_t c, int) {
     BinChunk& ch = chunks[c];
     bin_chunk(ch, draws[ch.draw], clip[ch.draw], vp, bounds, tiles_x, tiles_y);
-    for (TriSetup& t : ch.setups) t.draw = ch.draw;
   });
 }
 

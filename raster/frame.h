@@ -16,8 +16,8 @@ namespace pelt::raster {
 // small enough to balance two workers on a 36k-triangle fur frame.
 inline constexpr uint32_t kChunkTriangles = 1024;
 
-// A set-up triangle's frame-wide id, as stored in the visibility buffer: its chunk in the
-// high bits and its index among the chunk's set-ups (clipping fans a triangle into at most
+// A set-up triangle's frame-wide id, as stored in the visibility buffer (and increasing in
+// submission order): its chunk in the high bits and its index among the chunk's set-ups (clipping fans a triangle into at most
 // kMaxClipVertices - 2) in the low ones, so a pixel finds its triangle with two loads.
 inline constexpr uint32_t kSetupIndexBits = 13;
 static_assert(kChunkTriangles * (kMaxClipVertices - 2) <= (1u << kSetupIndexBits));
@@ -80,6 +80,7 @@ struct alignas(64) TileScratch {
   // Pass 2: the visible triangles of each block, with their lanes.
   struct Visible {
     const TriSetup* tri;
+    uint32_t draw;
     uint32_t block;
     uint32_t bits;
   };

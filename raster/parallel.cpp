@@ -2,6 +2,9 @@
 
 #include <xmmintrin.h>
 
+#include <algorithm>
+#include <atomic>
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -26,20 +29,28 @@ ThreadPool::ThreadPool(int threads) : threads_(threads < 0 ? 0 : threads) {
 
 ThreadPool::~ThreadPool() = default;
 
-void ThreadPool::parallel_for(size_t count, const std::function<void(size_t, int)>& fn) {
+void ThreadPool::parallel_for(size_t count, ItemFn fn) {
   if (count == 0) return;
   if (!arena_ || threads_ == 1) {
     ScopedFlushToZero ftz;
     for (size_t i = 0; i < count; ++i) fn(i, 0);
     return;
   }
+  // One task per worker, each claiming the next item from a shared counter: items are taken
+  // in order (callers put the heaviest tiles first, so the last to finish are short; TBB's
+  // recursive halving would hand the second worker the light half), and a frame creates a
+  // handful of tasks instead of two per item.
+  std::atomic<size_t> next{0};
+  const size_t workers = std::min(count, static_cast<size_t>(threads_));
   arena_->arena.execute([&] {
     tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, count, 1),
-        [&](const tbb::blocked_range<size_t>& r) {
+        tbb::blocked_range<size_t>(0, workers, 1),
+        [&](const tbb::blocked_range<size_t>&) {
           ScopedFlushToZero ftz;
           const int slot = tbb::this_task_arena::current_thread_index();
-          for (size_t i = r.begin(); i != r.end(); ++i) fn(i, slot);
+          for (size_t i = next.fetch_add(1, std::memory_order_relaxed); i < count;
+               i = next.fetch_add(1, std::memory_order_relaxed))
+            fn(i, slot);
         },
         tbb::simple_partitioner());
   });

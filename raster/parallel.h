@@ -4,10 +4,27 @@
 #pragma once
 
 #include <cstddef>
-#include <functional>
 #include <memory>
+#include <type_traits>
+#include <utility>
 
 namespace pelt::raster {
+
+// A non-owning reference to a callable fn(item, slot): unlike std::function it never
+// allocates (the renderer's lambdas capture more than std::function stores inline, and it
+// calls parallel_for three times a frame). Valid while the referenced callable lives.
+class ItemFn {
+ public:
+  template <class F, class = std::enable_if_t<!std::is_same_v<std::decay_t<F>, ItemFn>>>
+  ItemFn(F&& f)  // NOLINT: implicit, so callers pass lambdas directly
+      : obj_(const_cast<void*>(static_cast<const void*>(&f))),
+        call_([](void* o, size_t item, int slot) { (*static_cast<std::remove_reference_t<F>*>(o))(item, slot); }) {}
+  void operator()(size_t item, int slot) const { call_(obj_, item, slot); }
+
+ private:
+  void* obj_;
+  void (*call_)(void*, size_t, int);
+};
 
 class ThreadPool {
  public:
@@ -25,7 +42,7 @@ class ThreadPool {
   // Calls fn(item, slot) for item in [0, count); slot < slots() identifies the worker so
   // it can use per-worker scratch. Each worker runs with flush-to-zero and
   // denormals-are-zero set, so every thread count computes the same floats.
-  void parallel_for(size_t count, const std::function<void(size_t item, int slot)>& fn);
+  void parallel_for(size_t count, ItemFn fn);
 
  private:
   int threads_;

@@ -208,8 +208,8 @@ void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& opti
   load.assign(tiles, 0);
   for (const BinChunk& ch : im.chunks)
     for (uint32_t t = 0; t < tiles; ++t) load[t] += ch.tile_offsets[t + 1] - ch.tile_offsets[t];
-  std::stable_sort(im.tile_order.begin(), im.tile_order.end(),
-                   [&](uint32_t a, uint32_t b) { return load[a] > load[b]; });
+  std::sort(im.tile_order.begin(), im.tile_order.end(),
+            [&](uint32_t a, uint32_t b) { return load[a] > load[b] || (load[a] == load[b] && a < b); });
 
   while (im.scratch.size() < static_cast<size_t>(im.pool.slots()))
     im.scratch.push_back(std::make_unique<TileScratch>());

@@ -507,8 +507,11 @@ void CompositeExact(TileScratch& s) {
     uint32_t* first = s.fragment_order.data() + s.pixel_start[p];
     uint32_t* last = s.fragment_order.data() + s.pixel_start[p + 1];
     if (first == last) continue;
-    std::stable_sort(first, last, [&](uint32_t a, uint32_t b) {
-      return s.fragments[a].depth > s.fragments[b].depth;
+    // Indices are in submission order, so breaking depth ties by index is the stable order
+    // (std::stable_sort would allocate its buffer for every pixel).
+    std::sort(first, last, [&](uint32_t a, uint32_t b) {
+      const float da = s.fragments[a].depth, db = s.fragments[b].depth;
+      return da > db || (da == db && a < b);
     });
     float c[4] = {s.color[0][p], s.color[1][p], s.color[2][p], s.color[3][p]};
     for (uint32_t* it = first; it != last; ++it) {
@@ -575,16 +578,19 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
         const uint32_t bits = lanes_equal(vis, id);
         left &= ~bits;
         const TriSetup& t = SetupOf(frame, id);
-        s.visible.push_back({&t, blk, bits});
+        s.visible.push_back({&t, t.draw, blk, bits});
       }
     }
   }
-  // Draw by draw (a batch holds one draw's blocks); block order within a draw.
+  // Draw by draw (a batch holds one draw's blocks); within a draw in the order the list was
+  // built: by block, then by the first lane a triangle owns in it (distinct within a block).
+  // That key is total, so std::sort gives the stable order without a temporary buffer.
   if (frame.chunk_count > 0 && frame.chunks[0].draw != frame.chunks[frame.chunk_count - 1].draw)
-    std::stable_sort(s.visible.begin(), s.visible.end(),
-                     [](const TileScratch::Visible& a, const TileScratch::Visible& b) {
-                       return a.tri->draw < b.tri->draw;
-                     });
+    std::sort(s.visible.begin(), s.visible.end(), [](const TileScratch::Visible& a, const TileScratch::Visible& b) {
+      if (a.draw != b.draw) return a.draw < b.draw;
+      if (a.block != b.block) return a.block < b.block;
+      return std::countr_zero(a.bits) < std::countr_zero(b.bits);
+    });
   // Interpolation reads, per visible triangle, its set-up, its three indices and its
   // three vertices' varyings: dependent loads at random addresses of a large mesh. Each is
   // fetched a few triangles ahead of its use, once the load it depends on has arrived.
@@ -607,11 +613,11 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
     if (k + kPrefetchAhead / 2 < visible_count) prefetch_varyings(s.visible[k + kPrefetchAhead / 2].tri);
     const TileScratch::Visible& v = s.visible[k];
     const bool same_slot = k > 0 && s.visible[k - 1].block == v.block &&
-                           s.visible[k - 1].tri->draw == v.tri->draw && s.batch_blocks > 0 &&
-                           !frame.draws[v.tri->draw].shader->uses_derivatives();
+                           s.visible[k - 1].draw == v.draw && s.batch_blocks > 0 &&
+                           !frame.draws[v.draw].shader->uses_derivatives();
     const int32_t px = tx0 + int32_t(v.block % kBlocksPerTileSide) * kBlockSize;
     const int32_t py = ty0 + int32_t(v.block / kBlocksPerTileSide) * kBlockSize;
-    const uint32_t slot = same_slot ? s.batch_blocks - 1 : OpenSlot(frame, s, v.tri->draw, px, py, v.block, false);
+    const uint32_t slot = same_slot ? s.batch_blocks - 1 : OpenSlot(frame, s, v.draw, px, py, v.block, false);
     Interpolate(frame, s, slot, *v.tri, v.bits, !same_slot);
     s.pixels_shaded += std::popcount(v.bits);
   }
@@ -619,10 +625,11 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
 
   // Pass 3: translucent fragments, back to front per tile when asked.
   if (frame.options.sort == SortMode::Tile)
-    std::stable_sort(s.translucent.begin(), s.translucent.end(),
-                     [](const TranslucentRef& a, const TranslucentRef& b) {
-                       return a.tri->sort_key > b.tri->sort_key;
-                     });
+    // Back to front; equal keys keep submission order, which setup ids follow (frame.h).
+    std::sort(s.translucent.begin(), s.translucent.end(), [](const TranslucentRef& a, const TranslucentRef& b) {
+      const float ka = a.tri->sort_key, kb = b.tri->sort_key;
+      return ka > kb || (ka == kb && a.id < b.id);
+    });
   for (const TranslucentRef& ref : s.translucent) {
     const TriSetup& t = *ref.tri;
     const DrawCall& draw = frame.draws[t.draw];

@@ -22,9 +22,12 @@ std::optional<ParamError> check(std::string_view field, float v, double lo, doub
   return std::nullopt;
 }
 
+// The kernels validate their parameters on every call (per batch, hundreds of times a frame),
+// so the channel's name is built only for a value that fails.
 std::optional<ParamError> check3(std::string_view field, const float (&v)[3], double lo, double hi) {
   for (int c = 0; c < 3; ++c)
-    if (auto e = check(std::string(field) + "[" + std::to_string(c) + "]", v[c], lo, hi)) return e;
+    if (!std::isfinite(v[c]) || v[c] < lo || v[c] > hi)
+      return check(std::string(field) + "[" + std::to_string(c) + "]", v[c], lo, hi);
   return std::nullopt;
 }
 

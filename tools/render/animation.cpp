@@ -28,23 +28,29 @@ bool operator==(const FrameInputs::Fur& a, const FrameInputs::Fur& b) {
 }
 
 FrameInputs evaluate_frame_inputs(const io::Scene& scene, int frame) {
+  FrameInputs in;
+  evaluate_frame_inputs(scene, frame, in);
+  return in;
+}
+
+void evaluate_frame_inputs(const io::Scene& scene, int frame, FrameInputs& in) {
   const int frames = scene.animation ? scene.animation->frames : 1;
   if (frame < 0 || frame >= frames)
     throw std::out_of_range("evaluate_frame_inputs: frame " + std::to_string(frame) + " outside [0, " +
                             std::to_string(frames) + ")");
   const double fps = scene.animation ? scene.animation->fps : io::Animation{}.fps;
 
-  FrameInputs in;
   in.time_seconds = double(frame) / fps;
   in.camera = io::camera_at(scene, frame);
-  in.lights = scene.lights;
+  in.lights.assign(scene.lights.begin(), scene.lights.end());
   in.fur.resize(scene.objects.size());
   for (size_t i = 0; i < scene.objects.size(); ++i) {
+    in.fur[i] = FrameInputs::Fur{};
     if (!scene.objects[i].fur) continue;
     in.fur[i].wind = scene.objects[i].fur->wind;
     in.fur[i].gravity = scene.objects[i].fur->gravity;
   }
-  if (!scene.animation) return in;
+  if (!scene.animation) return;
 
   for (const io::LightTracks& t : scene.animation->lights) {
     io::Light& l = in.lights[t.light];
@@ -58,7 +64,6 @@ FrameInputs evaluate_frame_inputs(const io::Scene& scene, int frame) {
     if (t.gravity_direction) f.gravity->direction = glm::vec3(io::sample_direction(*t.gravity_direction, frame));
     if (t.gravity_strength) f.gravity->strength = static_cast<float>(io::sample(*t.gravity_strength, frame));
   }
-  return in;
 }
 
 }  // namespace pelt::render

@@ -31,6 +31,8 @@ struct FrameInputs {
 // std::out_of_range for a frame outside that range (callers validate user input first).
 // Pure and deterministic: the result depends only on the scene and the frame.
 FrameInputs evaluate_frame_inputs(const io::Scene& scene, int frame);
+// The same, into `out`, reusing its vectors: the renderer calls it every frame.
+void evaluate_frame_inputs(const io::Scene& scene, int frame, FrameInputs& out);
 
 // Field-by-field equality of the fur blocks (fur/ declares no operator== for them).
 bool same_wind(const fur::WindParams& a, const fur::WindParams& b);

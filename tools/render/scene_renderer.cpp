@@ -38,8 +38,10 @@ MaterialKind kind_of(io::MaterialType t) {
   return MaterialKind::lambert;
 }
 
-std::vector<shading::Light> convert_lights(const std::vector<io::Light>& in) {
-  std::vector<shading::Light> out;
+// Fills `out` in place: called every frame, and a vector that keeps its capacity does not
+// allocate after the first.
+void convert_lights(const std::vector<io::Light>& in, std::vector<shading::Light>& out) {
+  out.clear();
   for (const io::Light& l : in) {
     shading::Light s{};
     const glm::vec3 c = l.color * l.intensity;
@@ -61,6 +63,11 @@ std::vector<shading::Light> convert_lights(const std::vector<io::Light>& in) {
     }
     out.push_back(s);
   }
+}
+
+std::vector<shading::Light> convert_lights(const std::vector<io::Light>& in) {
+  std::vector<shading::Light> out;
+  convert_lights(in, out);
   return out;
 }
 
@@ -325,9 +332,10 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
 
   // Everything that may vary per frame, from the scene's keyframes; static values come
   // back identical, so the fur stages below recompute only what changed.
-  const FrameInputs inputs = evaluate_frame_inputs(scene_, frame);
+  evaluate_frame_inputs(scene_, frame, inputs_);
+  const FrameInputs& inputs = inputs_;
   const io::Camera& camera = camera_override ? *camera_override : inputs.camera;
-  lights_ = convert_lights(inputs.lights);
+  convert_lights(inputs.lights, lights_);
   const float aspect = float(width_) / float(height_);
   const glm::mat4 clip_from_world = camera.projection(aspect) * camera.view();
   const FurSort fur_sort = quality_.sort == io::SortQuality::none    ? FurSort::none

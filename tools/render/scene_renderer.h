@@ -12,6 +12,7 @@
 #include "tools/io/budget.h"
 #include "tools/io/quality.h"
 #include "tools/io/scene.h"
+#include "tools/render/animation.h"
 #include "tools/render/frame_stats.h"
 #include "tools/render/fur_object.h"
 #include "tools/render/material_shader.h"
@@ -85,6 +86,7 @@ class SceneRenderer {
   int width_, height_;
   raster::Renderer renderer_;
   std::vector<shading::Light> lights_;
+  FrameInputs inputs_;  // this frame's, kept so evaluating them reuses its vectors
   std::vector<std::unique_ptr<Object>> objects_;
   std::vector<raster::DrawCall> draws_;  // reused every frame
   std::vector<glm::vec2> offsets_;       // sub-pixel sample offsets, one per pass

@@ -27,11 +27,18 @@ struct Renderer::Impl {
   explicit Impl(int threads) : pool(threads) {}
 
   ThreadPool pool;
-  // Per draw, per vertex: clip position, outcode, and (inside every clip plane) its snap.
+  // Per draw, per vertex: what set-up and binning read of every triangle's vertices in one
+  // 32-byte record (the vertices of a dense mesh come from all over memory, so one line
+  // per vertex instead of three), and the clip position, read only by clipping.
+  struct FrontVertex {
+    SnappedVertex snap;  // valid when code has no kClipPlaneBits or kNonFinite
+    uint32_t code;       // vertex_outcode
+    float w;             // clip w, for the translucent sort key
+  };
+  static_assert(sizeof(FrontVertex) == 32);
   struct DrawVertices {
     std::vector<glm::vec4> clip;
-    std::vector<uint32_t> code;
-    std::vector<SnappedVertex> snap;
+    std::vector<FrontVertex> front;
   };
   std::vector<DrawVertices> clip;
   std::vector<BinChunk> chunks;
@@ -59,8 +66,7 @@ void Renderer::Impl::transform(std::span<const DrawCall> draws, const Viewport& 
   vertex_jobs.clear();
   for (uint32_t d = 0; d < draws.size(); ++d) {
     clip[d].clip.resize(draws[d].vertex_count);
-    clip[d].code.resize(draws[d].vertex_count);
-    clip[d].snap.resize(draws[d].vertex_count);
+    clip[d].front.resize(draws[d].vertex_count);
     for (uint32_t v = 0; v < draws[d].vertex_count; v += kVertexChunk)
       vertex_jobs.push_back({d, v, std::min(kVertexChunk, draws[d].vertex_count - v)});
   }
@@ -72,10 +78,11 @@ void Renderer::Impl::transform(std::span<const DrawCall> draws, const Viewport& 
     for (uint32_t v = job.first; v < job.first + job.count; ++v) {
       const glm::vec4 c = draw.clip_from_object * glm::vec4(draw.positions[v], 1.0f);
       dv.clip[v] = c;
-      dv.code[v] = vertex_outcode(c, bounds);
+      FrontVertex& f = dv.front[v];
+      f.code = vertex_outcode(c, bounds);
+      f.w = c.w;
       // Snapped once here for every triangle that shares the vertex and needs no clipping.
-      if (!(dv.code[v] & (kClipPlaneBits | kNonFinite)))
-        dv.snap[v] = snap_vertex(ClipVertex{c.x, c.y, c.z, c.w, 0.0, 0.0}, vp);
+      if (!(f.code & (kClipPlaneBits | kNonFinite))) f.snap = snap_vertex(ClipVertex{c.x, c.y, c.z, c.w, 0.0, 0.0}, vp);
     }
   });
 }
@@ -95,27 +102,27 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
       ++ch.culled;  // loaders reject such meshes; the rasterizer still never reads out of range
       continue;
     }
-    const glm::vec4 &a = dv.clip[i0], &b = dv.clip[i1], &c = dv.clip[i2];
-    const uint32_t c0 = dv.code[i0], c1 = dv.code[i1], c2 = dv.code[i2];
+    const FrontVertex &f0 = dv.front[i0], &f1 = dv.front[i1], &f2 = dv.front[i2];
+    const uint32_t c0 = f0.code, c1 = f1.code, c2 = f2.code;
     if (((c0 | c1 | c2) & kNonFinite) || (c0 & c1 & c2)) {
       ++ch.culled;
       continue;
     }
     const bool unclipped = !((c0 | c1 | c2) & kClipPlaneBits);
     if (!unclipped) {
-      if (clip_triangle(a, b, c, bounds, poly) == ClipResult::Culled) {
+      if (clip_triangle(dv.clip[i0], dv.clip[i1], dv.clip[i2], bounds, poly) == ClipResult::Culled) {
         ++ch.culled;
         continue;
       }
       ++ch.clipped;
     }
-    const float key = (a.w + b.w + c.w) * (1.0f / 3.0f);
+    const float key = (f0.w + f1.w + f2.w) * (1.0f / 3.0f);
     bool any = false;
     const int fans = unclipped ? 1 : poly.count - 2;
     for (int k = 1; k <= fans; ++k) {
       TriSetup t;
       static constexpr double kB1[3] = {0.0, 1.0, 0.0}, kB2[3] = {0.0, 0.0, 1.0};
-      const bool ok = unclipped ? setup_snapped(dv.snap[i0], dv.snap[i1], dv.snap[i2], kB1, kB2, vp,
+      const bool ok = unclipped ? setup_snapped(f0.snap, f1.snap, f2.snap, kB1, kB2, vp,
                                                 draw.state.cull, t)
                                 : setup_triangle(poly.v[0], poly.v[k], poly.v[k + 1], vp, draw.state.cull, t);
       if (!ok) continue;

@@ -252,20 +252,7 @@ const float* srgb8_to_linear_table() {
 }
 
 double block_lod(const float* u, const float* v, int width, int height) {
-  double ux = 0, vx = 0, uy = 0, vy = 0;
-  for (int r = 0; r < 4; ++r) {
-    ux += double(u[4 * r + 3]) - double(u[4 * r]);
-    vx += double(v[4 * r + 3]) - double(v[4 * r]);
-  }
-  for (int c = 0; c < 4; ++c) {
-    uy += double(u[12 + c]) - double(u[c]);
-    vy += double(v[12 + c]) - double(v[c]);
-  }
-  ux *= width / 12.0;
-  uy *= width / 12.0;
-  vx *= height / 12.0;
-  vy *= height / 12.0;
-  return 0.5 * std::log2(std::max(ux * ux + vx * vx, uy * uy + vy * vy));
+  return 0.5 * std::log2(block_lod_length2(u, v, width, height));
 }
 
 // ---- Reference sampler: written independently of the kernel, in double. ----

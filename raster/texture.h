@@ -161,6 +161,26 @@ void sample_reference(const Texture& tex, const SamplerState& state, const float
 // The LOD of the 4x4 block at u[0..16), v[0..16) as defined above, before the bias and clamp
 // (may be -inf for a zero derivative). For tests and for shaders that want to skip work.
 double block_lod(const float* u, const float* v, int width, int height);
+// Its argument: block_lod = 0.5 * log2(block_lod_length2), the larger squared length of the
+// two block derivatives in texels. Inline, so the sampler can skip the logarithm where the
+// LOD clamps to level 0 anyway (magnification: length2 <= 1).
+inline double block_lod_length2(const float* u, const float* v, int width, int height) {
+  double ux = 0, vx = 0, uy = 0, vy = 0;
+  for (int r = 0; r < 4; ++r) {
+    ux += double(u[4 * r + 3]) - double(u[4 * r]);
+    vx += double(v[4 * r + 3]) - double(v[4 * r]);
+  }
+  for (int c = 0; c < 4; ++c) {
+    uy += double(u[12 + c]) - double(u[c]);
+    vy += double(v[12 + c]) - double(v[c]);
+  }
+  ux *= width / 12.0;
+  uy *= width / 12.0;
+  vx *= height / 12.0;
+  vy *= height / 12.0;
+  const double lx = ux * ux + vx * vx, ly = uy * uy + vy * vy;
+  return lx < ly ? ly : lx;  // std::max, NaN in lx included
+}
 
 // The 256 sRGB bytes decoded to linear (inverse transfer function in double, rounded once).
 const float* srgb8_to_linear_table();

@@ -197,8 +197,14 @@ void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRIC
     LevelView L0 = base, L1 = base;
     float t = 0.0f;
     if constexpr (kFilter == Filter::Trilinear) {
-      const double lambda = block_lod(u + b, v + b, base.w, base.h) + double(s.lod_bias);
-      const double clamped = lambda > 0.0 ? std::min(lambda, top) : 0.0;
+      // Without a bias, a length of at most one texel (or NaN) is level 0 whatever the
+      // logarithm: skipped there, it is most of a magnified surface's blocks.
+      const double length2 = block_lod_length2(u + b, v + b, base.w, base.h);
+      double clamped = 0.0;
+      if (s.lod_bias != 0.0f || length2 > 1.0) {
+        const double lambda = 0.5 * std::log2(length2) + double(s.lod_bias);
+        clamped = lambda > 0.0 ? std::min(lambda, top) : 0.0;
+      }
       const int l0 = int(clamped);
       L0 = View(tex, l0);
       t = float(clamped - l0);

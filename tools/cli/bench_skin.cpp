@@ -53,6 +53,7 @@ struct Measurement {
   double front_median = 0, tiles_median = 0;  // the rasterizer's own split of the frame
   uint64_t fragments = 0;
   uint64_t pixels_shaded = 0, lanes_shaded = 0;  // shading work used / computed (last frame)
+  uint64_t triangles_culled = 0, triangles_setup = 0, bin_items = 0;  // the rasterizer's (last frame)
 };
 
 void check_options(const SkinBenchOptions& o) {
@@ -174,6 +175,9 @@ Measurement measure(const bench::SkinBenchMesh& m, const ShaderColumn& shader, c
   out.fragments = st.fragments;
   out.pixels_shaded = st.pixels_shaded;
   out.lanes_shaded = st.lanes_shaded;
+  out.triangles_culled = st.triangles_culled;
+  out.triangles_setup = st.triangles_setup;
+  out.bin_items = st.bin_items;
   return out;
 }
 
@@ -237,6 +241,9 @@ void write_json_atomic(const std::string& path, const std::vector<Measurement>& 
                     {"shader", m.shader},
                     {"pixels_shaded", m.pixels_shaded},
                     {"lanes_shaded", m.lanes_shaded},
+                    {"triangles_culled", m.triangles_culled},
+                    {"triangles_setup", m.triangles_setup},
+                    {"bin_items", m.bin_items},
                     {"width", o.width},
                     {"height", o.height},
                     {"threads", o.threads},

@@ -19,6 +19,7 @@
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
 #include "hwy/contrib/math/math-inl.h"
+#include "shading/vec3-inl.h"
 
 #ifndef PELT_SHADING_FUR_LIGHTING_ONCE
 #define PELT_SHADING_FUR_LIGHTING_ONCE
@@ -65,29 +66,14 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 namespace fur {
 
-using D = hn::ScalableTag<float>;
-using V = hn::Vec<D>;
-using M = hn::Mask<D>;
+using namespace vec3;
 
-struct V3 {
-  V x, y, z;
-};
-
-HWY_INLINE V Dot(const V3& a, const V3& b) {
-  return hn::Add(hn::Add(hn::Mul(a.x, b.x), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z));
-}
 HWY_INLINE V3 Cross(const V3& a, const V3& b) {
   return {hn::Sub(hn::Mul(a.y, b.z), hn::Mul(a.z, b.y)), hn::Sub(hn::Mul(a.z, b.x), hn::Mul(a.x, b.z)),
           hn::Sub(hn::Mul(a.x, b.y), hn::Mul(a.y, b.x))};
 }
 HWY_INLINE V3 Add3(const V3& a, const V3& b) { return {hn::Add(a.x, b.x), hn::Add(a.y, b.y), hn::Add(a.z, b.z)}; }
 HWY_INLINE V3 Scale(const V3& a, V s) { return {hn::Mul(a.x, s), hn::Mul(a.y, s), hn::Mul(a.z, s)}; }
-HWY_INLINE V3 Select(M m, const V3& a, const V3& b) {
-  return {hn::IfThenElse(m, a.x, b.x), hn::IfThenElse(m, a.y, b.y), hn::IfThenElse(m, a.z, b.z)};
-}
-HWY_INLINE V3 Load3(D d, const float* const p[3], size_t i) {
-  return {hn::Load(d, p[0] + i), hn::Load(d, p[1] + i), hn::Load(d, p[2] + i)};
-}
 HWY_INLINE V3 Broadcast3(D d, const float v[3]) { return {hn::Set(d, v[0]), hn::Set(d, v[1]), hn::Set(d, v[2])}; }
 HWY_INLINE V Clamp01(D d, V x) { return hn::Min(hn::Max(x, hn::Zero(d)), hn::Set(d, 1.0f)); }
 

@@ -15,6 +15,7 @@
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
 #include "hwy/contrib/math/math-inl.h"
+#include "shading/vec3-inl.h"
 
 #ifndef PELT_SHADING_SKIN_KERNELS_ONCE
 #define PELT_SHADING_SKIN_KERNELS_ONCE
@@ -58,24 +59,7 @@ HWY_BEFORE_NAMESPACE();
 namespace pelt::shading::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-using D = hn::ScalableTag<float>;
-using V = hn::Vec<D>;
-using M = hn::Mask<D>;
-
-struct V3 {
-  V x, y, z;
-};
-
-HWY_INLINE V Dot(const V3& a, const V3& b) {
-  return hn::Add(hn::Add(hn::Mul(a.x, b.x), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z));
-}
-HWY_INLINE V3 Select(M m, const V3& a, const V3& b) {
-  return {hn::IfThenElse(m, a.x, b.x), hn::IfThenElse(m, a.y, b.y), hn::IfThenElse(m, a.z, b.z)};
-}
-HWY_INLINE V3 Load3(D d, const float* const p[3], size_t i) {
-  return {hn::Load(d, p[0] + i), hn::Load(d, p[1] + i), hn::Load(d, p[2] + i)};
-}
-HWY_INLINE V Clamp(V x, V lo, V hi) { return hn::Min(hn::Max(x, lo), hi); }
+using namespace vec3;
 
 // Normalises v; `ok` is false where |v|^2 < kDegenerateNormal2 or overflowed (those lanes of the
 // result are garbage and must be replaced by the caller).

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "shading/fur_lighting.h"
+#include "tests/shading/random_inputs.h"
 
 namespace pelt::shading {
 namespace {
@@ -108,22 +109,8 @@ void expect_close(const Outputs& ref, const Outputs& got, const std::function<st
   EXPECT_EQ(bad, 0u);
 }
 
-struct Rng {
-  std::mt19937_64 gen;
-  explicit Rng(uint64_t seed) : gen(seed) {}
-  float uni(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(gen); }
-  float logu(float lo, float hi) { return std::exp(uni(std::log(lo), std::log(hi))); }
-  int pick(int n) { return std::uniform_int_distribution<int>(0, n - 1)(gen); }
-  void unit(float v[3]) {
-    std::normal_distribution<float> nd;
-    float l2 = 0;
-    do {
-      for (int c = 0; c < 3; ++c) v[c] = nd(gen);
-      l2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    } while (l2 < 1e-6f);
-    for (int c = 0; c < 3; ++c) v[c] /= std::sqrt(l2);
-  }
-};
+using testing::random_lights;
+using testing::Rng;
 
 FurLightParams random_params(Rng& r) {
   FurLightParams p;
@@ -136,22 +123,6 @@ FurLightParams random_params(Rng& r) {
   if (r.pick(8) == 0) p.shininess = 512.0f;
   p.backlight_wrap = r.pick(4) == 0 ? 0.0f : r.uni(0, 1);
   return p;
-}
-
-std::vector<Light> random_lights(Rng& r) {
-  std::vector<Light> lights(1 + r.pick(4));
-  for (Light& l : lights) {
-    l.type = static_cast<Light::Type>(r.pick(3));
-    if (l.type == Light::Type::Directional) {
-      r.unit(l.vec);
-      const float len = r.uni(0.5f, 2.0f);
-      for (float& v : l.vec) v *= len;
-    } else {
-      for (float& v : l.vec) v = r.uni(-3, 3);
-    }
-    for (float& c : l.color) c = r.uni(0, 2);
-  }
-  return lights;
 }
 
 void random_surface(Rng& r, Inputs& in) {

@@ -16,6 +16,7 @@
 #include <hwy/targets.h>
 
 #include "shading/fur_lighting.h"
+#include "tools/bench/kernel_loop.h"
 
 namespace {
 
@@ -55,7 +56,6 @@ struct Batch {
 enum class Lighting { one_directional, three_lights, backlit, llvmpipe };
 
 void BM_FurLighting(benchmark::State& state, int64_t target, Lighting lighting, float shininess) {
-  hwy::SetSupportedTargetsForTest(target);
   const Batch b;
   const FurSurfaceSoA s = b.surface();
   const FurOutSoA o = b.out();
@@ -69,16 +69,12 @@ void BM_FurLighting(benchmark::State& state, int64_t target, Lighting lighting, 
     lights.push_back({Light::Type::Ambient, {0, 0, 0}, {0.1f, 0.1f, 0.12f}});
   }
   const float dir[3] = {0.3f, 0.8f, 0.5f};
-  for (auto _ : state) {
+  pelt::bench::time_lanes(state, target, kLanes, [&] {
     if (lighting == Lighting::llvmpipe)
       shade_fur_match_llvmpipe(dir, s, o);
     else
       shade_fur(p, lights.data(), lights.size(), eye, s, o);
-    benchmark::DoNotOptimize(o.rgba[0]);
-    benchmark::ClobberMemory();
-  }
-  state.counters["lanes/s"] = benchmark::Counter(double(state.iterations()) * kLanes, benchmark::Counter::kIsRate);
-  hwy::SetSupportedTargetsForTest(0);
+  });
 }
 
 int RegisterAll() {

@@ -18,6 +18,7 @@
 #include <hwy/targets.h>
 
 #include "shading/skin_kernels.h"
+#include "tools/bench/kernel_loop.h"
 
 namespace {
 
@@ -103,14 +104,13 @@ std::vector<Light> bench_lights() {
 enum class Kernel { skin, skin_reference, lambert };
 
 void BM_Skin(benchmark::State& state, int64_t target, Kernel kernel, MultipleScattering ms) {
-  if (target != 0) hwy::SetSupportedTargetsForTest(target);
   const Batch b;
   const SurfaceSoA s = b.surface();
   const ShadeOutSoA o = b.out();
   SkinParams p;
   p.multiple_scattering = ms;
   const std::vector<Light> lights = bench_lights();
-  for (auto _ : state) {
+  pelt::bench::time_lanes(state, target, kLanes, [&] {
     switch (kernel) {
       case Kernel::skin:
         shade_skin(p, lights.data(), lights.size(), kEye, s, o);
@@ -122,11 +122,7 @@ void BM_Skin(benchmark::State& state, int64_t target, Kernel kernel, MultipleSca
         shade_lambert(lights.data(), lights.size(), kEye, s, o);
         break;
     }
-    benchmark::DoNotOptimize(o.rgb[0]);
-    benchmark::ClobberMemory();
-  }
-  state.counters["lanes/s"] = benchmark::Counter(double(state.iterations()) * kLanes, benchmark::Counter::kIsRate);
-  hwy::SetSupportedTargetsForTest(0);
+  });
 }
 
 int RegisterAll() {

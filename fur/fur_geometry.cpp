@@ -92,15 +92,14 @@ std::vector<glm::vec3> uv_comb_directions(const Mesh& base, const std::vector<gl
   const size_t n = base.positions.size();
   std::vector<glm::dvec3> tu, tv;
   uv_derivatives(base, tu, tv);
-  std::vector<glm::dvec3> acc(n);
-  for (size_t i = 0; i < n; ++i) acc[i] = double(uv_direction.x) * tu[i] + double(uv_direction.y) * tv[i];
   std::vector<glm::vec3> out(n, glm::vec3(0.0f));
   for (size_t i = 0; i < n; ++i) {
     const glm::dvec3 n0(normals[i]);
     const double nl = glm::length(n0);
     if (!(nl > 0.0) || !std::isfinite(nl)) continue;
     const glm::dvec3 nn = n0 / nl;
-    const glm::dvec3 t = acc[i] - glm::dot(acc[i], nn) * nn;  // into the tangent plane
+    const glm::dvec3 acc = double(uv_direction.x) * tu[i] + double(uv_direction.y) * tv[i];
+    const glm::dvec3 t = acc - glm::dot(acc, nn) * nn;  // into the tangent plane
     const double len = glm::length(t);
     if (len > 1e-30 && std::isfinite(len)) out[i] = glm::vec3(t / len);
   }

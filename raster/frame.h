@@ -42,6 +42,7 @@ struct FrameView {
   const DrawCall* draws = nullptr;
   const BinChunk* chunks = nullptr;
   size_t chunk_count = 0;
+  const uint32_t* tile_load = nullptr;  // per tile: its bin items over every chunk
   RenderOptions options;
   RenderTarget target;
 };
@@ -80,7 +81,7 @@ struct alignas(64) TileScratch {
   // Pass 2: the visible triangles of each block, with their lanes.
   struct Visible {
     const TriSetup* tri;
-    uint32_t draw;
+    uint32_t draw;  // tri->draw, copied while tri is in cache: the sort and batching read no set-up
     uint32_t block;
     uint32_t bits;
   };

@@ -26,10 +26,6 @@ void compute_vertex_normals(Mesh& mesh) {
   }
 }
 
-}  // namespace pelt
-
-namespace pelt {
-
 void uv_derivatives(const Mesh& mesh, std::vector<glm::dvec3>& dpdu, std::vector<glm::dvec3>& dpdv) {
   const size_t n = mesh.positions.size();
   dpdu.assign(n, glm::dvec3(0.0));

@@ -60,6 +60,7 @@ struct Renderer::Impl {
 Renderer::Renderer(int threads) : impl_(std::make_unique<Impl>(threads)) {}
 Renderer::~Renderer() = default;
 int Renderer::threads() const { return impl_->pool.threads(); }
+size_t Renderer::worker_scratch_bytes() { return sizeof(TileScratch); }
 
 void Renderer::Impl::transform(std::span<const DrawCall> draws, const Viewport& vp) {
   if (clip.size() < draws.size()) clip.resize(draws.size());
@@ -229,6 +230,7 @@ void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& opti
   view.draws = draws.data();
   view.chunks = im.chunks.data();
   view.chunk_count = im.chunks.size();
+  view.tile_load = load.data();
   view.options = options;
   view.target = target;
   im.pool.parallel_for(tiles, [&](size_t i, int slot) {

@@ -50,6 +50,22 @@ struct RasterStats {
                                    // work, of which pixels_shaded + fragments_blended were used
   double ms_front = 0.0;           // transform, clip, set-up and binning
   double ms_tiles = 0.0;           // rasterization, shading, blending, resolve
+
+  // Sums every counter and time (e.g. over the passes of one supersampled frame).
+  RasterStats& operator+=(const RasterStats& o) {
+    triangles_submitted += o.triangles_submitted;
+    triangles_culled += o.triangles_culled;
+    triangles_clipped += o.triangles_clipped;
+    triangles_setup += o.triangles_setup;
+    bin_items += o.bin_items;
+    fragments_visible += o.fragments_visible;
+    pixels_shaded += o.pixels_shaded;
+    fragments_blended += o.fragments_blended;
+    lanes_shaded += o.lanes_shaded;
+    ms_front += o.ms_front;
+    ms_tiles += o.ms_tiles;
+    return *this;
+  }
 };
 
 class Renderer {
@@ -61,6 +77,8 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   int threads() const;
+  // Bytes each worker keeps for the tile it works on (its planes and shading batch).
+  static size_t worker_scratch_bytes();
 
   // Renders `draws` in order. The images are bit-identical for any thread count.
   // Buffers are kept between calls: rendering the same-sized frame again allocates nothing.

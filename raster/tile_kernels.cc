@@ -468,15 +468,17 @@ void FillEmptyTile(const FrameView& frame, int32_t tx0, int32_t ty0) {
   const int32_t w = std::min(kTileSize, frame.vp.width - tx0);
   const int32_t h = std::min(kTileSize, frame.vp.height - ty0);
   const glm::vec4 bg = frame.options.background;
+#if HWY_TARGET != HWY_SCALAR
+  const hn::CappedTag<float, 4> d4;
+  alignas(16) const float rgba[4] = {bg.r, bg.g, bg.b, bg.a};
+  const auto px = hn::Load(d4, rgba);
+#endif
   for (int32_t y = 0; y < h; ++y) {
     const size_t row = static_cast<size_t>(ty0 + y) * t.width + tx0;
     if (t.color) {
       float* dst = t.color + row * 4;
       int32_t x = 0;
 #if HWY_TARGET != HWY_SCALAR
-      const hn::CappedTag<float, 4> d4;
-      alignas(16) const float rgba[4] = {bg.r, bg.g, bg.b, bg.a};
-      const auto px = hn::Load(d4, rgba);
       if ((reinterpret_cast<uintptr_t>(dst) & 15) == 0)
         for (; x < w; ++x) hn::Stream(px, d4, dst + 4 * x);
 #endif
@@ -528,10 +530,7 @@ void CompositeExact(TileScratch& s) {
 void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   const int32_t tx0 = static_cast<int32_t>(tile % frame.tiles_x) * kTileSize;
   const int32_t ty0 = static_cast<int32_t>(tile / frame.tiles_x) * kTileSize;
-  bool empty = true;
-  for (size_t c = 0; c < frame.chunk_count && empty; ++c)
-    empty = frame.chunks[c].tile_offsets[tile] == frame.chunks[c].tile_offsets[tile + 1];
-  if (empty) {
+  if (frame.tile_load[tile] == 0) {
     FillEmptyTile(frame, tx0, ty0);
     return;
   }
@@ -561,7 +560,7 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   // full blocks rather than one block per (triangle, block) pair.
   s.visible.clear();
   {
-      const DU du;
+    const DU du;
     const size_t n = hn::Lanes(du);
     // Lanes of the block whose visible triangle is `id`, as block bits.
     auto lanes_equal = [&](const uint32_t* vis, uint32_t id) {
@@ -594,12 +593,12 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   // Interpolation reads, per visible triangle, its set-up, its three indices and its
   // three vertices' varyings: dependent loads at random addresses of a large mesh. Each is
   // fetched a few triangles ahead of its use, once the load it depends on has arrived.
-  auto prefetch_indices = [&](const TriSetup* t) {
-    hwy::Prefetch(frame.draws[t->draw].indices + 3 * size_t{t->primitive});
+  auto prefetch_indices = [&](const TileScratch::Visible& v) {
+    hwy::Prefetch(frame.draws[v.draw].indices + 3 * size_t{v.tri->primitive});
   };
-  auto prefetch_varyings = [&](const TriSetup* t) {
-    const DrawCall& d = frame.draws[t->draw];
-    const uint32_t* tri = d.indices + 3 * size_t{t->primitive};
+  auto prefetch_varyings = [&](const TileScratch::Visible& v) {
+    const DrawCall& d = frame.draws[v.draw];
+    const uint32_t* tri = d.indices + 3 * size_t{v.tri->primitive};
     for (int c = 0; c < 3; ++c) {
       const float* a = d.varyings + size_t{tri[c]} * d.varying_count;
       hwy::Prefetch(a);
@@ -609,8 +608,8 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   const size_t visible_count = s.visible.size();
   for (size_t k = 0; k < visible_count; ++k) {
     if (k + 2 * kPrefetchAhead < visible_count) PrefetchSetup(s.visible[k + 2 * kPrefetchAhead].tri);
-    if (k + kPrefetchAhead < visible_count) prefetch_indices(s.visible[k + kPrefetchAhead].tri);
-    if (k + kPrefetchAhead / 2 < visible_count) prefetch_varyings(s.visible[k + kPrefetchAhead / 2].tri);
+    if (k + kPrefetchAhead < visible_count) prefetch_indices(s.visible[k + kPrefetchAhead]);
+    if (k + kPrefetchAhead / 2 < visible_count) prefetch_varyings(s.visible[k + kPrefetchAhead / 2]);
     const TileScratch::Visible& v = s.visible[k];
     const bool same_slot = k > 0 && s.visible[k - 1].block == v.block &&
                            s.visible[k - 1].draw == v.draw && s.batch_blocks > 0 &&

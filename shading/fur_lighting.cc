@@ -362,11 +362,8 @@ void shade_fur(const FurLightParams& params, const Light* lights, size_t light_c
     }
     fur_detail::PreparedLight& p = prepared[plan.light_count++];
     p.point = l.type == Light::Type::Point;
-    const double len = p.point ? 1.0
-                               : std::sqrt(double(l.vec[0]) * l.vec[0] + double(l.vec[1]) * l.vec[1] +
-                                           double(l.vec[2]) * l.vec[2]);
+    kernel_light_vector(l, p.vec);
     for (int c = 0; c < 3; ++c) {
-      p.vec[c] = float(l.vec[c] / len);
       p.raw[c] = l.vec[c];
       p.color[c] = l.color[c];
     }

@@ -3,10 +3,12 @@
 // precision); comments there state the terms' bounds and the deviations from the paper.
 
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <vector>
 
 #include "shading/skin_kernels.h"
 
@@ -27,31 +29,16 @@ struct LightSums {
 };
 enum class Basic : int { unlit, lambert, blinn };
 
-// Per-call constants of one non-ambient light for the skin kernel. Computed once per call: the
-// outputs are float stores that may alias the Light array as far as the compiler knows, so it
-// cannot hoist them out of the lane loop itself, and renormalising a directional light in double
-// (a scalar sqrt and three divisions) then sat on the critical path of every lane vector.
-struct SkinLight {
-  float vec[3];  // unit direction to the light (directional) or its position (point)
+// A non-ambient light as the kernels read it, prepared once per call in scalar code before
+// dispatch: renormalising a directional light in double (a square root and three divisions)
+// inside the kernels sat on the critical path of every lane vector, and the compiler cannot
+// hoist it there (the output stores may alias the Light array as far as it knows).
+struct KernelLight {
+  float vec[3];  // kernel_light_vector: unit direction to the light, or the point light's position
   bool point;
   float color[3];
-  float sebum[3];  // Opacity Specularity SheenColor color: the sebum layer per unit lobe
+  float sebum[3];  // skin only: Opacity Specularity SheenColor color, the sebum layer per unit lobe
 };
-inline SkinLight make_skin_light(const SkinParams& p, const Light& l) {
-  SkinLight k{};
-  k.point = l.type == Light::Type::Point;
-  const double len = k.point ? 1.0
-                             : std::sqrt(double(l.vec[0]) * l.vec[0] + double(l.vec[1]) * l.vec[1] +
-                                         double(l.vec[2]) * l.vec[2]);
-  for (int c = 0; c < 3; ++c) {
-    k.vec[c] = float(l.vec[c] / len);
-    k.color[c] = l.color[c];
-    k.sebum[c] = float(double(p.Opacity) * p.Specularity * p.SheenColor[c] * l.color[c]);
-  }
-  return k;
-}
-// Lights cached per call; a call with more non-ambient lights rebuilds them per lane vector.
-inline constexpr size_t kCachedSkinLights = 16;
 }  // namespace pelt::shading::detail
 #endif
 
@@ -60,58 +47,6 @@ namespace pelt::shading::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 using namespace vec3;
-
-// Normalises v; `ok` is false where |v|^2 < kDegenerateNormal2 or overflowed (those lanes of the
-// result are garbage and must be replaced by the caller).
-HWY_INLINE V3 Normalize(D d, const V3& v, M& ok) {
-  const V len2 = Dot(v, v);
-  ok = hn::And(hn::Ge(len2, hn::Set(d, kDegenerateNormal2)), hn::Le(len2, hn::Set(d, FLT_MAX)));
-  const V inv = hn::Div(hn::Set(d, 1.0f), hn::Sqrt(hn::Max(len2, hn::Set(d, kDegenerateNormal2))));
-  return {hn::Mul(v.x, inv), hn::Mul(v.y, inv), hn::Mul(v.z, inv)};
-}
-
-struct Frame {
-  V3 n, v;
-  M flipped;
-  V co;
-};
-
-// Same rules as ref::make_frame: a degenerate normal becomes the view direction and vice versa,
-// both degenerate give +z; the normal is turned toward the viewer.
-HWY_INLINE Frame MakeFrame(D d, const SurfaceSoA& s, size_t i, const float eye[3]) {
-  const V3 p = Load3(d, s.pos, i);
-  M n_ok, v_ok;
-  const V3 n0 = Normalize(d, Load3(d, s.normal, i), n_ok);
-  const V3 v0 = Normalize(d, {hn::Sub(hn::Set(d, eye[0]), p.x), hn::Sub(hn::Set(d, eye[1]), p.y),
-                              hn::Sub(hn::Set(d, eye[2]), p.z)},
-                          v_ok);
-  const V3 z = {hn::Zero(d), hn::Zero(d), hn::Set(d, 1.0f)};
-  const V3 v1 = Select(v_ok, v0, Select(n_ok, n0, z));
-  const V3 n1 = Select(n_ok, n0, v1);
-  Frame f;
-  f.flipped = hn::Lt(Dot(n1, v1), hn::Zero(d));
-  f.n = {hn::IfThenElse(f.flipped, hn::Neg(n1.x), n1.x), hn::IfThenElse(f.flipped, hn::Neg(n1.y), n1.y),
-         hn::IfThenElse(f.flipped, hn::Neg(n1.z), n1.z)};
-  f.v = v1;
-  f.co = Clamp(Dot(f.n, f.v), hn::Zero(d), hn::Set(d, 1.0f));
-  return f;
-}
-
-// Unit direction to a non-ambient light; a point light at the shaded point shines along n.
-HWY_INLINE V3 LightDir(D d, const Light& l, const SurfaceSoA& s, size_t i, const V3& n) {
-  if (l.type == Light::Type::Directional) {
-    const double len = std::sqrt(double(l.vec[0]) * l.vec[0] + double(l.vec[1]) * l.vec[1] +
-                                 double(l.vec[2]) * l.vec[2]);
-    return {hn::Set(d, float(l.vec[0] / len)), hn::Set(d, float(l.vec[1] / len)),
-            hn::Set(d, float(l.vec[2] / len))};
-  }
-  const V3 p = Load3(d, s.pos, i);
-  M ok;
-  const V3 L = Normalize(d, {hn::Sub(hn::Set(d, l.vec[0]), p.x), hn::Sub(hn::Set(d, l.vec[1]), p.y),
-                             hn::Sub(hn::Set(d, l.vec[2]), p.z)},
-                         ok);
-  return Select(ok, L, n);
-}
 
 // s^power for s in (0, 1], 0 for s <= 0. An integer power (int_power >= 0; the defaults,
 // Power 20 and shininess 32, are) takes repeated squaring: a handful of multiplies
@@ -179,10 +114,11 @@ HWY_INLINE void FresnelKtParts(D d, V c, V ct, M ok, V eta, V& num, V& den) {
   num = hn::Mul(hn::Mul(hn::Add(eta, eta), hn::Mul(c, ct)), hn::Add(ds2, dp2));
 }
 
-// MakeFrame for the skin kernel, into separate vectors: GCC copied the Frame and V3 aggregates
-// through the stack in 64-bit pieces (store-forwarding stalls in every lane vector). Same rules
-// as ref::make_frame.
-HWY_INLINE void SkinFrame(D d, const SurfaceSoA& s, size_t i, const float eye[3], V& nx, V& ny, V& nz, V& vx,
+// The shading frame of lanes i.. (ref::make_frame's rules: a degenerate normal becomes the view
+// direction and vice versa, both degenerate give +z; the normal is turned toward the viewer),
+// into separate vectors: GCC copied V3 aggregates through the stack in 64-bit pieces
+// (store-forwarding stalls in every lane vector).
+HWY_INLINE void LaneFrame(D d, const SurfaceSoA& s, size_t i, const float eye[3], V& nx, V& ny, V& nz, V& vx,
                           V& vy, V& vz, V& co, M& flipped) {
   const V px = hn::Load(d, s.pos[0] + i), py = hn::Load(d, s.pos[1] + i), pz = hn::Load(d, s.pos[2] + i);
   const V ax = hn::Load(d, s.normal[0] + i), ay = hn::Load(d, s.normal[1] + i), az = hn::Load(d, s.normal[2] + i);
@@ -212,6 +148,21 @@ HWY_INLINE void SkinFrame(D d, const SurfaceSoA& s, size_t i, const float eye[3]
   co = Clamp(hn::MulAdd(nz, vz, hn::MulAdd(ny, vy, hn::Mul(nx, vx))), zero, one);
 }
 
+// Unit direction from lanes i.. to a point light at (px, py, pz); a light at the shaded point
+// (or beyond float range) shines along n.
+HWY_INLINE void PointLightDir(D d, const SurfaceSoA& s, size_t i, V px, V py, V pz, V nx, V ny, V nz, V& Lx,
+                              V& Ly, V& Lz) {
+  const V lo2 = hn::Set(d, kDegenerateNormal2), hi2 = hn::Set(d, FLT_MAX);
+  const V dx = hn::Sub(px, hn::Load(d, s.pos[0] + i)), dy = hn::Sub(py, hn::Load(d, s.pos[1] + i)),
+          dz = hn::Sub(pz, hn::Load(d, s.pos[2] + i));
+  const V l2 = hn::MulAdd(dz, dz, hn::MulAdd(dy, dy, hn::Mul(dx, dx)));
+  const M ok = hn::And(hn::Ge(l2, lo2), hn::Le(l2, hi2));
+  const V inv = hn::Div(hn::Set(d, 1.0f), hn::Sqrt(Clamp(l2, lo2, hi2)));
+  Lx = hn::IfThenElse(ok, hn::Mul(dx, inv), nx);
+  Ly = hn::IfThenElse(ok, hn::Mul(dy, inv), ny);
+  Lz = hn::IfThenElse(ok, hn::Mul(dz, inv), nz);
+}
+
 // 1/x and 1/y from ONE division of x y where both factors are in (0, 2^20] and the product is at
 // least 2^-96 in every lane (the pairwise products are then normal floats, and the reciprocals
 // carry two roundings more than separate divisions: a few 1e-7 relative); otherwise two. Used
@@ -231,7 +182,7 @@ HWY_INLINE void Reciprocals2(D d, V x, V y, V& rx, V& ry) {
   }
 }
 
-void ShadeSkinBatch(const SkinParams& p, const Light* lights, size_t light_count,
+void ShadeSkinBatch(const SkinParams& p, const detail::KernelLight* lights, size_t light_count,
                     const detail::LightSums& sums, const float eye[3], const SurfaceSoA& s,
                     const ShadeOutSoA& o) {
   const D d;
@@ -276,14 +227,6 @@ void ShadeSkinBatch(const SkinParams& p, const Light* lights, size_t light_count
     blur_w[c] = p.normal_blur_mix[c];
     blur_1mw[c] = 1.0f - p.normal_blur_mix[c];
   }
-  detail::SkinLight cached[detail::kCachedSkinLights];
-  size_t direct = 0, first_uncached = light_count;
-  for (size_t li = 0; li < light_count; ++li) {
-    if (lights[li].type == Light::Type::Ambient) continue;
-    if (direct < detail::kCachedSkinLights) cached[direct] = detail::make_skin_light(p, lights[li]);
-    else if (direct == detail::kCachedSkinLights) first_uncached = li;
-    ++direct;
-  }
   const V lo2 = hn::Set(d, kDegenerateNormal2), hi2 = hn::Set(d, FLT_MAX);
 
   // The lanes are shaded in blocks, in three passes over the block: the frame and the
@@ -306,7 +249,7 @@ void ShadeSkinBatch(const SkinParams& p, const Light* lights, size_t light_count
       const size_t i = base + j;
       V nx, ny, nz, vx, vy, vz, co;
       M flipped;
-      SkinFrame(d, s, i, eye, nx, ny, nz, vx, vy, vz, co, flipped);
+      LaneFrame(d, s, i, eye, nx, ny, nz, vx, vy, vz, co, flipped);
       if (blur)
         for (int c = 0; c < 3; ++c) {
           const V bx = hn::Load(d, s.blurred_normal[c][0] + i), by = hn::Load(d, s.blurred_normal[c][1] + i),
@@ -356,15 +299,8 @@ void ShadeSkinBatch(const SkinParams& p, const Light* lights, size_t light_count
     const bool epi_sums = blur || mode == MultipleScattering::reference;
     std::memset(scratch[kSebum], 0, size_t(epi_sums ? kBlur - kSebum : kEpi - kSebum) * sizeof(scratch[0]));
 
-    size_t li = first_uncached;
-    for (size_t k = 0; k < direct; ++k) {
-      detail::SkinLight rebuilt;
-      const detail::SkinLight* sl = &cached[k % detail::kCachedSkinLights];
-      if (k >= detail::kCachedSkinLights) {
-        while (lights[li].type == Light::Type::Ambient) ++li;
-        rebuilt = detail::make_skin_light(p, lights[li++]);
-        sl = &rebuilt;
-      }
+    for (size_t k = 0; k < light_count; ++k) {
+      const detail::KernelLight* sl = &lights[k];
       const V cl[3] = {hn::Set(d, sl->color[0]), hn::Set(d, sl->color[1]), hn::Set(d, sl->color[2])};
       const V sheen[3] = {hn::Set(d, sl->sebum[0]), hn::Set(d, sl->sebum[1]), hn::Set(d, sl->sebum[2])};
       const bool point = sl->point;
@@ -374,17 +310,7 @@ void ShadeSkinBatch(const SkinParams& p, const Light* lights, size_t light_count
         const size_t i = base + j;
         const V nx = hn::Load(d, at(kNx, j)), ny = hn::Load(d, at(kNy, j)), nz = hn::Load(d, at(kNz, j));
         V Lx = Lx0, Ly = Ly0, Lz = Lz0;
-        if (point) {
-          // A point light at the shaded point (or beyond float range) shines along n.
-          const V dx = hn::Sub(Lx0, hn::Load(d, s.pos[0] + i)), dy = hn::Sub(Ly0, hn::Load(d, s.pos[1] + i)),
-                  dz = hn::Sub(Lz0, hn::Load(d, s.pos[2] + i));
-          const V l2 = hn::MulAdd(dz, dz, hn::MulAdd(dy, dy, hn::Mul(dx, dx)));
-          const M ok = hn::And(hn::Ge(l2, lo2), hn::Le(l2, hi2));
-          const V inv = hn::Div(one, hn::Sqrt(Clamp(l2, lo2, hi2)));
-          Lx = hn::IfThenElse(ok, hn::Mul(dx, inv), nx);
-          Ly = hn::IfThenElse(ok, hn::Mul(dy, inv), ny);
-          Lz = hn::IfThenElse(ok, hn::Mul(dz, inv), nz);
-        }
+        if (point) PointLightDir(d, s, i, Lx0, Ly0, Lz0, nx, ny, nz, Lx, Ly, Lz);
         const V ci = Clamp(hn::MulAdd(nz, Lz, hn::MulAdd(ny, Ly, hn::Mul(nx, Lx))), hn::Set(d, -1.0f), one);
         if (blur)
           for (int c = 0; c < 3; ++c) {
@@ -513,8 +439,8 @@ void ShadeSkinBatch(const SkinParams& p, const Light* lights, size_t light_count
   }
 }
 
-void ShadeBasicBatch(detail::Basic kind, const BasicParams& p, const Light* lights, size_t light_count,
-                     const detail::LightSums& sums, const float eye[3], const SurfaceSoA& s,
+void ShadeBasicBatch(detail::Basic kind, const BasicParams& p, const detail::KernelLight* lights,
+                     size_t light_count, const detail::LightSums& sums, const float eye[3], const SurfaceSoA& s,
                      const ShadeOutSoA& o) {
   const D d;
   const size_t N = hn::Lanes(d);
@@ -530,25 +456,28 @@ void ShadeBasicBatch(detail::Basic kind, const BasicParams& p, const Light* ligh
         hn::Store(one, d, o.alpha + i);
         continue;
       }
-      const Frame f = MakeFrame(d, s, i, eye);
+      V nx, ny, nz, vx, vy, vz, co;
+      M flipped;
+      LaneFrame(d, s, i, eye, nx, ny, nz, vx, vy, vz, co, flipped);
       V irr[3], spec[3];
       for (int c = 0; c < 3; ++c) {
         irr[c] = hn::Set(d, sums.ambient[c]);
         spec[c] = zero;
       }
       for (size_t li = 0; li < light_count; ++li) {
-        const Light& l = lights[li];
-        if (l.type == Light::Type::Ambient) continue;
-        const V3 L = LightDir(d, l, s, i, f.n);
-        const V ci = Clamp(Dot(f.n, L), hn::Set(d, -1.0f), one);
+        const detail::KernelLight& l = lights[li];
+        V Lx = hn::Set(d, l.vec[0]), Ly = hn::Set(d, l.vec[1]), Lz = hn::Set(d, l.vec[2]);
+        if (l.point) PointLightDir(d, s, i, Lx, Ly, Lz, nx, ny, nz, Lx, Ly, Lz);
+        const V ci = Clamp(hn::MulAdd(nz, Lz, hn::MulAdd(ny, Ly, hn::Mul(nx, Lx))), hn::Set(d, -1.0f), one);
         const M lit = hn::Gt(ci, zero);
         const V cip = hn::Max(ci, zero);
         V lobe = zero;
         if (kind == detail::Basic::blinn) {
-          const V3 H = {hn::Add(L.x, f.v.x), hn::Add(L.y, f.v.y), hn::Add(L.z, f.v.z)};
-          const V h2 = Dot(H, H);
+          const V hx = hn::Add(Lx, vx), hy = hn::Add(Ly, vy), hz = hn::Add(Lz, vz);
+          const V h2 = hn::MulAdd(hz, hz, hn::MulAdd(hy, hy, hn::Mul(hx, hx)));
           const M h_ok = hn::And(lit, hn::Gt(h2, hn::Set(d, 1e-30f)));
-          const V sh = hn::Div(Dot(f.n, H), hn::Sqrt(hn::IfThenElse(h_ok, h2, one)));
+          const V nh = hn::MulAdd(nz, hz, hn::MulAdd(ny, hy, hn::Mul(nx, hx)));
+          const V sh = hn::Div(nh, hn::Sqrt(hn::IfThenElse(h_ok, h2, one)));
           lobe = hn::IfThenElseZero(h_ok, SpecularLobe(d, sh, shininess, int_shininess));
         }
         for (int c = 0; c < 3; ++c) {
@@ -589,6 +518,41 @@ detail::LightSums sum_lights(const Light* lights, size_t count) {
   return s;
 }
 
+// The call's non-ambient lights as the kernels read them: up to 16 on the stack (a frame's
+// calls allocate nothing), more on the heap.
+class PreparedLights {
+ public:
+  PreparedLights(const Light* lights, size_t count, const SkinParams* skin) {
+    detail::KernelLight* out = inline_.data();
+    size_t direct = 0;
+    for (size_t i = 0; i < count; ++i) direct += lights[i].type != Light::Type::Ambient;
+    if (direct > inline_.size()) {
+      heap_.resize(direct);
+      out = heap_.data();
+    }
+    for (size_t i = 0; i < count; ++i) {
+      const Light& l = lights[i];
+      if (l.type == Light::Type::Ambient) continue;
+      detail::KernelLight& k = out[size_++];
+      k.point = l.type == Light::Type::Point;
+      kernel_light_vector(l, k.vec);
+      for (int c = 0; c < 3; ++c) {
+        k.color[c] = l.color[c];
+        k.sebum[c] = skin ? float(double(skin->Opacity) * skin->Specularity * skin->SheenColor[c] * l.color[c]) : 0.0f;
+      }
+    }
+    data_ = out;
+  }
+  const detail::KernelLight* data() const { return data_; }
+  size_t size() const { return size_; }
+
+ private:
+  std::array<detail::KernelLight, 16> inline_;
+  std::vector<detail::KernelLight> heap_;
+  const detail::KernelLight* data_ = nullptr;
+  size_t size_ = 0;
+};
+
 void check_common(const Light* lights, size_t count, const float eye[3], const SurfaceSoA& s,
                   const ShadeOutSoA& o, bool needs_blurred) {
   throw_if(validate_lights(lights, count));
@@ -604,21 +568,24 @@ void shade_skin(const SkinParams& params, const Light* lights, size_t light_coun
   throw_if(validate(params));
   check_common(lights, light_count, eye, surface, out,
                params.multiple_scattering == MultipleScattering::normal_blur);
-  const detail::LightSums sums = sum_lights(lights, light_count);
-  HWY_DYNAMIC_DISPATCH(ShadeSkinBatch)(params, lights, light_count, sums, eye, surface, out);
+  const PreparedLights prepared(lights, light_count, &params);
+  HWY_DYNAMIC_DISPATCH(ShadeSkinBatch)(params, prepared.data(), prepared.size(), sum_lights(lights, light_count), eye,
+                                       surface, out);
 }
 
 void shade_unlit(const Light* lights, size_t light_count, const float eye[3], const SurfaceSoA& surface,
                  const ShadeOutSoA& out) {
   check_common(lights, light_count, eye, surface, out, false);
-  HWY_DYNAMIC_DISPATCH(ShadeBasicBatch)(detail::Basic::unlit, BasicParams{}, lights, light_count,
+  const PreparedLights prepared(lights, light_count, nullptr);
+  HWY_DYNAMIC_DISPATCH(ShadeBasicBatch)(detail::Basic::unlit, BasicParams{}, prepared.data(), prepared.size(),
                                         sum_lights(lights, light_count), eye, surface, out);
 }
 
 void shade_lambert(const Light* lights, size_t light_count, const float eye[3], const SurfaceSoA& surface,
                    const ShadeOutSoA& out) {
   check_common(lights, light_count, eye, surface, out, false);
-  HWY_DYNAMIC_DISPATCH(ShadeBasicBatch)(detail::Basic::lambert, BasicParams{}, lights, light_count,
+  const PreparedLights prepared(lights, light_count, nullptr);
+  HWY_DYNAMIC_DISPATCH(ShadeBasicBatch)(detail::Basic::lambert, BasicParams{}, prepared.data(), prepared.size(),
                                         sum_lights(lights, light_count), eye, surface, out);
 }
 
@@ -626,7 +593,8 @@ void shade_blinn(const BasicParams& params, const Light* lights, size_t light_co
                  const SurfaceSoA& surface, const ShadeOutSoA& out) {
   throw_if(validate(params));
   check_common(lights, light_count, eye, surface, out, false);
-  HWY_DYNAMIC_DISPATCH(ShadeBasicBatch)(detail::Basic::blinn, params, lights, light_count,
+  const PreparedLights prepared(lights, light_count, nullptr);
+  HWY_DYNAMIC_DISPATCH(ShadeBasicBatch)(detail::Basic::blinn, params, prepared.data(), prepared.size(),
                                         sum_lights(lights, light_count), eye, surface, out);
 }
 

@@ -50,7 +50,7 @@ TEST(FurGeometry, TetrahedronCountsAndLayout) {
 }
 
 TEST(FurGeometry, PositionsFollowEquationOneExactly) {
-  for (const Mesh& m : {test::tetrahedron(), test::quad()}) {
+  for (const Mesh& m : {test::tetrahedron(), test::unit_square()}) {
     FurParams p = shells(7);
     p.length = 0.25f;
     const FurGeometry g = build(m, p);
@@ -87,7 +87,7 @@ TEST(FurGeometry, EdgesAreSortedUniqueWithTheirFaces) {
       EXPECT_LT(std::make_pair(tet.edges[k - 1].a, tet.edges[k - 1].b), std::make_pair(e.a, e.b));
     }
   }
-  const FurGeometry q = build(test::quad(), shells(3));
+  const FurGeometry q = build(test::unit_square(), shells(3));
   ASSERT_EQ(q.edges.size(), 5u);
   int boundary = 0;
   for (const FurEdge& e : q.edges) boundary += e.face1 == kNoFace;
@@ -100,7 +100,7 @@ TEST(FurGeometry, EdgesAreSortedUniqueWithTheirFaces) {
 }
 
 TEST(FurGeometry, FinQuadsUseTheSharedVerticesInLayerThenEdgeOrder) {
-  const Mesh m = test::quad();
+  const Mesh m = test::unit_square();
   const FurGeometry g = build(m, shells(5));
   const uint32_t N = 4, E = uint32_t(g.edges.size());
   for (uint32_t s = 0; s + 1 < 5; ++s) {
@@ -121,7 +121,7 @@ TEST(FurGeometry, FinQuadsUseTheSharedVerticesInLayerThenEdgeOrder) {
 }
 
 TEST(FurGeometry, CombingBlendsTheGrowthDirection) {
-  const Mesh m = test::quad();  // normals +y
+  const Mesh m = test::unit_square();  // normals +y
   FurParams p = shells(4);
   p.comb = CombParams{{2.0f, 0.0f, 0.0f}, 1.0f};
   FurGeometry g = build(m, p);
@@ -147,7 +147,7 @@ TEST(FurGeometry, CombingBlendsTheGrowthDirection) {
 // Combing along the mesh's UV layout: the quad's u runs along +x and its v along +z, so
 // the comb direction follows whichever way uv_direction points, per vertex.
 TEST(FurGeometry, CombingFollowsTheUvLayout) {
-  Mesh m = test::quad();  // normals +y
+  Mesh m = test::unit_square();  // normals +y
   FurParams p = shells(4);
   CombParams c;
   c.field = CombField::uv;

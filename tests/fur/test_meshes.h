@@ -2,6 +2,7 @@
 #pragma once
 
 #include "raster/mesh.h"
+#include "tests/raster/test_meshes.h"
 
 namespace pelt::fur::test {
 
@@ -16,15 +17,6 @@ inline Mesh tetrahedron() {
   return m;
 }
 
-// The unit square in the xz plane facing +y, two triangles: 4 vertices, 5 edges (4 on
-// the boundary).
-inline Mesh quad() {
-  Mesh m;
-  m.positions = {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}};
-  m.indices = {0, 1, 2, 0, 2, 3};
-  m.normals.assign(4, {0, 1, 0});
-  m.uvs = {{0, 0}, {0, 1}, {1, 1}, {1, 0}};
-  return m;
-}
+using pelt::test::unit_square;
 
 }  // namespace pelt::fur::test

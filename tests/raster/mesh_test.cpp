@@ -1,5 +1,6 @@
 // Mesh utilities: tangent frames for normal maps.
 #include "raster/mesh.h"
+#include "tests/raster/test_meshes.h"
 
 #include <cmath>
 
@@ -9,19 +10,10 @@
 namespace pelt {
 namespace {
 
-// The unit square in the xz plane facing +y; u runs along +x, v along +z (so the top of
-// the texture image, v = 0, is at z = 0: "up" in the image is -z).
-Mesh square() {
-  Mesh m;
-  m.positions = {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}};
-  m.indices = {0, 1, 2, 0, 2, 3};
-  m.normals.assign(4, {0, 1, 0});
-  m.uvs = {{0, 0}, {0, 1}, {1, 1}, {1, 0}};
-  return m;
-}
+using test::unit_square;
 
 TEST(MeshTangents, TangentAlongUBitangentTowardTheImageTop) {
-  for (const glm::vec4& t : compute_vertex_tangents(square())) {
+  for (const glm::vec4& t : compute_vertex_tangents(unit_square())) {
     EXPECT_NEAR(glm::distance(glm::vec3(t), glm::vec3(1, 0, 0)), 0.0f, 1e-6f);
     EXPECT_EQ(t.w, 1.0f);
     const glm::vec3 b = t.w * glm::cross(glm::vec3(0, 1, 0), glm::vec3(t));
@@ -30,7 +22,7 @@ TEST(MeshTangents, TangentAlongUBitangentTowardTheImageTop) {
 }
 
 TEST(MeshTangents, MirroredUvsFlipTheHandedness) {
-  Mesh m = square();
+  Mesh m = unit_square();
   for (glm::vec2& uv : m.uvs) uv.x = 1.0f - uv.x;  // u now runs along -x
   for (const glm::vec4& t : compute_vertex_tangents(m)) {
     EXPECT_NEAR(glm::distance(glm::vec3(t), glm::vec3(-1, 0, 0)), 0.0f, 1e-6f);
@@ -41,7 +33,7 @@ TEST(MeshTangents, MirroredUvsFlipTheHandedness) {
 }
 
 TEST(MeshTangents, TangentIsOrthogonalToASlantedNormal) {
-  Mesh m = square();
+  Mesh m = unit_square();
   m.normals.assign(4, glm::normalize(glm::vec3(1, 1, 0)));
   for (const glm::vec4& t : compute_vertex_tangents(m)) {
     EXPECT_NEAR(glm::length(glm::vec3(t)), 1.0f, 1e-6f);
@@ -50,7 +42,7 @@ TEST(MeshTangents, TangentIsOrthogonalToASlantedNormal) {
 }
 
 TEST(MeshTangents, DegenerateOrMissingUvsStillGiveAUnitOrthogonalFrame) {
-  Mesh m = square();
+  Mesh m = unit_square();
   m.uvs.assign(4, {0.5f, 0.5f});
   for (const glm::vec4& t : compute_vertex_tangents(m)) {
     EXPECT_NEAR(glm::length(glm::vec3(t)), 1.0f, 1e-6f);

@@ -315,8 +315,8 @@ TEST(SkinHardCases, ClampCoeffZeroWithGrazingView) {
   });
 }
 
-// More non-ambient lights than the kernel caches per call (16): the rest are rebuilt per lane
-// vector and must shade exactly like the cached ones.
+// More non-ambient lights than the entry points prepare on the stack (16): they are prepared
+// on the heap instead and must shade like fewer lights do.
 TEST(SkinHardCases, MoreLightsThanTheKernelCaches) {
   std::vector<Light> lights;
   for (int k = 0; k < 21; ++k) {

@@ -7,7 +7,6 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <random>
 #include <string>
@@ -25,18 +24,12 @@ using namespace pelt::shading;
 constexpr size_t kLanes = 64 * 64;
 
 struct Batch {
-  std::vector<float*> arrays;  // 14 inputs then 4 outputs, 64-byte aligned
+  pelt::bench::AlignedArrays arrays{18, kLanes};  // 14 inputs then 4 outputs
   Batch() {
     std::mt19937 gen(7);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-    for (int k = 0; k < 18; ++k) {
-      auto* p = static_cast<float*>(std::aligned_alloc(64, kLanes * sizeof(float)));
-      for (size_t i = 0; i < kLanes; ++i) p[i] = (k == 9 || k >= 10) ? 0.5f + 0.5f * u(gen) : u(gen);
-      arrays.push_back(p);
-    }
-  }
-  ~Batch() {
-    for (float* p : arrays) std::free(p);
+    for (size_t k = 0; k < 18; ++k)
+      for (size_t i = 0; i < kLanes; ++i) arrays[k][i] = (k == 9 || k >= 10) ? 0.5f + 0.5f * u(gen) : u(gen);
   }
   FurSurfaceSoA surface() const {
     FurSurfaceSoA s{};

@@ -10,7 +10,6 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <random>
 #include <string>
 #include <vector>
@@ -28,14 +27,12 @@ constexpr size_t kLanes = 64 * 64;
 constexpr float kEye[3] = {0.0f, 0.0f, 30.0f};
 
 struct Batch {
-  // pos, normal, albedo (3 each), blurred normals (9), then rgb, alpha and the three layers (13);
-  // 64-byte aligned.
-  std::vector<float*> arrays;
+  // pos, normal, albedo (3 each), blurred normals (9), then rgb, alpha and the three layers (13).
+  pelt::bench::AlignedArrays arrays{31, kLanes};
   Batch() {
     std::mt19937 gen(11);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     std::normal_distribution<float> nd;
-    for (int k = 0; k < 31; ++k) arrays.push_back(static_cast<float*>(std::aligned_alloc(64, kLanes * sizeof(float))));
     for (size_t i = 0; i < kLanes; ++i) {
       // A point of a head-sized object around the origin, seen from kEye.
       const float p[3] = {4.0f * u(gen), 4.5f * u(gen), 3.0f * u(gen)};
@@ -62,14 +59,7 @@ struct Batch {
         for (int ch = 0; ch < 3; ++ch) arrays[9 + 3 * ch + c][i] = n[c] + 0.2f * u(gen);
       }
     }
-    for (int k = 18; k < 31; ++k)
-      for (size_t i = 0; i < kLanes; ++i) arrays[k][i] = 0.0f;
   }
-  ~Batch() {
-    for (float* p : arrays) std::free(p);
-  }
-  Batch(const Batch&) = delete;
-  Batch& operator=(const Batch&) = delete;
   SurfaceSoA surface() const {
     SurfaceSoA s{};
     s.n = kLanes;

@@ -51,9 +51,7 @@ struct Measurement {
   std::string shader;
   double ms_median = 0, ms_min = 0, ms_max = 0;
   double front_median = 0, tiles_median = 0;  // the rasterizer's own split of the frame
-  uint64_t fragments = 0;
-  uint64_t pixels_shaded = 0, lanes_shaded = 0;  // shading work used / computed (last frame)
-  uint64_t triangles_culled = 0, triangles_setup = 0, bin_items = 0;  // the rasterizer's (last frame)
+  raster::RasterStats raster;  // the last frame's counters
 };
 
 void check_options(const SkinBenchOptions& o) {
@@ -172,12 +170,7 @@ Measurement measure(const bench::SkinBenchMesh& m, const ShaderColumn& shader, c
   out.ms_max = *std::max_element(ms.begin(), ms.end());
   out.front_median = median(front);
   out.tiles_median = median(tiles);
-  out.fragments = st.fragments;
-  out.pixels_shaded = st.pixels_shaded;
-  out.lanes_shaded = st.lanes_shaded;
-  out.triangles_culled = st.triangles_culled;
-  out.triangles_setup = st.triangles_setup;
-  out.bin_items = st.bin_items;
+  out.raster = st.raster;
   return out;
 }
 
@@ -229,7 +222,7 @@ void print_table(const std::vector<bench::SkinBenchMesh>& meshes, const std::vec
   std::printf("\nShading work (visible pixels / lanes the shader computed, whole 4x4 blocks):");
   for (size_t i = 0; i < ms.size(); ++i)
     std::printf("%s %s %s %s/%s", i % ns == 0 ? "\n " : ",", i % ns == 0 ? ms[i].mesh.c_str() : "",
-                ms[i].shader.c_str(), thousands(ms[i].pixels_shaded).c_str(), thousands(ms[i].lanes_shaded).c_str());
+                ms[i].shader.c_str(), thousands(ms[i].raster.pixels_shaded).c_str(), thousands(ms[i].raster.lanes_shaded).c_str());
   std::printf("\n");
 }
 
@@ -239,11 +232,11 @@ void write_json_atomic(const std::string& path, const std::vector<Measurement>& 
     list.push_back({{"mesh", m.mesh},
                     {"triangles", m.triangles},
                     {"shader", m.shader},
-                    {"pixels_shaded", m.pixels_shaded},
-                    {"lanes_shaded", m.lanes_shaded},
-                    {"triangles_culled", m.triangles_culled},
-                    {"triangles_setup", m.triangles_setup},
-                    {"bin_items", m.bin_items},
+                    {"pixels_shaded", m.raster.pixels_shaded},
+                    {"lanes_shaded", m.raster.lanes_shaded},
+                    {"triangles_culled", m.raster.triangles_culled},
+                    {"triangles_setup", m.raster.triangles_setup},
+                    {"bin_items", m.raster.bin_items},
                     {"width", o.width},
                     {"height", o.height},
                     {"threads", o.threads},
@@ -254,7 +247,7 @@ void write_json_atomic(const std::string& path, const std::vector<Measurement>& 
                     {"warmup", o.warmup},
                     {"ms_raster_front_median", m.front_median},
                     {"ms_raster_tiles_median", m.tiles_median},
-                    {"fragments", m.fragments}});
+                    {"fragments", m.raster.fragments_visible + m.raster.fragments_blended}});
   const std::filesystem::path p(path);
   const std::filesystem::path tmp = p.parent_path() / ("." + p.filename().string() + ".tmp");
   {

@@ -8,6 +8,7 @@
 #include <glm/vec3.hpp>
 
 #include "fur/fur_geometry.h"
+#include "raster/renderer.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/render/varyings.h"
@@ -17,7 +18,6 @@ namespace {
 
 using io::sat_add;
 using io::sat_mul;
-
 
 // FurObject's arrays, by what they are sized on (tools/render/fur_object.*, fur/fur_geometry.h).
 // Per base vertex: unit normal, growth direction, dynamics force.
@@ -67,8 +67,6 @@ MemoryPart mesh_part(const io::SceneObject& so, const Mesh& m, size_t i) {
   return p;
 }
 
-// The colour map the renderer will load for object i, sized from its header; nullopt-like
-// (bytes 0, empty field) when the object has none.
 // A texture read from an image file: float RGBA as read, the file's own pixels while they
 // are converted, and the mipmapped 8-bit texture the shader samples.
 uint64_t image_texture_bytes(uint64_t texels, uint64_t file_bytes_per_texel) {
@@ -91,6 +89,8 @@ MemoryPart normal_map_part(const io::SceneObject& so, const Mesh& m, size_t i) {
   return p;
 }
 
+// The colour map the renderer will load for object i, sized from its header; nullopt-like
+// (bytes 0, empty field) when the object has none.
 MemoryPart color_map_part(const io::SceneObject& so, const io::LoadedMesh& loaded, size_t i) {
   MemoryPart p;
   uint64_t texels = 0, file_bytes_per_texel = 0;
@@ -228,7 +228,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
                      image_bytes(w, h, spp)});
   const uint64_t workers = uint64_t(std::max(threads, 1));
   e.parts.push_back({"--threads", "tile scratch of " + std::to_string(workers) + " worker(s)",
-                     sat_mul(workers, kTileScratchBytes)});
+                     sat_mul(workers, uint64_t(raster::Renderer::worker_scratch_bytes()))});
   for (const MemoryPart& p : e.parts) e.total = sat_add(e.total, p.bytes);
   return e;
 }

@@ -8,17 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "raster/config.h"
 #include "tools/io/budget.h"
 #include "tools/io/scene.h"
 
 namespace pelt::render {
-
-// Bytes of one worker's tile scratch (raster/frame.h): four colour planes, depth and
-// visibility per tile pixel, and a full shading batch of varyings plus six output planes.
-inline constexpr uint64_t kTileScratchBytes =
-    uint64_t{raster::kTileSize} * raster::kTileSize * 6 * 4 +
-    uint64_t{raster::kMaxBatchLanes} * (raster::kMaxVaryings + 6) * 4;
 
 // Checks what the scene asks for before any mesh is loaded:
 //   image.width   width x height against budget.max_pixels, and the image buffers alone

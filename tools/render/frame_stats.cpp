@@ -25,15 +25,15 @@ nlohmann::json FrameStats::to_json() const {
   return {{"frame", frame},
           {"stages", list},
           {"samples", samples},
-          {"triangles", triangles},
-          {"fragments", fragments},
+          {"triangles", triangles()},
+          {"fragments", fragments()},
           {"raster",
-           {{"triangles_culled", triangles_culled},
-            {"triangles_setup", triangles_setup},
-            {"bin_items", bin_items},
-            {"pixels_shaded", pixels_shaded},
-            {"fragments_blended", fragments_blended},
-            {"lanes_shaded", lanes_shaded}}}};
+           {{"triangles_culled", raster.triangles_culled},
+            {"triangles_setup", raster.triangles_setup},
+            {"bin_items", raster.bin_items},
+            {"pixels_shaded", raster.pixels_shaded},
+            {"fragments_blended", raster.fragments_blended},
+            {"lanes_shaded", raster.lanes_shaded}}}};
 }
 
 }  // namespace pelt::render

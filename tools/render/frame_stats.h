@@ -9,6 +9,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "raster/renderer.h"
+
 namespace pelt::render {
 
 // The stage names, in pipeline order (documented in the README). A frame lists every one
@@ -38,15 +40,11 @@ struct FrameStats {
   int frame = 0;
   StageRecord stages[kStageCount];
   int samples = 1;         // rasterizer passes: the quality's samples per pixel
-  uint64_t triangles = 0;  // submitted to the rasterizer, summed over the passes
-  uint64_t fragments = 0;  // visible opaque + blended translucent fragments, summed over the passes
-  // The rasterizer's counters (raster::RasterStats), summed over the passes.
-  uint64_t triangles_culled = 0;   // outside, back-facing, zero-area or covering no pixel
-  uint64_t triangles_setup = 0;    // set up after clipping
-  uint64_t bin_items = 0;          // (tile, triangle) pairs
-  uint64_t pixels_shaded = 0;      // visible opaque pixels, each shaded once
-  uint64_t fragments_blended = 0;  // translucent fragments
-  uint64_t lanes_shaded = 0;       // lanes the shaders computed (whole 4x4 blocks)
+  raster::RasterStats raster;  // the rasterizer's counters and times, summed over the passes
+
+  uint64_t triangles() const { return raster.triangles_submitted; }
+  // Visible opaque plus blended translucent fragments.
+  uint64_t fragments() const { return raster.fragments_visible + raster.fragments_blended; }
 
   StageRecord& stage(const char* name);
   const StageRecord& stage(const char* name) const;

@@ -65,12 +65,6 @@ void convert_lights(const std::vector<io::Light>& in, std::vector<shading::Light
   }
 }
 
-std::vector<shading::Light> convert_lights(const std::vector<io::Light>& in) {
-  std::vector<shading::Light> out;
-  convert_lights(in, out);
-  return out;
-}
-
 SkinLayer layer_of(Aov aov) {
   switch (aov) {
     case Aov::sebum: return SkinLayer::sebum;
@@ -158,8 +152,7 @@ SceneRenderer::SceneRenderer(const io::Scene& scene, const RenderSettings& setti
       settings_(settings),
       width_(settings.width > 0 ? settings.width : scene.image.width),
       height_(settings.height > 0 ? settings.height : scene.image.height),
-      renderer_(settings.threads),
-      lights_(convert_lights(scene.lights)) {
+      renderer_(settings.threads) {
   setup_stats_.frame = -1;
   check_quality(scene_, settings_, quality_);
   // Budgets: what the scene file asks for before any mesh is read, the loaders check faces
@@ -182,8 +175,7 @@ SceneRenderer::SceneRenderer(const io::Scene& scene, std::vector<io::SceneMesh> 
       settings_(settings),
       width_(settings.width > 0 ? settings.width : scene.image.width),
       height_(settings.height > 0 ? settings.height : scene.image.height),
-      renderer_(settings.threads),
-      lights_(convert_lights(scene.lights)) {
+      renderer_(settings.threads) {
   setup_stats_.frame = -1;
   check_quality(scene_, settings_, quality_);
   if (meshes.size() != scene.objects.size())
@@ -194,6 +186,7 @@ SceneRenderer::SceneRenderer(const io::Scene& scene, std::vector<io::SceneMesh> 
 }
 
 void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
+  convert_lights(scene_.lights, lights_);
   offsets_ = sample_offsets(quality_.spp);
   const io::Scene& scene = scene_;
   const RenderSettings& settings = settings_;
@@ -315,7 +308,7 @@ size_t SceneRenderer::memory_estimate() const {
   }
   const size_t pixels = size_t(width_) * height_;
   n += pixels * 4 * sizeof(float);  // the colour image
-  return n + size_t(std::max(1, settings_.threads)) * size_t(kTileScratchBytes);
+  return n + size_t(std::max(1, settings_.threads)) * raster::Renderer::worker_scratch_bytes();
 }
 
 const fur::FurCounts* SceneRenderer::fur_counts(size_t object) const {
@@ -413,7 +406,6 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
     accum_.assign(px * 4, 0.0);
     target.color = sample_color_.data();
   }
-  double ms_front = 0.0, ms_tiles = 0.0;
   stats.samples = static_cast<int>(offsets.size());
   for (const glm::vec2& o : offsets) {
     if (offsets.size() > 1) {
@@ -425,16 +417,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
     }
     raster::RasterStats rs;
     renderer_.render(draws, opt, target, &rs);
-    ms_front += rs.ms_front;
-    ms_tiles += rs.ms_tiles;
-    stats.triangles += rs.triangles_submitted;
-    stats.fragments += rs.fragments_visible + rs.fragments_blended;
-    stats.triangles_culled += rs.triangles_culled;
-    stats.triangles_setup += rs.triangles_setup;
-    stats.bin_items += rs.bin_items;
-    stats.pixels_shaded += rs.pixels_shaded;
-    stats.fragments_blended += rs.fragments_blended;
-    stats.lanes_shaded += rs.lanes_shaded;
+    stats.raster += rs;
     if (offsets.size() > 1)
       for (size_t i = 0; i < px * 4; ++i) accum_[i] += sample_color_[i];
   }
@@ -442,8 +425,8 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
     const double inv = 1.0 / double(offsets.size());
     for (size_t i = 0; i < px * 4; ++i) out.color[i] = static_cast<float>(accum_[i] * inv);
   }
-  stats.stage("raster_front") = {true, ms_front};
-  stats.stage("raster_tiles") = {true, ms_tiles};
+  stats.stage("raster_front") = {true, stats.raster.ms_front};
+  stats.stage("raster_tiles") = {true, stats.raster.ms_tiles};
 }
 
 }  // namespace pelt::render

@@ -36,8 +36,8 @@ Drawn render_plane(float eye_y, bool double_sided) {
   r.render(0, img, st);
   Drawn d;
   for (size_t p = 0; p < size_t(img.width) * img.height; ++p) d.lit_pixels += img.color[4 * p] > 0.5f;
-  d.triangles = st.triangles;
-  d.triangles_culled = st.triangles_culled;
+  d.triangles = st.triangles();
+  d.triangles_culled = st.raster.triangles_culled;
   return d;
 }
 

@@ -40,7 +40,7 @@ TEST(Gating, SceneWithoutFurBuildsNoShellsAndSimulatesNothing) {
   for (const char* stage : {"fur_geometry", "fur_textures", "gravity", "wind", "fur_pose", "fur_lighting", "fins"})
     EXPECT_EQ(count_ran(run, stage), 0) << stage;
   EXPECT_EQ(count_ran(run, "raster_tiles"), 3);
-  EXPECT_EQ(run.stats[0].triangles, 108u);  // box:3, no fur triangles
+  EXPECT_EQ(run.stats[0].triangles(), 108u);  // box:3, no fur triangles
 }
 
 TEST(Gating, FurWithoutWindRunsNoWindStageInAnyFrame) {

@@ -7,24 +7,6 @@
 namespace pelt::raster {
 namespace {
 
-// The smallest w a vertex may keep. Only matters for matrices whose near plane does not
-// already keep w away from zero (an orthographic-like or hand-made transform).
-constexpr double kMinW = 1e-6;
-
-enum PlaneBit : uint32_t {
-  kNear = 1u << 0,    // z >= -w
-  kFar = 1u << 1,     // z <= w
-  kPosW = 1u << 2,    // w >= kMinW
-  kGuardPX = 1u << 3, // x <= gx w
-  kGuardNX = 1u << 4, // x >= -gx w
-  kGuardPY = 1u << 5,
-  kGuardNY = 1u << 6,
-  // Viewport sides: used only to reject, never to clip.
-  kViewPX = 1u << 7,
-  kViewNX = 1u << 8,
-  kViewPY = 1u << 9,
-  kViewNY = 1u << 10,
-};
 constexpr uint32_t kClipPlanes = kNear | kFar | kPosW | kGuardPX | kGuardNX | kGuardPY | kGuardNY;
 static_assert(kClipPlanes == kClipPlaneBits);
 constexpr int kNumClipPlanes = 7;

@@ -37,6 +37,27 @@ enum class ClipResult : uint8_t {
   Clipped,    // the polygon is a convex fan of `count` vertices
 };
 
+// The smallest w a vertex may keep. Only matters for matrices whose near plane does not
+// already keep w away from zero (an orthographic-like or hand-made transform).
+inline constexpr double kMinW = 1e-6;
+
+// Outcode bits of vertex_outcode below; public so that the SIMD front end
+// (vertex_kernels.cc) sets exactly the same ones.
+enum PlaneBit : uint32_t {
+  kNear = 1u << 0,    // z >= -w
+  kFar = 1u << 1,     // z <= w
+  kPosW = 1u << 2,    // w >= kMinW
+  kGuardPX = 1u << 3, // x <= gx w
+  kGuardNX = 1u << 4, // x >= -gx w
+  kGuardPY = 1u << 5,
+  kGuardNY = 1u << 6,
+  // Viewport sides: used only to reject, never to clip.
+  kViewPX = 1u << 7,
+  kViewNX = 1u << 8,
+  kViewPY = 1u << 9,
+  kViewNY = 1u << 10,
+};
+
 // Per-vertex classification, computed once per vertex by the front end: bits 0-6 are the
 // clip planes the vertex is outside of (kClipPlaneBits), bits 7-10 the viewport sides,
 // kNonFinite a NaN or infinite coordinate. A triangle whose vertices share a bit is

@@ -3,6 +3,9 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <utility>
 #include <vector>
 
 #include "raster/clip.h"
@@ -26,13 +29,39 @@ inline uint32_t setup_id(size_t chunk, uint32_t local) {
   return static_cast<uint32_t>(chunk << kSetupIndexBits) | local;
 }
 
-// Triangles of consecutive submission order, set up and binned by one worker.
-struct BinChunk {
+// A vector whose resize() leaves new trivially constructible elements uninitialised: the
+// front end grows its set-up list by a batch, lets the set-up kernel write the survivors
+// and shrinks it again; value-initialising each batch was a tenth of the front end.
+template <class T>
+struct UninitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitAllocator<U>;
+  };
+  UninitAllocator() = default;
+  template <class U>
+  UninitAllocator(const UninitAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+// Triangles of consecutive submission order, set up and binned by one worker. Aligned so
+// that two workers binning neighbouring chunks never write the same cache line pair (the
+// vectors' end pointers and the counters change per triangle: sharing a line made two
+// threads barely faster than one).
+struct alignas(128) BinChunk {
   uint32_t draw = 0, first = 0, count = 0;  // triangles [first, first+count) of draw
-  std::vector<TriSetup> setups;
+  std::vector<TriSetup, UninitAllocator<TriSetup>> setups;
   std::vector<uint32_t> tile_offsets;       // tiles + 1
   std::vector<uint32_t> items;              // setup index within the chunk, by tile
   std::vector<uint64_t> pairs;              // scratch: (tile << 32) | item
+  std::vector<uint32_t> tile_cursor;        // scratch: per tile, the next item's position
   uint64_t culled = 0, clipped = 0;
 };
 
@@ -71,6 +100,10 @@ struct alignas(64) TileScratch {
   alignas(64) int32_t batch_x[kBatchBlocks];
   alignas(64) int32_t batch_y[kBatchBlocks];
   alignas(64) uint16_t batch_offset[kBatchBlocks];  // block offset within the tile planes
+  // Per slot, bit g: lanes [g N, g N + N) of the slot hold values (N = the target's lanes).
+  // Packed opaque slots fill only the vector groups their triangles cover; the others are
+  // copied from a filled one before shading, so every lane a shader sees is finite.
+  alignas(64) uint16_t batch_groups[kBatchBlocks];
   alignas(64) uint32_t lane_prim[kBatchLanes];
   alignas(64) float lane_depth[kBatchLanes];
   alignas(64) float varyings[kMaxVaryings][kBatchLanes];

@@ -34,7 +34,8 @@ struct PipelineState {
 
 // A batch of fragments of ONE draw, in whole 4x4 blocks. Lane l of a block is pixel
 // (block_x + l % 4, block_y + l / 4). Lanes outside `mask` hold the triangle's planes
-// extrapolated (finite, usable for derivatives) and their outputs are ignored.
+// extrapolated (finite, usable for derivatives) and their outputs are ignored; for a
+// shader that uses no derivatives they hold finite values of some triangle of the draw.
 // All per-lane arrays hold 16 * blocks floats, 64-byte aligned.
 struct FragmentBatch {
   uint32_t blocks = 0;

@@ -10,6 +10,7 @@
 #include "raster/clip.h"
 #include "raster/frame.h"
 #include "raster/parallel.h"
+#include "raster/vertex_kernels.h"
 
 namespace pelt::raster {
 namespace {
@@ -30,12 +31,6 @@ struct Renderer::Impl {
   // Per draw, per vertex: what set-up and binning read of every triangle's vertices in one
   // 32-byte record (the vertices of a dense mesh come from all over memory, so one line
   // per vertex instead of three), and the clip position, read only by clipping.
-  struct FrontVertex {
-    SnappedVertex snap;  // valid when code has no kClipPlaneBits or kNonFinite
-    uint32_t code;       // vertex_outcode
-    float w;             // clip w, for the translucent sort key
-  };
-  static_assert(sizeof(FrontVertex) == 32);
   struct DrawVertices {
     std::vector<glm::vec4> clip;
     std::vector<FrontVertex> front;
@@ -76,15 +71,9 @@ void Renderer::Impl::transform(std::span<const DrawCall> draws, const Viewport& 
     const VertexJob& job = vertex_jobs[j];
     const DrawCall& draw = draws[job.draw];
     DrawVertices& dv = clip[job.draw];
-    for (uint32_t v = job.first; v < job.first + job.count; ++v) {
-      const glm::vec4 c = draw.clip_from_object * glm::vec4(draw.positions[v], 1.0f);
-      dv.clip[v] = c;
-      FrontVertex& f = dv.front[v];
-      f.code = vertex_outcode(c, bounds);
-      f.w = c.w;
-      // Snapped once here for every triangle that shares the vertex and needs no clipping.
-      if (!(f.code & (kClipPlaneBits | kNonFinite))) f.snap = snap_vertex(ClipVertex{c.x, c.y, c.z, c.w, 0.0, 0.0}, vp);
-    }
+    // Snaps every vertex that needs no clipping once here, for all triangles that share it.
+    transform_vertices(draw.clip_from_object, draw.positions, job.first, job.count, vp, bounds,
+                       dv.clip.data(), dv.front.data());
   });
 }
 
@@ -95,6 +84,46 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
   ch.pairs.clear();
   ch.culled = ch.clipped = 0;
   const uint32_t tiles = static_cast<uint32_t>(tiles_x * tiles_y);
+  // Pairs every tile whose part of t's box holds a pixel of t with set-up `local`.
+  auto bin = [&](const TriSetup& t, uint32_t local) {
+    const int32_t tx0 = t.x0 / kTileSize, tx1 = t.xmax / kTileSize;
+    const int32_t ty0 = t.y0 / kTileSize, ty1 = t.ymax / kTileSize;
+    if (tx0 == tx1 && ty0 == ty1) {
+      // Most triangles of a dense mesh lie in one tile: the tile kernel tests their edges
+      // anyway, so testing them here too would only double the work.
+      ch.pairs.push_back((static_cast<uint64_t>(ty0) * tiles_x + tx0) << 32 | local);
+      return;
+    }
+    for (int32_t ty = ty0; ty <= ty1; ++ty)
+      for (int32_t tx = tx0; tx <= tx1; ++tx) {
+        TileEdges te;
+        if (!tile_region_edges(t, tx * kTileSize, ty * kTileSize, te)) continue;
+        const uint64_t tile = static_cast<uint64_t>(ty) * tiles_x + tx;
+        ch.pairs.push_back((tile << 32) | local);
+      }
+  };
+  // Triangles that need no clipping are set up side by side (setup_snapped_batch); one that
+  // does flushes the batch first, so set-ups stay in submission order.
+  SnappedBatch batch;
+  uint32_t batch_primitive[kSetupBatch];
+  float batch_key[kSetupBatch];
+  auto flush = [&] {
+    if (batch.count == 0) return;
+    const size_t base = ch.setups.size();
+    ch.setups.resize(base + batch.count);
+    uint8_t index[kSetupBatch];
+    const uint32_t n = setup_snapped_batch(batch, vp, draw.state.cull, ch.setups.data() + base, index);
+    ch.setups.resize(base + n);
+    ch.culled += batch.count - n;
+    for (uint32_t j = 0; j < n; ++j) {
+      TriSetup& t = ch.setups[base + j];
+      t.draw = ch.draw;
+      t.primitive = batch_primitive[index[j]];
+      t.sort_key = batch_key[index[j]];
+      bin(t, static_cast<uint32_t>(base + j));
+    }
+    batch.count = 0;
+  };
   ClipPolygon poly;
   for (uint32_t p = ch.first; p < ch.first + ch.count; ++p) {
     const uint32_t i0 = draw.indices[3 * size_t{p}], i1 = draw.indices[3 * size_t{p} + 1],
@@ -109,55 +138,49 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
       ++ch.culled;
       continue;
     }
-    const bool unclipped = !((c0 | c1 | c2) & kClipPlaneBits);
-    if (!unclipped) {
-      if (clip_triangle(dv.clip[i0], dv.clip[i1], dv.clip[i2], bounds, poly) == ClipResult::Culled) {
-        ++ch.culled;
-        continue;
-      }
-      ++ch.clipped;
-    }
     const float key = (f0.w + f1.w + f2.w) * (1.0f / 3.0f);
+    if (!((c0 | c1 | c2) & kClipPlaneBits)) {
+      const uint32_t b = batch.count++;
+      const FrontVertex* f[3] = {&f0, &f1, &f2};
+      for (int k = 0; k < 3; ++k) {
+        batch.x[k][b] = f[k]->snap.x;
+        batch.y[k][b] = f[k]->snap.y;
+        batch.depth[k][b] = f[k]->snap.depth;
+        batch.inv_w[k][b] = f[k]->snap.inv_w;
+      }
+      batch_primitive[b] = p;
+      batch_key[b] = key;
+      if (batch.count == kSetupBatch) flush();
+      continue;
+    }
+    flush();
+    if (clip_triangle(dv.clip[i0], dv.clip[i1], dv.clip[i2], bounds, poly) == ClipResult::Culled) {
+      ++ch.culled;
+      continue;
+    }
+    ++ch.clipped;
     bool any = false;
-    const int fans = unclipped ? 1 : poly.count - 2;
-    for (int k = 1; k <= fans; ++k) {
+    for (int k = 1; k + 1 < poly.count; ++k) {
       TriSetup t;
-      static constexpr double kB1[3] = {0.0, 1.0, 0.0}, kB2[3] = {0.0, 0.0, 1.0};
-      const bool ok = unclipped ? setup_snapped(f0.snap, f1.snap, f2.snap, kB1, kB2, vp,
-                                                draw.state.cull, t)
-                                : setup_triangle(poly.v[0], poly.v[k], poly.v[k + 1], vp, draw.state.cull, t);
-      if (!ok) continue;
+      if (!setup_triangle(poly.v[0], poly.v[k], poly.v[k + 1], vp, draw.state.cull, t)) continue;
       t.draw = ch.draw;
       t.primitive = p;
       t.sort_key = key;
       const uint32_t local = static_cast<uint32_t>(ch.setups.size());
       ch.setups.push_back(t);
+      bin(t, local);
       any = true;
-      const int32_t tx0 = t.x0 / kTileSize, tx1 = t.xmax / kTileSize;
-      const int32_t ty0 = t.y0 / kTileSize, ty1 = t.ymax / kTileSize;
-      if (tx0 == tx1 && ty0 == ty1) {
-        // Most triangles of a dense mesh lie in one tile: the tile kernel tests their edges
-        // anyway, so testing them here too would only double the work.
-        ch.pairs.push_back((static_cast<uint64_t>(ty0) * tiles_x + tx0) << 32 | local);
-        continue;
-      }
-      for (int32_t ty = ty0; ty <= ty1; ++ty)
-        for (int32_t tx = tx0; tx <= tx1; ++tx) {
-          TileEdges te;
-          if (!tile_region_edges(t, tx * kTileSize, ty * kTileSize, te)) continue;
-          const uint64_t tile = static_cast<uint64_t>(ty) * tiles_x + tx;
-          ch.pairs.push_back((tile << 32) | local);
-        }
     }
     if (!any) ++ch.culled;
   }
+  flush();
   // Counting sort by tile; within a tile the items keep submission order.
   ch.tile_offsets.assign(tiles + 1, 0);
   for (uint64_t pr : ch.pairs) ++ch.tile_offsets[(pr >> 32) + 1];
   std::partial_sum(ch.tile_offsets.begin(), ch.tile_offsets.end(), ch.tile_offsets.begin());
   ch.items.resize(ch.pairs.size());
   // Stable scatter: walk pairs in order, writing at a running position per tile.
-  thread_local std::vector<uint32_t> pos;
+  std::vector<uint32_t>& pos = ch.tile_cursor;
   pos.assign(ch.tile_offsets.begin(), ch.tile_offsets.end() - 1);
   for (uint64_t pr : ch.pairs) ch.items[pos[pr >> 32]++] = static_cast<uint32_t>(pr);
 }
@@ -219,9 +242,19 @@ void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& opti
   std::sort(im.tile_order.begin(), im.tile_order.end(),
             [&](uint32_t a, uint32_t b) { return load[a] > load[b] || (load[a] == load[b] && a < b); });
 
-  while (im.scratch.size() < static_cast<size_t>(im.pool.slots()))
+  while (im.scratch.size() < static_cast<size_t>(im.pool.slots())) {
     im.scratch.push_back(std::make_unique<TileScratch>());
-  for (auto& s : im.scratch) s->fragments_visible = s->pixels_shaded = s->fragments_blended = s->lanes_shaded = 0;
+    // Each visible entry owns at least one pixel of the tile.
+    im.scratch.back()->visible.reserve(kTilePixels);
+  }
+  // Every worker's list of translucent items is sized for the heaviest tile now, not when
+  // a worker first meets such a tile: which worker takes which tile varies from run to run,
+  // and a frame that renders again must not allocate.
+  const uint32_t max_load = tiles > 0 ? *std::max_element(load.begin(), load.end()) : 0;
+  for (auto& s : im.scratch) {
+    s->fragments_visible = s->pixels_shaded = s->fragments_blended = s->lanes_shaded = 0;
+    if (s->translucent.capacity() < max_load) s->translucent.reserve(max_load);
+  }
 
   FrameView view;
   view.vp = vp;

@@ -68,6 +68,29 @@ bool setup_snapped(const SnappedVertex& s0, const SnappedVertex& s1, const Snapp
                    const double b1[3], const double b2[3], const Viewport& vp, CullMode cull,
                    TriSetup& out);
 
+// Triangles whose three vertices were snapped by the front end (no clipping needed), set
+// up side by side: the SIMD form of setup_snapped with b1, b2 = the original triangle's own
+// vertices. Plain SoA input, one entry per triangle in submission order.
+inline constexpr uint32_t kSetupBatch = 64;
+struct SnappedBatch {
+  // Entries past `count` are read (whole vectors) and ignored: initialised so they are
+  // defined values, never out of range.
+  uint32_t count = 0;
+  alignas(64) int32_t x[3][kSetupBatch] = {};
+  alignas(64) int32_t y[3][kSetupBatch] = {};
+  alignas(64) double depth[3][kSetupBatch] = {};
+  // 1 / clip w of an unclipped vertex: w is a float of at least 1e-6, so 1/w lies in
+  // [1 / FLT_MAX, 1e6] and no plane overflows a float.
+  alignas(64) double inv_w[3][kSetupBatch] = {};
+};
+
+// Sets up the batch's triangles exactly as setup_snapped would (bit for bit: same IEEE
+// operations, and every integer quantity is exact in double). Writes the survivors
+// (edges, bounds and planes; not draw, primitive or sort_key) to out[0..n) and their
+// batch indices to index[0..n), in batch order, and returns n. Called per front-end chunk.
+uint32_t setup_snapped_batch(const SnappedBatch& in, const Viewport& vp, CullMode cull, TriSetup* out,
+                             uint8_t* index);
+
 inline float eval_plane(const Plane& p, int32_t x0, int32_t y0, int32_t px, int32_t py) {
   return p.ref + (p.dx * static_cast<float>(px - x0) + p.dy * static_cast<float>(py - y0));
 }

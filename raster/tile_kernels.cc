@@ -193,12 +193,16 @@ HWY_INLINE void DispatchDepth(const PipelineState& st, Fn&& fn) {
   }
 }
 
+HWY_INLINE uint32_t AllGroups() { return (1u << (kBlockLanes / hn::Lanes(DF()))) - 1u; }
+
 // Interpolates triangle t's depth, primitive and varyings into the lanes `bits` of batch
-// slot i (all 16 lanes when `first`, so lanes no triangle covers still hold finite
-// extrapolated values). Several triangles of one draw can share a slot: opaque shading
-// fills whole blocks instead of one block per (triangle, block) pair.
+// slot i. `whole`: all 16 lanes, so lanes the triangle does not cover hold its planes
+// extrapolated (what derivatives need). Otherwise only the vector groups holding covered
+// lanes are computed (a group no triangle has filled yet takes all its lanes from this
+// one): several triangles of one draw share a slot, and a small triangle of a dense mesh
+// usually covers one group of a block, so this halves the work on AVX2.
 void Interpolate(const FrameView& frame, TileScratch& s, uint32_t i, const TriSetup& t,
-                 uint32_t bits, bool first) {
+                 uint32_t bits, bool whole) {
   const DrawCall& draw = frame.draws[t.draw];
   const DF df;
   const DU du;
@@ -220,6 +224,8 @@ void Interpolate(const FrameView& frame, TileScratch& s, uint32_t i, const TriSe
     d2[k] = a2[k] - a0[k];
   }
   for (size_t g = 0; g * n < kBlockLanes; ++g) {
+    const auto m = BitsToMask(bits, g);
+    if (!whole && hn::AllFalse(df, m)) continue;
     const size_t lane = i * kBlockLanes + g * n;
     const auto z = EvalDepth(t, ox, oy, g);
     // Lanes outside the triangle extrapolate the planes; clamping 1/w and the
@@ -230,14 +236,13 @@ void Interpolate(const FrameView& frame, TileScratch& s, uint32_t i, const TriSe
     auto varying = [&](uint32_t k) {
       return hn::Add(hn::Set(df, base[k]), hn::Add(hn::Mul(b1, hn::Set(df, d1[k])), hn::Mul(b2, hn::Set(df, d2[k]))));
     };
-    if (first) {
+    if (whole || !(s.batch_groups[i] & (1u << g))) {
       hn::Store(z, df, s.lane_depth + lane);
       hn::Store(hn::Set(du, t.primitive), du, s.lane_prim + lane);
       for (uint32_t k = 0; k < vc; ++k) hn::Store(varying(k), df, s.varyings[k] + lane);
+      s.batch_groups[i] = static_cast<uint16_t>(s.batch_groups[i] | (1u << g));
       continue;
     }
-    const auto m = BitsToMask(bits, g);
-    if (hn::AllFalse(df, m)) continue;
     hn::Store(hn::IfThenElse(m, z, hn::Load(df, s.lane_depth + lane)), df, s.lane_depth + lane);
     hn::Store(hn::IfThenElse(hn::RebindMask(du, m), hn::Set(du, t.primitive), hn::Load(du, s.lane_prim + lane)),
               du, s.lane_prim + lane);
@@ -257,6 +262,22 @@ void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
   const DF df;
   const size_t n = hn::Lanes(df);
   const uint32_t vc = draw.varying_count;
+
+  // Groups of packed slots that no triangle filled: copies of a filled group, finite
+  // inputs for lanes whose outputs are ignored.
+  const uint32_t all_groups = AllGroups();
+  for (uint32_t i = 0; i < nb; ++i) {
+    const uint32_t filled = s.batch_groups[i];
+    if (filled == all_groups) continue;
+    const size_t from = i * kBlockLanes + std::countr_zero(filled) * n;
+    for (size_t g = 0; g * n < kBlockLanes; ++g) {
+      if (filled & (1u << g)) continue;
+      const size_t to = i * kBlockLanes + g * n;
+      std::memcpy(s.lane_depth + to, s.lane_depth + from, n * sizeof(float));
+      std::memcpy(s.lane_prim + to, s.lane_prim + from, n * sizeof(uint32_t));
+      for (uint32_t k = 0; k < vc; ++k) std::memcpy(s.varyings[k] + to, s.varyings[k] + from, n * sizeof(float));
+    }
+  }
 
   FragmentBatch fb;
   fb.blocks = nb;
@@ -332,6 +353,7 @@ uint32_t OpenSlot(const FrameView& frame, TileScratch& s, uint32_t draw, int32_t
   const uint32_t i = s.batch_blocks++;
   s.batch_draw = draw;
   s.batch_mask[i] = 0;
+  s.batch_groups[i] = 0;
   s.batch_x[i] = px;
   s.batch_y[i] = py;
   s.batch_offset[i] = static_cast<uint16_t>(blk);
@@ -606,18 +628,23 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
     }
   };
   const size_t visible_count = s.visible.size();
+  uint32_t derivatives_draw = kNoPrimitive;  // uses_derivatives() asked once per draw, not per entry
+  bool derivatives = true;
   for (size_t k = 0; k < visible_count; ++k) {
     if (k + 2 * kPrefetchAhead < visible_count) PrefetchSetup(s.visible[k + 2 * kPrefetchAhead].tri);
     if (k + kPrefetchAhead < visible_count) prefetch_indices(s.visible[k + kPrefetchAhead]);
     if (k + kPrefetchAhead / 2 < visible_count) prefetch_varyings(s.visible[k + kPrefetchAhead / 2]);
     const TileScratch::Visible& v = s.visible[k];
+    if (v.draw != derivatives_draw) {
+      derivatives_draw = v.draw;
+      derivatives = frame.draws[v.draw].shader->uses_derivatives();
+    }
     const bool same_slot = k > 0 && s.visible[k - 1].block == v.block &&
-                           s.visible[k - 1].draw == v.draw && s.batch_blocks > 0 &&
-                           !frame.draws[v.draw].shader->uses_derivatives();
+                           s.visible[k - 1].draw == v.draw && s.batch_blocks > 0 && !derivatives;
     const int32_t px = tx0 + int32_t(v.block % kBlocksPerTileSide) * kBlockSize;
     const int32_t py = ty0 + int32_t(v.block / kBlocksPerTileSide) * kBlockSize;
     const uint32_t slot = same_slot ? s.batch_blocks - 1 : OpenSlot(frame, s, v.draw, px, py, v.block, false);
-    Interpolate(frame, s, slot, *v.tri, v.bits, !same_slot);
+    Interpolate(frame, s, slot, *v.tri, v.bits, derivatives);
     s.pixels_shaded += std::popcount(v.bits);
   }
   FlushBatch(frame, s, false);

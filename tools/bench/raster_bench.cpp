@@ -2,15 +2,27 @@
 // (depth-tested, visibility + shading) and blended (src-over), per Highway target and
 // thread count. The triangles tile a 1024x768 screen exactly, so pixels per frame are
 // known: every pixel is covered once per layer.
+//
+// Raster/dense_head: the rasterizer alone on `pelt bench skin`'s Female body (the head scan
+// refined and decimated to 120,518 triangles of about 3.5 visible pixels each), framed as
+// that bench frames it and carrying the skin draw's six varyings, with a shader that
+// writes a constant: the front end and tile costs of that table's row without its lighting.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <exception>
 #include <string>
 #include <vector>
 
+#include <glm/ext/matrix_clip_space.hpp>
+#include <glm/ext/matrix_transform.hpp>
+#include <glm/trigonometric.hpp>
 #include <hwy/targets.h>
 
 #include "raster/renderer.h"
+#include "tools/bench/skin_meshes.h"
 
 namespace {
 
@@ -18,6 +30,8 @@ using namespace pelt::raster;
 
 class FlatShader final : public Shader {
  public:
+  explicit FlatShader(bool derivatives = true) : derivatives_(derivatives) {}
+  bool uses_derivatives() const override { return derivatives_; }
   void shade(const FragmentBatch& b) const override {
     const size_t lanes = size_t{b.blocks} * kBlockLanes;
     for (size_t i = 0; i < lanes; ++i) {
@@ -27,6 +41,9 @@ class FlatShader final : public Shader {
       b.out[3][i] = 0.5f;
     }
   }
+
+ private:
+  bool derivatives_;
 };
 
 constexpr int kW = 1024, kH = 768;
@@ -91,6 +108,77 @@ void BM_Raster(benchmark::State& state, int64_t target, bool blended) {
   hwy::SetSupportedTargetsForTest(0);
 }
 
+// The Female body row of `pelt bench skin`, built once (subdivision and decimation take a
+// few seconds), with positions and normals interleaved as the skin draw's varyings.
+struct DenseMesh {
+  pelt::Mesh mesh;
+  std::vector<float> varyings;
+  glm::mat4 clip_from_object{1.0f};
+};
+
+const DenseMesh& dense_head() {
+  static const DenseMesh m = [] {
+    DenseMesh d;
+    d.mesh = pelt::bench::make_skin_bench_meshes(pelt::bench::find_head_scan("raster_bench"))[2].mesh;
+    for (size_t v = 0; v < d.mesh.vertex_count(); ++v)
+      for (const glm::vec3& a : {d.mesh.positions[v], d.mesh.normals[v]}) d.varyings.insert(d.varyings.end(), {a.x, a.y, a.z});
+    // bench skin's framing: fovy 30, seen from +z, the bounding box 80% of the image height.
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (const glm::vec3& p : d.mesh.positions) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    const glm::vec3 extent = hi - lo;
+    const float tan_half = std::tan(glm::radians(15.0f)), aspect = float(kW) / kH;
+    const float dist = std::max(extent.y / (1.6f * tan_half), extent.x / (1.6f * tan_half * aspect));
+    const glm::mat4 proj = glm::perspective(glm::radians(30.0f), aspect, 0.5f * std::max(1e-4f * dist, dist - extent.z),
+                                            2.0f * (dist + extent.z));
+    const glm::mat4 view = glm::lookAt(glm::vec3(0, 0, dist), glm::vec3(0), glm::vec3(0, 1, 0));
+    d.clip_from_object = proj * view * glm::translate(glm::mat4(1.0f), -0.5f * (lo + hi));
+    return d;
+  }();
+  return m;
+}
+
+void BM_DenseHead(benchmark::State& state, int64_t target) {
+  const int threads = int(state.range(0));
+  const DenseMesh* mesh = nullptr;
+  try {
+    mesh = &dense_head();
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());  // run from inside the checkout or set PELT_SOURCE_DIR
+    return;
+  }
+  const DenseMesh& m = *mesh;
+  hwy::SetSupportedTargetsForTest(target);
+  const FlatShader shader(false);
+  DrawCall d;
+  d.positions = m.mesh.positions.data();
+  d.vertex_count = uint32_t(m.mesh.vertex_count());
+  d.indices = m.mesh.indices.data();
+  d.triangle_count = uint32_t(m.mesh.triangle_count());
+  d.varyings = m.varyings.data();
+  d.varying_count = 6;
+  d.clip_from_object = m.clip_from_object;
+  d.state.cull = CullMode::Back;
+  d.shader = &shader;
+  std::vector<float> color(size_t(kW) * kH * 4);
+  Renderer r(threads);
+  const RenderTarget rt{kW, kH, color.data(), nullptr, nullptr};
+  RasterStats st, sum;
+  for (auto _ : state) {
+    r.render({&d, 1}, RenderOptions{}, rt, &st);
+    sum += st;
+    benchmark::DoNotOptimize(color.data());
+  }
+  const double frames = double(state.iterations());
+  state.counters["front_ms"] = sum.ms_front / frames;
+  state.counters["tiles_ms"] = sum.ms_tiles / frames;
+  state.counters["setup"] = double(st.triangles_setup);
+  state.counters["pixels"] = double(st.pixels_shaded);
+  hwy::SetSupportedTargetsForTest(0);
+}
+
 int RegisterAll() {
   for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
     for (bool blended : {false, true}) {
@@ -102,6 +190,13 @@ int RegisterAll() {
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
     }
+    benchmark::RegisterBenchmark((std::string("Raster/dense_head/") + hwy::TargetName(target)).c_str(), BM_DenseHead,
+                                 target)
+        ->ArgNames({"threads"})
+        ->Arg(1)
+        ->Arg(2)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
   }
   return 0;
 }

@@ -114,7 +114,7 @@ struct alignas(64) TileScratch {
   // Pass 2: the visible triangles of each block, with their lanes.
   struct Visible {
     const TriSetup* tri;
-    uint32_t draw;  // tri->draw, copied while tri is in cache: the sort and batching read no set-up
+    uint32_t draw;  // tri->draw, from its chunk: the sort and batching read no set-up
     uint32_t block;
     uint32_t bits;
   };

@@ -69,6 +69,24 @@ inline uint32_t BlockIndex(int32_t px, int32_t py, int32_t tx0, int32_t ty0) {
                                (px - tx0) / kBlockSize);
 }
 
+// Lanes of a block inside all three edges, from the edges' values e at its lane 0 and
+// their per-lane offsets `step` (a x + b y of each lane).
+HWY_INLINE uint32_t BlockCover(const int32_t (&step)[3][kBlockLanes], int32_t e0, int32_t e1, int32_t e2) {
+  const DI di;
+  const size_t n = hn::Lanes(di);
+  const uint32_t group_bits = (n >= 32) ? ~0u : ((1u << n) - 1u);
+  uint32_t cover = 0;
+  for (size_t g = 0; g * n < kBlockLanes; ++g) {
+    const auto v0 = hn::Add(hn::Set(di, e0), hn::Load(di, step[0] + g * n));
+    const auto v1 = hn::Add(hn::Set(di, e1), hn::Load(di, step[1] + g * n));
+    const auto v2 = hn::Add(hn::Set(di, e2), hn::Load(di, step[2] + g * n));
+    // Inside all three edges <=> the OR of the values has no sign bit.
+    const auto outside = hn::Lt(hn::Or(hn::Or(v0, v1), v2), hn::Zero(di));
+    cover |= (~MaskToBits(di, outside) & group_bits) << (g * n);
+  }
+  return cover;
+}
+
 // Calls fn(px, py, block, bits) for every block of the region that holds a covered
 // pixel; bits = covered lanes inside the viewport. Called per triangle per tile.
 template <class Fn>
@@ -84,7 +102,6 @@ HWY_INLINE void ForEachCoveredBlock(const TileEdges& te, int32_t tx0, int32_t ty
   }
   const DI di;
   const size_t n = hn::Lanes(di);
-  const uint32_t group_bits = (n >= 32) ? ~0u : ((1u << n) - 1u);
   // Per-lane edge offsets within a block, a x + b y: at most 16 / N vectors per edge.
   alignas(64) int32_t step[3][kBlockLanes];
   for (int k = 0; k < 3; ++k)
@@ -92,6 +109,32 @@ HWY_INLINE void ForEachCoveredBlock(const TileEdges& te, int32_t tx0, int32_t ty
       hn::Store(hn::Add(hn::Mul(hn::Set(di, te.a[k]), hn::Load(di, kLaneX + g * n)),
                         hn::Mul(hn::Set(di, te.b[k]), hn::Load(di, kLaneY + g * n))),
                 di, step[k] + g * n);
+
+  // A region of at most 2x2 blocks (most triangles of a dense mesh): the four blocks'
+  // coverage without branches, then the blocks that hold covered pixels. The general loop
+  // below spends most of a small triangle's time on mispredicted loop exits and tests.
+  if (te.rx1 - te.rx0 < 2 * kBlockSize && te.ry1 - te.ry0 < 2 * kBlockSize) {
+    const int32_t wide = te.rx1 - te.rx0 >= kBlockSize, tall = te.ry1 - te.ry0 >= kBlockSize;
+    uint32_t block_bits[4];
+    for (int q = 0; q < 4; ++q) {
+      const int32_t qx = q & 1, qy = q >> 1;
+      const bool inside = qx <= wide && qy <= tall;
+      const int32_t dxp = qx * kBlockSize, dyp = qy * kBlockSize;
+      const int32_t e0 = te.e0[0] + te.a[0] * dxp + te.b[0] * dyp;
+      const int32_t e1 = te.e0[1] + te.a[1] * dxp + te.b[1] * dyp;
+      const int32_t e2 = te.e0[2] + te.a[2] * dxp + te.b[2] * dyp;
+      const uint32_t cover = BlockCover(step, e0, e1, e2);
+      // Blocks outside the region may lie outside the tile: their index is never formed.
+      const uint32_t blk = inside ? BlockIndex(te.rx0 + dxp, te.ry0 + dyp, tx0, ty0) : 0;
+      block_bits[q] = inside ? (cover & valid[blk]) : 0u;
+    }
+    for (int q = 0; q < 4; ++q) {
+      if (!block_bits[q]) continue;
+      const int32_t px = te.rx0 + (q & 1) * kBlockSize, py = te.ry0 + (q >> 1) * kBlockSize;
+      fn(px, py, BlockIndex(px, py, tx0, ty0), block_bits[q]);
+    }
+    return;
+  }
 
   constexpr int32_t kSub = 16;  // hierarchical level between the tile and the block
   const int32_t sy0 = ty0 + ((te.ry0 - ty0) & ~(kSub - 1));
@@ -117,20 +160,10 @@ HWY_INLINE void ForEachCoveredBlock(const TileEdges& te, int32_t tx0, int32_t ty
           const uint32_t blk = BlockIndex(px, py, tx0, ty0);
           uint32_t bits = valid[blk];
           if (!full) {
-            uint32_t cover = 0;
             const int32_t dxp = px - x0, dyp = py - y0;
-            const int32_t e0 = e_origin[0] + te.a[0] * dxp + te.b[0] * dyp;
-            const int32_t e1 = e_origin[1] + te.a[1] * dxp + te.b[1] * dyp;
-            const int32_t e2 = e_origin[2] + te.a[2] * dxp + te.b[2] * dyp;
-            for (size_t g = 0; g * n < kBlockLanes; ++g) {
-              const auto v0 = hn::Add(hn::Set(di, e0), hn::Load(di, step[0] + g * n));
-              const auto v1 = hn::Add(hn::Set(di, e1), hn::Load(di, step[1] + g * n));
-              const auto v2 = hn::Add(hn::Set(di, e2), hn::Load(di, step[2] + g * n));
-              // Inside all three edges <=> the OR of the values has no sign bit.
-              const auto outside = hn::Lt(hn::Or(hn::Or(v0, v1), v2), hn::Zero(di));
-              cover |= (~MaskToBits(di, outside) & group_bits) << (g * n);
-            }
-            bits &= cover;
+            bits &= BlockCover(step, e_origin[0] + te.a[0] * dxp + te.b[0] * dyp,
+                               e_origin[1] + te.a[1] * dxp + te.b[1] * dyp,
+                               e_origin[2] + te.a[2] * dxp + te.b[2] * dyp);
           }
           if (bits) fn(px, py, blk, bits);
         }
@@ -273,9 +306,9 @@ void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
     for (size_t g = 0; g * n < kBlockLanes; ++g) {
       if (filled & (1u << g)) continue;
       const size_t to = i * kBlockLanes + g * n;
-      std::memcpy(s.lane_depth + to, s.lane_depth + from, n * sizeof(float));
-      std::memcpy(s.lane_prim + to, s.lane_prim + from, n * sizeof(uint32_t));
-      for (uint32_t k = 0; k < vc; ++k) std::memcpy(s.varyings[k] + to, s.varyings[k] + from, n * sizeof(float));
+      hn::Store(hn::Load(df, s.lane_depth + from), df, s.lane_depth + to);
+      hn::Store(hn::Load(DU(), s.lane_prim + from), DU(), s.lane_prim + to);
+      for (uint32_t k = 0; k < vc; ++k) hn::Store(hn::Load(df, s.varyings[k] + from), df, s.varyings[k] + to);
     }
   }
 
@@ -375,7 +408,8 @@ HWY_INLINE void PrefetchSetup(const TriSetup* t) {
   hwy::Prefetch(reinterpret_cast<const char*>(t) + 64);
 }
 
-// Calls fn(setup, setup_id) for the tile's items in submission order.
+// Calls fn(setup, setup_id, draw) for the tile's items in submission order. The draw comes
+// from the chunk, so deciding what to do with an item does not wait on its set-up's load.
 template <class Fn>
 HWY_INLINE void ForEachItem(const FrameView& frame, uint32_t tile, Fn&& fn) {
   for (size_t c = 0; c < frame.chunk_count; ++c) {
@@ -384,7 +418,7 @@ HWY_INLINE void ForEachItem(const FrameView& frame, uint32_t tile, Fn&& fn) {
     const uint32_t* end = ch.items.data() + ch.tile_offsets[tile + 1];
     for (; it != end; ++it) {
       if (end - it > ptrdiff_t{kPrefetchAhead}) PrefetchSetup(&ch.setups[it[kPrefetchAhead]]);
-      fn(ch.setups[*it], setup_id(c, *it));
+      fn(ch.setups[*it], setup_id(c, *it), ch.draw);
     }
   }
 }
@@ -562,8 +596,8 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   s.batch_blocks = 0;
 
   // Pass 1: opaque visibility.
-  ForEachItem(frame, tile, [&](const TriSetup& t, uint32_t id) {
-    const DrawCall& draw = frame.draws[t.draw];
+  ForEachItem(frame, tile, [&](const TriSetup& t, uint32_t id, uint32_t draw_index) {
+    const DrawCall& draw = frame.draws[draw_index];
     if (draw.state.blend != BlendMode::Opaque) {
       s.translucent.push_back({&t, id});
       return;
@@ -598,8 +632,10 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
         const uint32_t id = vis[std::countr_zero(left)];
         const uint32_t bits = lanes_equal(vis, id);
         left &= ~bits;
-        const TriSetup& t = SetupOf(frame, id);
-        s.visible.push_back({&t, t.draw, blk, bits});
+        // The set-up's address and draw from its chunk, without loading the set-up itself
+        // (pass 2's loop below prefetches it ahead of use).
+        const BinChunk& ch = frame.chunks[id >> kSetupIndexBits];
+        s.visible.push_back({ch.setups.data() + (id & ((1u << kSetupIndexBits) - 1)), ch.draw, blk, bits});
       }
     }
   }

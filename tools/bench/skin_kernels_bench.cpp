@@ -6,7 +6,10 @@
 // renderer calls it; the lighting is the skin benchmark's: a key and a fill directional light and
 // an ambient term. Normals are random unit vectors turned toward the viewer and positions lie in
 // front of the eye, so the lanes' work is representative of a head seen from the front (some
-// lanes unlit by one light, grazing angles present).
+// lanes unlit by one light, grazing angles present). The normal map kernel that runs before a
+// normal-mapped material's shading is timed on the same batch size: interpolated tangent frames
+// (unit normals, tangents skewed and shortened by interpolation as on a mesh, both handednesses)
+// and 8-bit texels around the flat (0.5, 0.5, 1), with its double reference once.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -16,6 +19,7 @@
 
 #include <hwy/targets.h>
 
+#include "shading/normal_map.h"
 #include "shading/skin_kernels.h"
 #include "tools/bench/kernel_loop.h"
 
@@ -115,6 +119,63 @@ void BM_Skin(benchmark::State& state, int64_t target, Kernel kernel, MultipleSca
   });
 }
 
+// normal (3), tangent (4), texel (3), then the perturbed normal (3).
+struct NormalMapBatch {
+  pelt::bench::AlignedArrays arrays{13, kLanes};
+  NormalMapBatch() {
+    std::mt19937 gen(12);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    std::normal_distribution<float> nd;
+    auto random_unit = [&](float v[3]) {
+      float l2 = 0.0f;
+      do {
+        l2 = 0.0f;
+        for (int c = 0; c < 3; ++c) {
+          v[c] = nd(gen);
+          l2 += v[c] * v[c];
+        }
+      } while (l2 < 1e-6f);
+      for (int c = 0; c < 3; ++c) v[c] /= std::sqrt(l2);
+    };
+    for (size_t i = 0; i < kLanes; ++i) {
+      float n[3], r[3];
+      random_unit(n);
+      random_unit(r);
+      // A tangent orthogonal to n, then skewed and shortened up to 10% (interpolation).
+      const float rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
+      float t[3], tl2 = 0.0f;
+      for (int c = 0; c < 3; ++c) {
+        t[c] = r[c] - rn * n[c];
+        tl2 += t[c] * t[c];
+      }
+      const float scale = (0.9f + 0.1f * u(gen)) / std::sqrt(tl2);
+      for (int c = 0; c < 3; ++c) {
+        arrays[c][i] = n[c];
+        arrays[3 + c][i] = t[c] * scale + 0.1f * u(gen) * n[c];
+      }
+      arrays[6][i] = u(gen) < 0.0f ? -1.0f : 1.0f;
+      arrays[7][i] = std::round(127.5f + 40.0f * u(gen)) / 255.0f;
+      arrays[8][i] = std::round(127.5f + 40.0f * u(gen)) / 255.0f;
+      arrays[9][i] = std::round(235.0f + 20.0f * u(gen)) / 255.0f;
+    }
+  }
+  NormalMapSoA in() const {
+    return NormalMapSoA{kLanes,
+                        {arrays[0], arrays[1], arrays[2]},
+                        {arrays[3], arrays[4], arrays[5], arrays[6]},
+                        {arrays[7], arrays[8], arrays[9]}};
+  }
+};
+
+void BM_NormalMap(benchmark::State& state, int64_t target, bool reference) {
+  const NormalMapBatch b;
+  const NormalMapSoA in = b.in();
+  float* const out[3] = {b.arrays[10], b.arrays[11], b.arrays[12]};
+  pelt::bench::time_lanes(state, target, kLanes, [&] {
+    (reference ? perturb_normals_reference : perturb_normals)(in, out);
+  });
+}
+
 int RegisterAll() {
   struct Case {
     const char* name;
@@ -131,9 +192,15 @@ int RegisterAll() {
       const std::string name = std::string("SkinKernels/") + c.name + "/" + hwy::TargetName(target);
       benchmark::RegisterBenchmark(name.c_str(), BM_Skin, target, c.kernel, c.ms)->Unit(benchmark::kMicrosecond);
     }
+  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    const std::string name = std::string("SkinKernels/normal_map/") + hwy::TargetName(target);
+    benchmark::RegisterBenchmark(name.c_str(), BM_NormalMap, target, false)->Unit(benchmark::kMicrosecond);
+  }
   // Scalar double precision: the same for every target, so measured once.
   benchmark::RegisterBenchmark("SkinKernels/skin_reference/default", BM_Skin, int64_t{0}, Kernel::skin_reference,
                                MultipleScattering::paper)
+      ->Unit(benchmark::kMicrosecond);
+  benchmark::RegisterBenchmark("SkinKernels/normal_map_reference", BM_NormalMap, int64_t{0}, true)
       ->Unit(benchmark::kMicrosecond);
   return 0;
 }

@@ -1,11 +1,9 @@
 #include "tools/render/material_shader.h"
 
 #include <algorithm>
-#include <cmath>
-
-#include <glm/geometric.hpp>
 
 #include "raster/config.h"
+#include "shading/normal_map.h"
 #include "shading/skin_kernels.h"
 #include "tools/render/texture_sampling.h"
 #include "tools/render/varyings.h"
@@ -69,24 +67,13 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
     float* const texel[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
     sample_texture(*desc_.normal_map, sampler, b.varying[V::kUv], b.varying[V::kUv + 1], n, texel,
                    desc_.double_precision);
-    const float* const nv[3] = {b.varying[V::kNormal], b.varying[V::kNormal + 1], b.varying[V::kNormal + 2]};
-    const float* const tv[4] = {b.varying[desc_.tangent_slot], b.varying[desc_.tangent_slot + 1],
-                                b.varying[desc_.tangent_slot + 2], b.varying[desc_.tangent_slot + 3]};
-    for (size_t i = 0; i < n; ++i) {
-      // The interpolated frame, re-orthogonalised (Gram-Schmidt): interpolation shortens
-      // and skews it. The shading kernels normalise the result and handle a zero normal.
-      const glm::vec3 N(nv[0][i], nv[1][i], nv[2][i]);
-      glm::vec3 T(tv[0][i], tv[1][i], tv[2][i]);
-      const float nn = glm::dot(N, N);
-      if (nn > 0.0f) T -= (glm::dot(T, N) / nn) * N;
-      const float tl = glm::length(T), nl = std::sqrt(nn);
-      const glm::vec3 Tu = tl > 0.0f ? T / tl : glm::vec3(0.0f);
-      const glm::vec3 Nu = nl > 0.0f ? N / nl : glm::vec3(0.0f);
-      const glm::vec3 B = (tv[3][i] < 0.0f ? -1.0f : 1.0f) * glm::cross(Nu, Tu);
-      const glm::vec3 m(2.0f * s.texel[0][i] - 1.0f, 2.0f * s.texel[1][i] - 1.0f, 2.0f * s.texel[2][i] - 1.0f);
-      const glm::vec3 out = tl > 0.0f ? m.x * Tu + m.y * B + m.z * Nu : N;
-      for (int k = 0; k < 3; ++k) s.normal[k][i] = out[k];
-    }
+    const shading::NormalMapSoA frame{n,
+                                      {b.varying[V::kNormal], b.varying[V::kNormal + 1], b.varying[V::kNormal + 2]},
+                                      {b.varying[desc_.tangent_slot], b.varying[desc_.tangent_slot + 1],
+                                       b.varying[desc_.tangent_slot + 2], b.varying[desc_.tangent_slot + 3]},
+                                      {s.texel[0], s.texel[1], s.texel[2]}};
+    float* const normal[3] = {s.normal[0], s.normal[1], s.normal[2]};
+    (desc_.double_precision ? shading::perturb_normals_reference : shading::perturb_normals)(frame, normal);
     for (int k = 0; k < 3; ++k) surf.normal[k] = s.normal[k];
   }
   const bool blurred = desc_.kind == MaterialKind::skin &&

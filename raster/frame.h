@@ -62,6 +62,9 @@ struct alignas(128) BinChunk {
   std::vector<uint32_t> items;              // setup index within the chunk, by tile
   std::vector<uint64_t> pairs;              // scratch: (tile << 32) | item
   std::vector<uint32_t> tile_cursor;        // scratch: per tile, the next item's position
+  SnappedBatch batch;                       // scratch: unclipped triangles awaiting set-up
+  uint32_t batch_primitive[kSetupBatch];    //   and their triangle indices
+  float batch_key[kSetupBatch];             //   and sort keys
   uint64_t culled = 0, clipped = 0;
 };
 

@@ -28,9 +28,8 @@ struct Renderer::Impl {
   explicit Impl(int threads) : pool(threads) {}
 
   ThreadPool pool;
-  // Per draw, per vertex: what set-up and binning read of every triangle's vertices in one
-  // 32-byte record (the vertices of a dense mesh come from all over memory, so one line
-  // per vertex instead of three), and the clip position, read only by clipping.
+  // Per draw, per vertex: the record set-up and binning read (vertex_kernels.h), and the clip
+  // position, read only by clipping.
   struct DrawVertices {
     std::vector<glm::vec4> clip;
     std::vector<FrontVertex> front;
@@ -103,10 +102,12 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
       }
   };
   // Triangles that need no clipping are set up side by side (setup_snapped_batch); one that
-  // does flushes the batch first, so set-ups stay in submission order.
-  SnappedBatch batch;
-  uint32_t batch_primitive[kSetupBatch];
-  float batch_key[kSetupBatch];
+  // does flushes the batch first, so set-ups stay in submission order. The batch lives in the
+  // chunk: initialised once, not per chunk and frame.
+  SnappedBatch& batch = ch.batch;
+  uint32_t* const batch_primitive = ch.batch_primitive;
+  float* const batch_key = ch.batch_key;
+  batch.count = 0;
   auto flush = [&] {
     if (batch.count == 0) return;
     const size_t base = ch.setups.size();

@@ -31,15 +31,6 @@ namespace normal_map {
 
 using namespace vec3;
 
-HWY_INLINE V3 Scale(const V3& a, V s) { return {hn::Mul(a.x, s), hn::Mul(a.y, s), hn::Mul(a.z, s)}; }
-HWY_INLINE V3 Cross(const V3& a, const V3& b) {
-  return {hn::Sub(hn::Mul(a.y, b.z), hn::Mul(a.z, b.y)), hn::Sub(hn::Mul(a.z, b.x), hn::Mul(a.x, b.z)),
-          hn::Sub(hn::Mul(a.x, b.y), hn::Mul(a.y, b.x))};
-}
-HWY_INLINE V3 LoadU3(D d, const float* const p[3], size_t i) {
-  return {hn::LoadU(d, p[0] + i), hn::LoadU(d, p[1] + i), hn::LoadU(d, p[2] + i)};
-}
-
 // A power of two that brings v's largest |component| into [1, 4) (a denormal one into
 // [2^-22, 2)): 2^-e for the exponent e of that component, capped at 2^-126 so that it stays a
 // normal float. Multiplying by it is exact, and the direction rules are scale-free, so it only
@@ -105,8 +96,7 @@ HWY_INLINE void PerturbVector(D d, const NormalMapSoA& s, size_t i, float* const
   const V3 tu = Scale(ts, inv_t), nu = Scale(ns, inv_n);
   V3 b = Cross(nu, tu);
   const M flip = hn::Lt(hn::LoadU(d, s.tangent[3] + i), zero);
-  b = {hn::IfThenElse(flip, hn::Neg(b.x), b.x), hn::IfThenElse(flip, hn::Neg(b.y), b.y),
-       hn::IfThenElse(flip, hn::Neg(b.z), b.z)};
+  b = Select(flip, V3{hn::Neg(b.x), hn::Neg(b.y), hn::Neg(b.z)}, b);
   V m[3];
   for (int c = 0; c < 3; ++c) {
     const V tex = Clamp(hn::LoadU(d, s.texel[c] + i), zero, one);

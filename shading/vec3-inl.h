@@ -1,5 +1,5 @@
 // Three-component float vectors of SIMD lanes, shared by the shading kernels (skin_kernels.cc,
-// fur_lighting.cc). A Highway per-target header: included after hwy/foreach_target.h, it is
+// fur_lighting.cc, normal_map_kernels.cc). A Highway per-target header: included after hwy/foreach_target.h, it is
 // compiled once for every target by the toggle guard below.
 //
 // Dot products are evaluated as (x x + y y) + z z, each product rounded, in that order: the
@@ -34,6 +34,14 @@ HWY_INLINE V3 Select(M m, const V3& a, const V3& b) {
 }
 HWY_INLINE V3 Load3(D d, const float* const p[3], size_t i) {
   return {hn::Load(d, p[0] + i), hn::Load(d, p[1] + i), hn::Load(d, p[2] + i)};
+}
+HWY_INLINE V3 LoadU3(D d, const float* const p[3], size_t i) {
+  return {hn::LoadU(d, p[0] + i), hn::LoadU(d, p[1] + i), hn::LoadU(d, p[2] + i)};
+}
+HWY_INLINE V3 Scale(const V3& a, V s) { return {hn::Mul(a.x, s), hn::Mul(a.y, s), hn::Mul(a.z, s)}; }
+HWY_INLINE V3 Cross(const V3& a, const V3& b) {
+  return {hn::Sub(hn::Mul(a.y, b.z), hn::Mul(a.z, b.y)), hn::Sub(hn::Mul(a.z, b.x), hn::Mul(a.x, b.z)),
+          hn::Sub(hn::Mul(a.x, b.y), hn::Mul(a.y, b.x))};
 }
 HWY_INLINE V Clamp(V x, V lo, V hi) { return hn::Min(hn::Max(x, lo), hi); }
 

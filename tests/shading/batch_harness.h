@@ -101,6 +101,19 @@ inline constexpr int kJitterTrials = 24;
 // Fraction of outputs allowed to need the jitter criterion (see below).
 inline constexpr double kMaxJitteredFraction = 1e-3;
 
+// Runs `body` once per compiled target this CPU supports, with dispatch forced to it (reset to
+// the best target afterwards).
+inline void for_each_target(const std::function<void(int64_t)>& body) {
+  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  for (int64_t t : targets) {
+    hwy::SetSupportedTargetsForTest(t);
+    SCOPED_TRACE(std::string("target ") + hwy::TargetName(t));
+    body(t);
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
 // Runs `kernel` for every compiled and supported target and checks each output against `ref`:
 // finite, non-negative, and within the tolerance (close_enough). Where a float kernel
 // cannot meet that tolerance because the output is ill-conditioned in its inputs (near the
@@ -113,10 +126,7 @@ inline void expect_matches_reference_all_targets(const Outputs& ref, size_t n,
                                                  int outputs = 13,
                                                  const std::function<std::string(size_t)>& describe = {},
                                                  const Jittered& jittered = {}) {
-  std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
-  ASSERT_FALSE(targets.empty());
-  for (int64_t t : targets) {
-    hwy::SetSupportedTargetsForTest(t);
+  for_each_target([&](int64_t t) {
     Outputs got(n);
     kernel(got);
     int reported = 0;
@@ -149,8 +159,7 @@ inline void expect_matches_reference_all_targets(const Outputs& ref, size_t n,
     EXPECT_LE(double(conditioned), kMaxJitteredFraction * double(n) * outputs)
         << "target " << hwy::TargetName(t) << ": too many outputs needed the jitter criterion";
     total_conditioned() += conditioned;
-  }
-  hwy::SetSupportedTargetsForTest(0);
+  });
 }
 
 }  // namespace pelt::shading::testing

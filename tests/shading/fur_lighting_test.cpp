@@ -18,22 +18,16 @@
 #include <vector>
 
 #include "shading/fur_lighting.h"
+#include "tests/shading/batch_harness.h"
 #include "tests/shading/random_inputs.h"
 
 namespace pelt::shading {
 namespace {
 
-struct AlignedFree {
-  void operator()(float* p) const { std::free(p); }
-};
-using Buffer = std::unique_ptr<float[], AlignedFree>;
-
-Buffer make_buffer(size_t n) {
-  const size_t bytes = ((n * sizeof(float) + 63) / 64) * 64;
-  auto* p = static_cast<float*>(std::aligned_alloc(64, bytes == 0 ? 64 : bytes));
-  std::memset(p, 0, bytes == 0 ? 64 : bytes);
-  return Buffer(p);
-}
+using testing::Buffer;
+using testing::close_enough;
+using testing::for_each_target;
+using testing::make_buffer;
 
 // pos, tangent, normal (3 each), height, texel (4): 14 arrays of n floats.
 struct Inputs {
@@ -75,24 +69,6 @@ struct Outputs {
   FurOutSoA soa() { return FurOutSoA{{a[0].get(), a[1].get(), a[2].get(), a[3].get()}}; }
   float at(int k, size_t i) const { return a[k][i]; }
 };
-
-// The tolerance: relative 1e-4 where the reference is >= 1e-3, absolute 1e-6 below.
-bool close_enough(double ref, double got) {
-  if (std::fabs(ref) >= 1e-3) return std::fabs(got - ref) <= 1e-4 * std::fabs(ref);
-  return std::fabs(got - ref) <= 1e-6;
-}
-
-// Runs `body` once per compiled target this CPU supports, with dispatch forced to it.
-void for_each_target(const std::function<void(int64_t)>& body) {
-  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
-  ASSERT_FALSE(targets.empty());
-  for (int64_t t : targets) {
-    hwy::SetSupportedTargetsForTest(t);
-    SCOPED_TRACE(std::string("target ") + hwy::TargetName(t));
-    body(t);
-  }
-  hwy::SetSupportedTargetsForTest(0);
-}
 
 // Every output of `got` finite, non-negative and within the tolerance of `ref`; reports at most
 // a few mismatches, with `describe(lane)`.

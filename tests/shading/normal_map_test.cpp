@@ -23,6 +23,7 @@ namespace pelt::shading {
 namespace {
 
 using testing::Buffer;
+using testing::for_each_target;
 using testing::make_buffer;
 using testing::Rng;
 
@@ -67,18 +68,6 @@ void run_kernel(const Lanes& in, const Lanes& dst) {
 void run_reference(const Lanes& in, const Lanes& dst) {
   float* const out[3] = {dst.out(0), dst.out(1), dst.out(2)};
   perturb_normals_reference(in.soa(), out);
-}
-
-// Runs `body` once per compiled target this CPU supports, with dispatch forced to it.
-void for_each_target(const std::function<void(int64_t)>& body) {
-  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
-  ASSERT_FALSE(targets.empty());
-  for (int64_t t : targets) {
-    hwy::SetSupportedTargetsForTest(t);
-    SCOPED_TRACE(std::string("target ") + hwy::TargetName(t));
-    body(t);
-  }
-  hwy::SetSupportedTargetsForTest(0);
 }
 
 double length(double x, double y, double z) { return std::sqrt(x * x + y * y + z * z); }

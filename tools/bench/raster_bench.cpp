@@ -122,19 +122,11 @@ const DenseMesh& dense_head() {
     d.mesh = pelt::bench::make_skin_bench_meshes(pelt::bench::find_head_scan("raster_bench"))[2].mesh;
     for (size_t v = 0; v < d.mesh.vertex_count(); ++v)
       for (const glm::vec3& a : {d.mesh.positions[v], d.mesh.normals[v]}) d.varyings.insert(d.varyings.end(), {a.x, a.y, a.z});
-    // bench skin's framing: fovy 30, seen from +z, the bounding box 80% of the image height.
-    glm::vec3 lo(INFINITY), hi(-INFINITY);
-    for (const glm::vec3& p : d.mesh.positions) {
-      lo = glm::min(lo, p);
-      hi = glm::max(hi, p);
-    }
-    const glm::vec3 extent = hi - lo;
-    const float tan_half = std::tan(glm::radians(15.0f)), aspect = float(kW) / kH;
-    const float dist = std::max(extent.y / (1.6f * tan_half), extent.x / (1.6f * tan_half * aspect));
-    const glm::mat4 proj = glm::perspective(glm::radians(30.0f), aspect, 0.5f * std::max(1e-4f * dist, dist - extent.z),
-                                            2.0f * (dist + extent.z));
-    const glm::mat4 view = glm::lookAt(glm::vec3(0, 0, dist), glm::vec3(0), glm::vec3(0, 1, 0));
-    d.clip_from_object = proj * view * glm::translate(glm::mat4(1.0f), -0.5f * (lo + hi));
+    const pelt::bench::SkinBenchView view = pelt::bench::skin_bench_view(d.mesh, kW, kH);
+    const glm::mat4 proj =
+        glm::perspective(glm::radians(view.fovy_deg), float(kW) / kH, view.near, view.far);
+    const glm::mat4 look = glm::lookAt(glm::vec3(0, 0, view.distance), glm::vec3(0), glm::vec3(0, 1, 0));
+    d.clip_from_object = proj * look * glm::translate(glm::mat4(1.0f), -view.centre);
     return d;
   }();
   return m;

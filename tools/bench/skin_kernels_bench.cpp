@@ -30,30 +30,33 @@ using namespace pelt::shading;
 constexpr size_t kLanes = 64 * 64;
 constexpr float kEye[3] = {0.0f, 0.0f, 30.0f};
 
+// A random unit vector (normal distribution per component, so every direction alike).
+void random_unit(std::mt19937& gen, float v[3]) {
+  std::normal_distribution<float> nd;
+  float l2 = 0.0f;
+  do {
+    l2 = 0.0f;
+    for (int c = 0; c < 3; ++c) {
+      v[c] = nd(gen);
+      l2 += v[c] * v[c];
+    }
+  } while (l2 < 1e-6f);
+  for (int c = 0; c < 3; ++c) v[c] /= std::sqrt(l2);
+}
+
 struct Batch {
   // pos, normal, albedo (3 each), blurred normals (9), then rgb, alpha and the three layers (13).
   pelt::bench::AlignedArrays arrays{31, kLanes};
   Batch() {
     std::mt19937 gen(11);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-    std::normal_distribution<float> nd;
     for (size_t i = 0; i < kLanes; ++i) {
       // A point of a head-sized object around the origin, seen from kEye.
       const float p[3] = {4.0f * u(gen), 4.5f * u(gen), 3.0f * u(gen)};
-      float n[3], l2 = 0.0f;
-      do {
-        l2 = 0.0f;
-        for (float& c : n) {
-          c = nd(gen);
-          l2 += c * c;
-        }
-      } while (l2 < 1e-6f);
-      const float inv = 1.0f / std::sqrt(l2);
+      float n[3];
+      random_unit(gen, n);
       float nv = 0.0f;
-      for (int c = 0; c < 3; ++c) {
-        n[c] *= inv;
-        nv += n[c] * (kEye[c] - p[c]);
-      }
+      for (int c = 0; c < 3; ++c) nv += n[c] * (kEye[c] - p[c]);
       if (nv < 0.0f)
         for (float& c : n) c = -c;
       for (int c = 0; c < 3; ++c) {
@@ -125,22 +128,10 @@ struct NormalMapBatch {
   NormalMapBatch() {
     std::mt19937 gen(12);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-    std::normal_distribution<float> nd;
-    auto random_unit = [&](float v[3]) {
-      float l2 = 0.0f;
-      do {
-        l2 = 0.0f;
-        for (int c = 0; c < 3; ++c) {
-          v[c] = nd(gen);
-          l2 += v[c] * v[c];
-        }
-      } while (l2 < 1e-6f);
-      for (int c = 0; c < 3; ++c) v[c] /= std::sqrt(l2);
-    };
     for (size_t i = 0; i < kLanes; ++i) {
       float n[3], r[3];
-      random_unit(n);
-      random_unit(r);
+      random_unit(gen, n);
+      random_unit(gen, r);
       // A tangent orthogonal to n, then skewed and shortened up to 10% (interpolation).
       const float rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
       float t[3], tl2 = 0.0f;

@@ -10,7 +10,9 @@
 #include <unordered_map>
 
 #include <meshoptimizer.h>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <glm/vec3.hpp>
 
 #include "tools/io/input_error.h"
@@ -300,6 +302,21 @@ std::vector<SkinBenchMesh> make_skin_bench_meshes(const std::filesystem::path& h
     out.push_back({&row, std::move(m)});
   }
   return out;
+}
+
+SkinBenchView skin_bench_view(const Mesh& mesh, int width, int height) {
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (const glm::vec3& p : mesh.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const glm::vec3 extent = hi - lo;
+  constexpr float kFovyDeg = 30.0f, kFill = 0.8f;
+  const float tan_half = std::tan(glm::radians(kFovyDeg) * 0.5f);
+  const float aspect = float(width) / float(height);
+  // Distance from the box's centre plane at which its half-height is kFill of the half-view.
+  const float dist = std::max(extent.y / (2.0f * kFill * tan_half), extent.x / (2.0f * kFill * tan_half * aspect));
+  return {0.5f * (lo + hi), kFovyDeg, dist, 0.5f * std::max(1e-4f * dist, dist - extent.z), 2.0f * (dist + extent.z)};
 }
 
 std::filesystem::path find_head_scan(std::string_view option) {

@@ -63,6 +63,16 @@ struct SkinBenchMesh {
 // (naming the row and the count reached).
 std::vector<SkinBenchMesh> make_skin_bench_meshes(const std::filesystem::path& head_glb);
 
+// How `pelt bench skin` frames a mesh (and raster_bench's dense_head, the same frame without
+// lighting): the mesh translated by -centre (its bounding box's centre), seen from (0, 0,
+// distance) looking at the origin with fovy 30 degrees, the box spanning 80% of the image
+// height (or width, when that is the wider one for the aspect), near and far planes around it.
+struct SkinBenchView {
+  glm::vec3 centre;
+  float fovy_deg, distance, near, far;
+};
+SkinBenchView skin_bench_view(const Mesh& mesh, int width, int height);
+
 // Finds tools/data/LeePerrySmith/LeePerrySmith.glb: under $PELT_SOURCE_DIR, else under the
 // working directory or one of its parents, else under the folder of the running program
 // or one of its parents (a build folder inside the checkout). Throws io::InputError

@@ -78,38 +78,20 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// One object, centred at the origin, seen from +z with fovy 30 so that its bounding box
-// spans about 80% of the image height (or width, when it is the wider one for the aspect);
-// a key and a fill light and an ambient term.
-io::Scene bench_scene(const Mesh& mesh, const ShaderColumn& shader, int width, int height,
-                      glm::vec3& centre_out) {
-  glm::vec3 lo(INFINITY), hi(-INFINITY);
-  for (const glm::vec3& p : mesh.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  const glm::vec3 centre = 0.5f * (lo + hi), extent = hi - lo;
-  centre_out = centre;
-
+// One object framed by bench::skin_bench_view; a key and a fill light and an ambient term.
+io::Scene bench_scene(const Mesh& mesh, const ShaderColumn& shader, int width, int height) {
+  const bench::SkinBenchView view = bench::skin_bench_view(mesh, width, height);
   io::Scene s;
   s.file = "pelt bench skin";
   s.image.width = width;
   s.image.height = height;
   s.image.background = {0.0f, 0.0f, 0.0f, 1.0f};
-
-  constexpr float kFovyDeg = 30.0f, kFill = 0.8f;
-  const float tan_half = std::tan(glm::radians(kFovyDeg) * 0.5f);
-  const float aspect = float(width) / float(height);
-  // Distance from the box's centre plane at which its half-height is kFill of the half-view.
-  const float dist = std::max(extent.y / (2.0f * kFill * tan_half), extent.x / (2.0f * kFill * tan_half * aspect));
-  s.camera.eye = {0.0f, 0.0f, dist};
+  s.camera.eye = {0.0f, 0.0f, view.distance};
   s.camera.target = {0.0f, 0.0f, 0.0f};
   s.camera.up = {0.0f, 1.0f, 0.0f};
-  s.camera.fovy_deg = kFovyDeg;
-  s.camera.near = std::max(1e-4f * dist, dist - extent.z);
-  s.camera.far = dist + extent.z;
-  s.camera.near *= 0.5f;
-  s.camera.far *= 2.0f;
+  s.camera.fovy_deg = view.fovy_deg;
+  s.camera.near = view.near;
+  s.camera.far = view.far;
 
   io::Light key;
   key.type = io::LightType::directional;
@@ -127,7 +109,7 @@ io::Scene bench_scene(const Mesh& mesh, const ShaderColumn& shader, int width, i
   io::SceneObject obj;
   obj.name = "bench";
   obj.mesh = "bench mesh";
-  obj.transform.translate = -centre;
+  obj.transform.translate = -view.centre;
   obj.material.type = shader.type;
   // Lambert and Blinn take the skin's dermis colour, so the three columns show one skin.
   const shading::SkinParams skin_defaults;
@@ -148,8 +130,7 @@ std::vector<Measurement> measure_mesh(const bench::SkinBenchMesh& m, const SkinB
   };
   std::vector<Column> columns(std::size(kShaders));
   for (size_t c = 0; c < columns.size(); ++c) {
-    glm::vec3 centre;
-    const io::Scene scene = bench_scene(m.mesh, kShaders[c], o.width, o.height, centre);
+    const io::Scene scene = bench_scene(m.mesh, kShaders[c], o.width, o.height);
     std::vector<io::SceneMesh> meshes(1);
     meshes[0].loaded.mesh = m.mesh;
     meshes[0].model = scene.objects[0].transform.matrix();

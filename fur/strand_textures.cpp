@@ -84,6 +84,12 @@ std::optional<ParamError> generate_strand_textures(const FurParams& params, Stra
   sh.size = N;
   sh.layers = S;
   sh.rgba.assign(area * size_t(S) * 4, 0);
+  ShellLuminance& lum = out.shell_luminance;
+  lum.size = N;
+  lum.layers = S;
+  lum.la.assign(area * size_t(S) * 2, 0);
+  lum.tint.resize(size_t(S));
+  const uint8_t no_strand = to8(1.0f / kMaxStrandBrightness);
   // Opacity per layer for a re-sliced fur (FurParams::opacity_shells); exponent 1 keeps the
   // authored alpha bit for bit.
   const int authored = params.opacity_shells > 0 ? params.opacity_shells : S;
@@ -92,14 +98,25 @@ std::optional<ParamError> generate_strand_textures(const FurParams& params, Stra
     const float h = float(s) / float(S - 1);
     const glm::vec3 base = layer_colour(params, h);
     uint8_t* layer = sh.rgba.data() + size_t(s) * area * 4;
-    for (size_t t = 0; t < area; ++t) put(layer + 4 * t, base, 0.0f);
+    uint8_t* la = lum.la.data() + size_t(s) * area * 2;
+    lum.tint[size_t(s)] = base * kMaxStrandBrightness;
+    for (size_t t = 0; t < area; ++t) {
+      put(layer + 4 * t, base, 0.0f);
+      la[2 * t] = no_strand;
+    }
     for (const ShellStrand& st : out.strands) {
       float a = strand_alpha(st, h);
       if (a <= 0.0f) continue;
       if (authored != S) a = float(1.0 - std::pow(1.0 - double(a), exponent));
       int x, y;
       strand_texel(st, s, S, N, x, y);
-      put_max(layer + (size_t(y) * N + size_t(x)) * 4, base * st.brightness, a);
+      const size_t t = size_t(y) * N + size_t(x);
+      // The larger alpha wins in both forms (put_max), so they hold the same strands.
+      if (to8(a) > la[2 * t + 1]) {
+        la[2 * t] = to8(st.brightness / kMaxStrandBrightness);
+        la[2 * t + 1] = to8(a);
+      }
+      put_max(layer + 4 * t, base * st.brightness, a);
     }
   }
 

@@ -107,6 +107,14 @@ struct alignas(64) TileScratch {
   // Packed opaque slots fill only the vector groups their triangles cover; the others are
   // copied from a filled one before shading, so every lane a shader sees is finite.
   alignas(64) uint16_t batch_groups[kBatchBlocks];
+  // Pass 3 packs a translucent triangle into its block's latest slot when their lanes are
+  // disjoint (and, for a shader that differentiates, the triangles share an edge): the
+  // block's slot, valid while block_batch equals batch_serial (bumped at every flush, 64
+  // bits so it never wraps), and the slot's latest triangle.
+  uint64_t batch_serial = 1;
+  alignas(64) uint8_t block_slot[kBlocksPerTile];
+  alignas(64) uint64_t block_batch[kBlocksPerTile] = {};
+  alignas(64) const TriSetup* batch_tri[kBatchBlocks];
   alignas(64) uint32_t lane_prim[kBatchLanes];
   alignas(64) float lane_depth[kBatchLanes];
   alignas(64) float varyings[kMaxVaryings][kBatchLanes];

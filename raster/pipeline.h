@@ -33,9 +33,13 @@ struct PipelineState {
 };
 
 // A batch of fragments of ONE draw, in whole 4x4 blocks. Lane l of a block is pixel
-// (block_x + l % 4, block_y + l / 4). Lanes outside `mask` hold the triangle's planes
-// extrapolated (finite, usable for derivatives) and their outputs are ignored; for a
-// shader that uses no derivatives they hold finite values of some triangle of the draw.
+// (block_x + l % 4, block_y + l / 4). Lanes outside `mask` hold the block's first
+// triangle's planes extrapolated (finite, usable for derivatives) and their outputs are
+// ignored; for a shader that uses no derivatives they hold finite values of some triangle
+// of the draw. A block's covered lanes come from one triangle, or (translucent draws) from
+// triangles each sharing an edge, i.e. two vertex indices, with the one before it, so
+// varyings are one continuous field across the block; a shader without derivatives may see
+// any triangles of the draw in one block. A block holds at most one fragment per pixel.
 // All per-lane arrays hold 16 * blocks floats, 64-byte aligned.
 struct FragmentBatch {
   uint32_t blocks = 0;
@@ -54,10 +58,11 @@ class Shader {
   // Called per worker thread, per batch, possibly concurrently from several threads:
   // must not modify shared state. Writes out[0..3] for all 16 * blocks lanes.
   virtual void shade(const FragmentBatch& batch) const = 0;
-  // True when the shader differentiates varyings across a block (texture LOD): then every
-  // lane of a block comes from the block's one triangle (extrapolated where uncovered).
-  // Otherwise opaque shading may pack the visible pixels of several triangles of the
-  // draw into one block, which shades fewer lanes.
+  // True when the shader differentiates varyings across a block (texture LOD): then the
+  // lanes of a block come from its one triangle (extrapolated where uncovered), or from
+  // triangles joined by shared edges (translucent draws, see FragmentBatch). Otherwise
+  // the visible pixels of any triangles of the draw may share a block, which shades fewer
+  // lanes.
   virtual bool uses_derivatives() const { return true; }
 };
 

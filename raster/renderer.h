@@ -21,7 +21,8 @@ namespace pelt::raster {
 
 enum class SortMode : uint8_t {
   None,  // translucent triangles blend in submission order
-  Tile,  // per tile, back to front by the triangle's view depth (stable)
+  Tile,  // per tile, back to front by view depth (stable); a quad, triangles 2k and 2k + 1
+         // sharing an edge, sorts as one primitive at its mean depth
   Exact, // per pixel: every src-over fragment kept, sorted by depth, composited far to near
 };
 

@@ -39,7 +39,7 @@ struct TriSetup {
   Plane b1w, b2w;          // b1/w, b2/w: barycentrics of the original triangle over w
   uint32_t draw;           // index of the draw call
   uint32_t primitive;      // triangle index within the draw
-  float sort_key;          // view depth of the original triangle: larger = farther
+  float sort_key;          // mean view depth of the original triangle or its quad: larger = farther
 };
 
 struct Viewport {

@@ -192,7 +192,35 @@ std::optional<TextureError> Texture::from_rgba8(int width, int height, const uin
     level0[i] = uint32_t{p[0]} | (uint32_t{p[1]} << 8) | (uint32_t{p[2]} << 16) | (uint32_t{p[3]} << 24);
   }
   out.encoding_ = encoding;
+  out.format_ = TexelFormat::Rgba8;
   TextureBuilder::build(width, height, std::move(level0), encoding, out.texels_, out.levels_);
+  return std::nullopt;
+}
+
+std::optional<TextureError> Texture::from_la8(int width, int height, const uint8_t* la, Texture& out) {
+  if (auto e = check_size(width, height)) return e;
+  if (la == nullptr) return TextureError{"la", "is null"};
+  std::vector<uint32_t> level0(size_t(width) * size_t(height));
+  for (size_t i = 0; i < level0.size(); ++i) {
+    const uint32_t l = la[2 * i], a = la[2 * i + 1];
+    level0[i] = l | (l << 8) | (l << 16) | (a << 24);
+  }
+  out.encoding_ = TexelEncoding::Linear;
+  out.format_ = TexelFormat::La8;
+  TextureBuilder::build(width, height, std::move(level0), TexelEncoding::Linear, out.texels_, out.levels_);
+  // Equal channels average to equal channels, so every level is still grey: repack each row
+  // as (texel, right neighbour) pairs, the padding word as the row's first pair.
+  for (const MipLevel& L : out.levels_)
+    for (int y = 0; y < L.height; ++y) {
+      uint32_t* row = out.texels_.data() + L.offset + size_t(y) * size_t(L.stride);
+      auto la16 = [](uint32_t rgba) { return (rgba & 255u) | ((rgba >> 16) & 0xFF00u); };
+      const uint32_t first = la16(row[0]);
+      for (int x = 0; x < L.width; ++x) {
+        const uint32_t right = x + 1 < L.width ? la16(row[x + 1]) : first;
+        row[x] = la16(row[x]) | (right << 16);
+      }
+      row[L.width] = row[0];
+    }
   return std::nullopt;
 }
 
@@ -219,27 +247,46 @@ std::optional<TextureError> Texture::from_linear_float(int width, int height, co
     level0[i] = encode(t, encoding);
   }
   out.encoding_ = encoding;
+  out.format_ = TexelFormat::Rgba8;
   TextureBuilder::build(width, height, std::move(level0), encoding, out.texels_, out.levels_);
   return std::nullopt;
 }
 
-std::optional<TextureError> TextureArray::from_rgba8_layers(int width, int height, int count,
-                                                            const uint8_t* rgba,
-                                                            TexelEncoding encoding,
-                                                            TextureArray& out) {
+namespace {
+
+// `count` layers of `layer_bytes` each from `bytes`, each built by make(layer bytes, texture);
+// a layer's error names the layer.
+template <class Make>
+std::optional<TextureError> build_layers(int width, int height, int count, const uint8_t* bytes, const char* field,
+                                         size_t layer_bytes, Make&& make, TextureArray& out) {
   if (count < 1) return TextureError{"count", std::to_string(count) + " layers: need at least 1"};
   if (auto e = check_size(width, height)) return e;
-  if (rgba == nullptr) return TextureError{"rgba", "is null"};
-  const size_t layer_bytes = size_t(width) * size_t(height) * 4;
+  if (bytes == nullptr) return TextureError{field, "is null"};
   std::vector<Texture> layers(static_cast<size_t>(count));
   for (int s = 0; s < count; ++s)
-    if (auto e = Texture::from_rgba8(width, height, rgba + size_t(s) * layer_bytes, encoding,
-                                     layers[size_t(s)])) {
+    if (auto e = make(bytes + size_t(s) * layer_bytes, layers[size_t(s)])) {
       e->field = "layer " + std::to_string(s) + " " + e->field;
       return e;
     }
   out.layers = std::move(layers);
   return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<TextureError> TextureArray::from_rgba8_layers(int width, int height, int count,
+                                                            const uint8_t* rgba,
+                                                            TexelEncoding encoding,
+                                                            TextureArray& out) {
+  return build_layers(width, height, count, rgba, "rgba", size_t(width) * size_t(height) * 4,
+                      [&](const uint8_t* layer, Texture& t) { return Texture::from_rgba8(width, height, layer, encoding, t); },
+                      out);
+}
+
+std::optional<TextureError> TextureArray::from_la8_layers(int width, int height, int count, const uint8_t* la,
+                                                          TextureArray& out) {
+  return build_layers(width, height, count, la, "la", size_t(width) * size_t(height) * 2,
+                      [&](const uint8_t* layer, Texture& t) { return Texture::from_la8(width, height, layer, t); }, out);
 }
 
 const float* srgb8_to_linear_table() {

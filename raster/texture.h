@@ -44,6 +44,17 @@ enum class TexelEncoding : uint8_t {
   Srgb,    // colour bytes are sRGB-encoded (colour maps); alpha stays linear
 };
 
+// How a level's 32-bit texel words are laid out.
+//   Rgba8: word x of a row is texel x, R in the low byte .. A in the high byte.
+//   La8:   a luminance-alpha texture (R = G = B = L): word x holds texel x in its low half
+//          and its right neighbour x + 1 (wrapped to 0 at the row's end) in its high half,
+//          each as L in the low byte and A in the high byte. One gather then fetches both
+//          texels of a bilinear row and four bytes decode both, where RGBA8 needs two gathers
+//          and eight channels: the fur shells, whose colour is the layer's tint times a
+//          strand brightness, sample in about half the time. Same size as Rgba8, so levels,
+//          strides and padding are the same.
+enum class TexelFormat : uint8_t { Rgba8, La8 };
+
 enum class Filter : uint8_t {
   Nearest,    // level 0, the texel under the sample (GL_NEAREST)
   Bilinear,   // level 0, 2x2 texels (GL_LINEAR)
@@ -86,18 +97,28 @@ class Texture {
   // Values outside [0, 1] or not finite are an error naming the texel and channel.
   static std::optional<TextureError> from_linear_float(int width, int height, const float* rgba,
                                                        TexelEncoding encoding, Texture& out);
+  // `la`: width * height * 2 bytes, L, A (linear, straight alpha), row 0 = v = 0. The same
+  // texture as from_rgba8 with R = G = B = L, in the La8 layout: its mip chain and fill are
+  // built that way, so every level's bytes and every sample equal the RGBA8 texture's.
+  static std::optional<TextureError> from_la8(int width, int height, const uint8_t* la, Texture& out);
 
   bool empty() const { return levels_.empty(); }
   int width() const { return empty() ? 0 : levels_[0].width; }
   int height() const { return empty() ? 0 : levels_[0].height; }
   int levels() const { return int(levels_.size()); }
   TexelEncoding encoding() const { return encoding_; }
+  TexelFormat format() const { return format_; }
   const MipLevel& level(int k) const { return levels_[size_t(k)]; }
+  // The level's texel words, laid out as format() says.
   const uint32_t* data() const { return texels_.data(); }
   const uint32_t* level_texels(int k) const { return texels_.data() + levels_[size_t(k)].offset; }
-  // Packed texel (x, y) of level k: byte c (0 = R .. 3 = A) is (t >> 8c) & 255.
+  // Texel (x, y) of level k as RGBA8 whatever the format: byte c (0 = R .. 3 = A) is
+  // (t >> 8c) & 255.
   uint32_t texel(int k, int x, int y) const {
-    return level_texels(k)[size_t(y) * size_t(levels_[size_t(k)].stride) + size_t(x)];
+    const uint32_t t = level_texels(k)[size_t(y) * size_t(levels_[size_t(k)].stride) + size_t(x)];
+    if (format_ == TexelFormat::Rgba8) return t;
+    const uint32_t l = t & 255u, a = (t >> 8) & 255u;
+    return l | (l << 8) | (l << 16) | (a << 24);
   }
   size_t bytes() const { return texels_.size() * sizeof(uint32_t); }
 
@@ -105,6 +126,7 @@ class Texture {
   std::vector<uint32_t> texels_;  // all levels, level 0 first
   std::vector<MipLevel> levels_;
   TexelEncoding encoding_ = TexelEncoding::Linear;
+  TexelFormat format_ = TexelFormat::Rgba8;
 };
 
 // Layers of equal size, e.g. the 16 fur shells.
@@ -119,6 +141,9 @@ struct TextureArray {
   static std::optional<TextureError> from_rgba8_layers(int width, int height, int count,
                                                        const uint8_t* rgba, TexelEncoding encoding,
                                                        TextureArray& out);
+  // `la`: `count` layers of width * height * 2 bytes, as in Texture::from_la8.
+  static std::optional<TextureError> from_la8_layers(int width, int height, int count, const uint8_t* la,
+                                                     TextureArray& out);
 };
 
 struct SamplerState {

@@ -13,6 +13,7 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -158,9 +159,14 @@ HWY_INLINE void Tap(hn::Vec<DU> texel, VF w, const float* srgb, Acc& acc) {
   acc.c[3] = hn::MulAdd(w, d.a, acc.c[3]);
 }
 
-template <bool kSrgb>
-HWY_INLINE void Bilinear(const LevelView& L, VF u, VF v, bool rep_u, bool rep_v, VF weight,
-                         const float* srgb, Acc& acc) {
+// A bilinear footprint on level L: the texel indices of its top and bottom left texels and
+// the four weights (top left, top right, bottom left, bottom right), scaled by `weight`.
+struct Footprint {
+  VI top, bottom;
+  VF w[4];
+};
+
+HWY_INLINE Footprint FootprintOf(const LevelView& L, VF u, VF v, bool rep_u, bool rep_v, VF weight) {
   const DF df;
   const DI di;
   VI x0, y0, y1;
@@ -168,20 +174,51 @@ HWY_INLINE void Bilinear(const LevelView& L, VF u, VF v, bool rep_u, bool rep_v,
   AxisPair(u, L.w, rep_u, x0, ax);
   AxisLinear(v, L.h, rep_v, y0, y1, ay);
   const VI stride = hn::Set(di, L.stride);
-  hn::Vec<DU> t00, t01, t10, t11;
-  FetchPair(L.texels, hn::Add(hn::Mul(y0, stride), x0), t00, t01);
-  FetchPair(L.texels, hn::Add(hn::Mul(y1, stride), x0), t10, t11);
   const VF one = hn::Set(df, 1.0f);
   const VF wy1 = hn::Mul(ay, weight);
   const VF wy0 = hn::Mul(hn::Sub(one, ay), weight);
   const VF bx = hn::Sub(one, ax);
-  Tap<kSrgb>(t00, hn::Mul(bx, wy0), srgb, acc);
-  Tap<kSrgb>(t01, hn::Mul(ax, wy0), srgb, acc);
-  Tap<kSrgb>(t10, hn::Mul(bx, wy1), srgb, acc);
-  Tap<kSrgb>(t11, hn::Mul(ax, wy1), srgb, acc);
+  return Footprint{hn::Add(hn::Mul(y0, stride), x0),
+                   hn::Add(hn::Mul(y1, stride), x0),
+                   {hn::Mul(bx, wy0), hn::Mul(ax, wy0), hn::Mul(bx, wy1), hn::Mul(ax, wy1)}};
 }
 
-template <bool kSrgb, Filter kFilter>
+template <bool kSrgb>
+HWY_INLINE void Bilinear(const LevelView& L, VF u, VF v, bool rep_u, bool rep_v, VF weight,
+                         const float* srgb, Acc& acc) {
+  const Footprint f = FootprintOf(L, u, v, rep_u, rep_v, weight);
+  hn::Vec<DU> t00, t01, t10, t11;
+  FetchPair(L.texels, f.top, t00, t01);
+  FetchPair(L.texels, f.bottom, t10, t11);
+  Tap<kSrgb>(t00, f.w[0], srgb, acc);
+  Tap<kSrgb>(t01, f.w[1], srgb, acc);
+  Tap<kSrgb>(t10, f.w[2], srgb, acc);
+  Tap<kSrgb>(t11, f.w[3], srgb, acc);
+}
+
+// La8 (texture.h): each word holds a texel and its right neighbour as (L, A) pairs, so one
+// gather per row fetches a bilinear footprint's two texels. The weights and the order of the
+// multiply-adds are those of Bilinear, so a La8 texture samples bit for bit like the RGBA8
+// texture with R = G = B = L; acc.c[1], acc.c[2] stay unused.
+HWY_INLINE void BilinearLa(const LevelView& L, VF u, VF v, bool rep_u, bool rep_v, VF weight, Acc& acc) {
+  const DF df;
+  const DI di;
+  const DU du;
+  const Footprint f = FootprintOf(L, u, v, rep_u, rep_v, weight);
+  const hn::Vec<DU> top = hn::GatherIndex(du, L.texels, f.top);
+  const hn::Vec<DU> bottom = hn::GatherIndex(du, L.texels, f.bottom);
+  const hn::Vec<DU> m = hn::Set(du, 0xFF);
+  auto tap = [&](hn::Vec<DU> word, VF w) {
+    acc.c[0] = hn::MulAdd(w, hn::ConvertTo(df, hn::BitCast(di, hn::And(word, m))), acc.c[0]);
+    acc.c[3] = hn::MulAdd(w, hn::ConvertTo(df, hn::BitCast(di, hn::And(hn::ShiftRight<8>(word), m))), acc.c[3]);
+  };
+  tap(top, f.w[0]);
+  tap(hn::ShiftRight<16>(top), f.w[1]);
+  tap(bottom, f.w[2]);
+  tap(hn::ShiftRight<16>(bottom), f.w[3]);
+}
+
+template <bool kSrgb, Filter kFilter, bool kLa = false>
 void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRICT u,
              const float* HWY_RESTRICT v, size_t lanes, float* const out[4]) {
   const DF df;
@@ -193,50 +230,95 @@ void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRIC
   const LevelView base = View(tex, 0);
   const double top = tex.levels() - 1;
 
-  for (size_t b = 0; b < lanes; b += kBlockLanes) {
-    LevelView L0 = base, L1 = base;
-    float t = 0.0f;
+  // Trilinear: the levels of up to kChunkBlocks blocks are chosen first, in a scalar loop of
+  // its own, so the vector loop below makes no calls (std::log2 would spill its vector
+  // registers every block) and its gathers overlap from block to block.
+  constexpr size_t kChunkBlocks = 64;
+  int32_t level[kChunkBlocks];
+  float weight[kChunkBlocks];
+  for (size_t first = 0; first < lanes; first += kChunkBlocks * kBlockLanes) {
+    const size_t blocks = std::min(kChunkBlocks, (lanes - first) / kBlockLanes);
     if constexpr (kFilter == Filter::Trilinear) {
-      // Without a bias, a length of at most one texel (or NaN) is level 0 whatever the
-      // logarithm: skipped there, it is most of a magnified surface's blocks.
-      const double length2 = block_lod_length2(u + b, v + b, base.w, base.h);
-      double clamped = 0.0;
-      if (s.lod_bias != 0.0f || length2 > 1.0) {
-        const double lambda = 0.5 * std::log2(length2) + double(s.lod_bias);
-        clamped = lambda > 0.0 ? std::min(lambda, top) : 0.0;
+      for (size_t k = 0; k < blocks; ++k) {
+        // Without a bias, a length of at most one texel (or NaN) is level 0 whatever the
+        // logarithm: skipped there, it is most of a magnified surface's blocks.
+        const size_t b = first + k * kBlockLanes;
+        const double length2 = block_lod_length2(u + b, v + b, base.w, base.h);
+        double clamped = 0.0;
+        if (s.lod_bias != 0.0f || length2 > 1.0) {
+          const double lambda = 0.5 * std::log2(length2) + double(s.lod_bias);
+          clamped = lambda > 0.0 ? std::min(lambda, top) : 0.0;
+        }
+        level[k] = int32_t(clamped);
+        weight[k] = float(clamped - level[k]);
       }
-      const int l0 = int(clamped);
-      L0 = View(tex, l0);
-      t = float(clamped - l0);
-      if (t > 0.0f) L1 = View(tex, std::min(l0 + 1, tex.levels() - 1));
     }
-    for (size_t i = b; i < b + kBlockLanes; i += N) {
-      const VF uu = hn::LoadU(df, u + i), vv = hn::LoadU(df, v + i);
-      if constexpr (kFilter == Filter::Nearest) {
-        const VI xi = AxisNearest(uu, base.w, rep_u);
-        const VI yi = AxisNearest(vv, base.h, rep_v);
-        const VI idx = hn::Add(hn::Mul(yi, hn::Set(DI(), base.stride)), xi);
-        const Decoded d = Decode<kSrgb>(hn::GatherIndex(DU(), base.texels, idx), srgb);
-        for (int ch = 0; ch < 3; ++ch) hn::StoreU(hn::Mul(d.c[ch], colour_scale), df, out[ch] + i);
-        hn::StoreU(hn::Mul(d.a, alpha_scale), df, out[3] + i);
-        continue;
+    for (size_t k = 0; k < blocks; ++k) {
+      const size_t b = first + k * kBlockLanes;
+      LevelView L0 = base, L1 = base;
+      float t = 0.0f;
+      if constexpr (kFilter == Filter::Trilinear) {
+        L0 = View(tex, level[k]);
+        t = weight[k];
+        if (t > 0.0f) L1 = View(tex, std::min(level[k] + 1, tex.levels() - 1));
       }
-      Acc acc;
-      for (VF& c : acc.c) c = hn::Zero(df);
-      if (t > 0.0f) {
-        Bilinear<kSrgb>(L0, uu, vv, rep_u, rep_v, hn::Set(df, 1.0f - t), srgb, acc);
-        Bilinear<kSrgb>(L1, uu, vv, rep_u, rep_v, hn::Set(df, t), srgb, acc);
-      } else {
-        Bilinear<kSrgb>(L0, uu, vv, rep_u, rep_v, hn::Set(df, 1.0f), srgb, acc);
+      for (size_t i = b; i < b + kBlockLanes; i += N) {
+        const VF uu = hn::LoadU(df, u + i), vv = hn::LoadU(df, v + i);
+        if constexpr (kFilter == Filter::Nearest) {
+          const VI xi = AxisNearest(uu, base.w, rep_u);
+          const VI yi = AxisNearest(vv, base.h, rep_v);
+          const VI idx = hn::Add(hn::Mul(yi, hn::Set(DI(), base.stride)), xi);
+          hn::Vec<DU> word = hn::GatherIndex(DU(), base.texels, idx);
+          if constexpr (kLa) {
+            // The texel's (L, A) as the RGBA8 word Decode reads.
+            const hn::Vec<DU> l = hn::And(word, hn::Set(DU(), 0xFF));
+            word = hn::Or(hn::Or(l, hn::ShiftLeft<8>(l)),
+                          hn::Or(hn::ShiftLeft<16>(l), hn::ShiftLeft<16>(hn::And(word, hn::Set(DU(), 0xFF00)))));
+          }
+          const Decoded d = Decode<kSrgb>(word, srgb);
+          for (int ch = 0; ch < 3; ++ch) hn::StoreU(hn::Mul(d.c[ch], colour_scale), df, out[ch] + i);
+          hn::StoreU(hn::Mul(d.a, alpha_scale), df, out[3] + i);
+          continue;
+        }
+        Acc acc;
+        for (VF& c : acc.c) c = hn::Zero(df);
+        auto bilinear = [&](const LevelView& L, float w) {
+          if constexpr (kLa) {
+            BilinearLa(L, uu, vv, rep_u, rep_v, hn::Set(df, w), acc);
+          } else {
+            Bilinear<kSrgb>(L, uu, vv, rep_u, rep_v, hn::Set(df, w), srgb, acc);
+          }
+        };
+        if (t > 0.0f) {
+          bilinear(L0, 1.0f - t);
+          bilinear(L1, t);
+        } else {
+          bilinear(L0, 1.0f);
+        }
+        if constexpr (kLa) {
+          const VF l = hn::Mul(acc.c[0], colour_scale);
+          for (int ch = 0; ch < 3; ++ch) hn::StoreU(l, df, out[ch] + i);
+        } else {
+          for (int ch = 0; ch < 3; ++ch) hn::StoreU(hn::Mul(acc.c[ch], colour_scale), df, out[ch] + i);
+        }
+        hn::StoreU(hn::Mul(acc.c[3], alpha_scale), df, out[3] + i);
       }
-      for (int ch = 0; ch < 3; ++ch) hn::StoreU(hn::Mul(acc.c[ch], colour_scale), df, out[ch] + i);
-      hn::StoreU(hn::Mul(acc.c[3], alpha_scale), df, out[3] + i);
     }
   }
 }
 
 void SampleImpl(const Texture& tex, const SamplerState& s, const float* u, const float* v,
                 size_t lanes, float* const out[4]) {
+  if (tex.format() == TexelFormat::La8) {  // always linear
+    switch (s.filter) {
+      case Filter::Nearest:
+        return SampleT<false, Filter::Nearest, true>(tex, s, u, v, lanes, out);
+      case Filter::Bilinear:
+        return SampleT<false, Filter::Bilinear, true>(tex, s, u, v, lanes, out);
+      case Filter::Trilinear:
+        return SampleT<false, Filter::Trilinear, true>(tex, s, u, v, lanes, out);
+    }
+  }
   const bool srgb = tex.encoding() == TexelEncoding::Srgb;
   switch (s.filter) {
     case Filter::Nearest:

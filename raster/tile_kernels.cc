@@ -289,6 +289,7 @@ void Interpolate(const FrameView& frame, TileScratch& s, uint32_t i, const TriSe
 // output into the tile, block after block in batch order.
 void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
   const uint32_t nb = s.batch_blocks;
+  ++s.batch_serial;
   if (nb == 0) return;
   s.batch_blocks = 0;
   const DrawCall& draw = frame.draws[s.batch_draw];
@@ -393,10 +394,38 @@ uint32_t OpenSlot(const FrameView& frame, TileScratch& s, uint32_t draw, int32_t
   return i;
 }
 
-void AppendBlock(const FrameView& frame, TileScratch& s, const TriSetup& t, int32_t px,
-                 int32_t py, uint32_t blk, uint32_t bits, bool blend) {
-  const uint32_t i = OpenSlot(frame, s, t.draw, px, py, blk, blend);
+// True when triangles a and b of `draw` share an edge (two vertex indices): their varyings
+// are then one continuous field across it, so a block holding lanes of both still
+// differentiates to the field's derivative.
+HWY_INLINE bool SharesEdge(const DrawCall& draw, const TriSetup& a, const TriSetup& b) {
+  const uint32_t* ia = draw.indices + 3 * size_t{a.primitive};
+  const uint32_t* ib = draw.indices + 3 * size_t{b.primitive};
+  int shared = 0;
+  for (int i = 0; i < 3; ++i) shared += int(ia[i] == ib[0]) + int(ia[i] == ib[1]) + int(ia[i] == ib[2]);
+  return shared >= 2;
+}
+
+// Appends the passed lanes `bits` of translucent triangle t in block `blk`. They join the
+// block's latest slot when none of its lanes is taken there and (for a shader with
+// derivatives) t shares an edge with the slot's latest triangle: every pixel still blends
+// its fragments in order (earlier slots of the block come first, and the slot holds at
+// most one fragment per pixel), and a fur shell's or fin's quads fill a block together
+// instead of two or three slots holding a few lanes each.
+void AppendTranslucent(const FrameView& frame, TileScratch& s, const TriSetup& t, int32_t px, int32_t py,
+                       uint32_t blk, uint32_t bits, bool derivatives) {
+  if (s.block_batch[blk] == s.batch_serial && s.batch_draw == t.draw) {
+    const uint32_t i = s.block_slot[blk];
+    if (!(s.batch_mask[i] & bits) && (!derivatives || SharesEdge(frame.draws[t.draw], *s.batch_tri[i], t))) {
+      Interpolate(frame, s, i, t, bits, false);
+      s.batch_tri[i] = &t;
+      return;
+    }
+  }
+  const uint32_t i = OpenSlot(frame, s, t.draw, px, py, blk, true);
   Interpolate(frame, s, i, t, bits, true);
+  s.block_slot[blk] = static_cast<uint8_t>(i);
+  s.block_batch[blk] = s.batch_serial;
+  s.batch_tri[i] = &t;
 }
 
 // A set-up triangle is two cache lines, written by the front end and first read here,
@@ -692,17 +721,22 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
       const float ka = a.tri->sort_key, kb = b.tri->sort_key;
       return ka > kb || (ka == kb && a.id < b.id);
     });
+  ++s.batch_serial;  // no block slot of an earlier tile is valid here
   for (const TranslucentRef& ref : s.translucent) {
     const TriSetup& t = *ref.tri;
     const DrawCall& draw = frame.draws[t.draw];
     TileEdges te;
     if (!tile_region_edges(t, tx0, ty0, te)) continue;
+    if (t.draw != derivatives_draw) {
+      derivatives_draw = t.draw;
+      derivatives = draw.shader->uses_derivatives();
+    }
     DispatchDepth(draw.state, [&]<DepthFunc F, bool W>() {
       ForEachCoveredBlock(te, tx0, ty0, s.block_valid, [&](int32_t px, int32_t py, uint32_t blk, uint32_t bits) {
         const uint32_t passed = DepthTestBlock<F, W, false>(t, px, py, blk, bits, ref.id, s);
         if (passed) {
           s.fragments_blended += std::popcount(passed);
-          AppendBlock(frame, s, t, px, py, blk, passed, true);
+          AppendTranslucent(frame, s, t, px, py, blk, passed, derivatives);
         }
       });
     });

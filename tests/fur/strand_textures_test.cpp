@@ -39,6 +39,40 @@ TEST(StrandTextures, LayoutAndFormat) {
   EXPECT_EQ(t.fin.rgba.size(), 64u * 64 * 4);
 }
 
+// The luminance form of the shells holds the same strands (equal alpha bytes) and, as
+// min(1, tint * L), the RGBA colour within the rounding of L and of the RGBA bytes.
+TEST(StrandTextures, LuminanceShellsMatchTheRgbaShells) {
+  for (glm::vec3 tip : {glm::vec3(0.8f, 0.58f, 0.36f), glm::vec3(0.95f, 0.9f, 0.1f)}) {
+    FurParams p;
+    p.shells = 6;
+    p.texture_size = 64;
+    p.tip_color = tip;  // 0.95 * 1.25 saturates in both forms
+    p.seed = 11;
+    const StrandTextures t = grow(p);
+    const ShellLuminance& lum = t.shell_luminance;
+    ASSERT_EQ(lum.size, 64);
+    ASSERT_EQ(lum.layers, 6);
+    ASSERT_EQ(lum.la.size(), 6u * 64 * 64 * 2);
+    ASSERT_EQ(lum.tint.size(), 6u);
+    size_t strands = 0;
+    for (int s = 0; s < 6; ++s)
+      for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+          const uint8_t* rgba = t.shells.texel(s, x, y);
+          const uint8_t* la = lum.la.data() + ((size_t(s) * 64 + size_t(y)) * 64 + size_t(x)) * 2;
+          ASSERT_EQ(la[1], rgba[3]) << "layer " << s << " texel " << x << "," << y;
+          strands += la[1] > 0;
+          for (int c = 0; c < 3; ++c) {
+            const double colour = std::min(1.0, double(lum.tint[size_t(s)][c]) * la[0] / 255.0);
+            // L's rounding scaled by the tint (<= 1.25 * 0.5 / 255) plus the RGBA byte's.
+            ASSERT_NEAR(colour, rgba[c] / 255.0, (1.25 * 0.5 + 0.5) / 255.0 + 1e-6)
+                << "layer " << s << " texel " << x << "," << y << " channel " << c;
+          }
+        }
+    EXPECT_GT(strands, 1000u);
+  }
+}
+
 TEST(StrandTextures, DensityIsWithinTwoPercentOfTheRequest) {
   for (float density : {15.0f, 30.0f, 2.5f}) {
     for (int size : {64, 256}) {

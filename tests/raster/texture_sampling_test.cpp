@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -188,6 +189,42 @@ TEST(TextureSampling, HardInputsMatchReferenceOnEveryTarget) {
 TEST(TextureSampling, LargeTextureMatchesReference) {
   const Texture tex = random_texture(1024, 512, TexelEncoding::Linear, 7);
   compare_all(tex, random_coords(32, 8), "1024x512 random");
+}
+
+// Luminance-alpha textures (the fur shells' format) against the reference, which reads their
+// texels expanded to RGBA8, on every target, filter and wrap.
+TEST(TextureSampling, LuminanceAlphaMatchesReferenceOnEveryTarget) {
+  uint32_t seed = 300;
+  for (const Case& k : kCases) {
+    if (k.enc != TexelEncoding::Linear) continue;
+    const LaPair t = random_la_texture(k.w, k.h, seed++);
+    compare_all(t.la, random_coords(64, seed++), case_name(k) + " la8 random");
+    compare_all(t.la, hard_coords(std::min(k.w, 64), std::min(k.h, 64), seed++), case_name(k) + " la8 hard");
+  }
+}
+
+// The La8 kernel weighs the same texels with the same weights in the same order as the
+// RGBA8 kernel: a La8 texture samples bit for bit like its RGBA8 twin.
+TEST(TextureSampling, LuminanceAlphaSamplesBitForBitLikeItsRgbaTwin) {
+  uint32_t seed = 400;
+  for (const Case& k : kCases) {
+    if (k.enc != TexelEncoding::Linear) continue;
+    const LaPair t = random_la_texture(k.w, k.h, seed++);
+    for (const Coords& c : {random_coords(64, seed++), hard_coords(std::min(k.w, 64), std::min(k.h, 64), seed++)})
+      for_each_target([&](const std::string& target) {
+        for (Filter f : kFilters)
+          for (Wrap wu : kWraps)
+            for (Wrap wv : kWraps)
+              for (float bias : {0.0f, -1.5f, 2.25f}) {
+                const SamplerState s{f, wu, wv, bias};
+                const Samples a = run_sample(t.la, s, c.u, c.v), b = run_sample(t.rgba, s, c.u, c.v);
+                for (int ch = 0; ch < 4; ++ch)
+                  ASSERT_EQ(0, std::memcmp(a.c[ch].data(), b.c[ch].data(), a.c[ch].size() * sizeof(float)))
+                      << case_name(k) << " " << target << " filter " << int(f) << " wrap " << int(wu) << int(wv)
+                      << " bias " << bias << " channel " << ch;
+              }
+      });
+  }
 }
 
 TEST(TextureSampling, RejectsBadArguments) {

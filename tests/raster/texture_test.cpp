@@ -359,6 +359,42 @@ TEST(Texture, NearestAndBilinearHitTexelCentres) {
   });
 }
 
+// A La8 texture is its RGBA8 twin (R = G = B = L) stored as (texel, right neighbour) pairs:
+// every level's texels are equal, and each word's high half is the next texel of its row,
+// the first texel after the last.
+TEST(Texture, LuminanceAlphaLevelsEqualTheirRgbaTwinStoredInPairs) {
+  for (auto [w, h] : {std::pair{64, 64}, std::pair{37, 5}, std::pair{1, 1}, std::pair{1, 7}, std::pair{6, 1}}) {
+    const LaPair t = random_la_texture(w, h, uint32_t(w * 100 + h));
+    EXPECT_EQ(t.la.format(), TexelFormat::La8);
+    EXPECT_EQ(t.rgba.format(), TexelFormat::Rgba8);
+    ASSERT_EQ(t.la.levels(), t.rgba.levels());
+    for (int k = 0; k < t.la.levels(); ++k) {
+      const MipLevel& L = t.la.level(k);
+      for (int y = 0; y < L.height; ++y) {
+        const uint32_t* row = t.la.level_texels(k) + size_t(y) * size_t(L.stride);
+        for (int x = 0; x < L.width; ++x) {
+          ASSERT_EQ(t.la.texel(k, x, y), t.rgba.texel(k, x, y)) << w << "x" << h << " level " << k << " texel " << x << "," << y;
+          ASSERT_EQ(row[x] >> 16, row[(x + 1) % L.width] & 0xFFFFu) << w << "x" << h << " level " << k;
+        }
+        ASSERT_EQ(row[L.width], row[0]) << "padding word";
+      }
+    }
+  }
+  Texture t;
+  EXPECT_TRUE(Texture::from_la8(0, 4, nullptr, t).has_value());
+  const uint8_t la[2] = {1, 2};
+  auto e = Texture::from_la8(4, 0, la, t);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "height");
+  e = Texture::from_la8(4, 4, nullptr, t);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "la");
+  TextureArray arr;
+  e = TextureArray::from_la8_layers(2, 2, 0, la, arr);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "count");
+}
+
 TEST(TextureArray, LayersMatchSingleTextures) {
   const int w = 16, h = 8, n = 3;
   std::mt19937 rng(8);

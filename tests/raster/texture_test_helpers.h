@@ -60,6 +60,29 @@ inline Texture random_texture(int w, int h, TexelEncoding enc, uint32_t seed) {
   });
 }
 
+// A luminance-alpha texture of random (L, A) bytes, a third of them fully transparent, and its
+// RGBA8 twin (R = G = B = L) built from the same bytes.
+struct LaPair {
+  Texture la, rgba;
+};
+inline LaPair random_la_texture(int w, int h, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::vector<uint8_t> la(size_t(w) * size_t(h) * 2), rgba(size_t(w) * size_t(h) * 4);
+  for (size_t i = 0; i < la.size() / 2; ++i) {
+    const uint32_t sel = rng() % 6;
+    la[2 * i] = uint8_t(rng() & 255u);
+    la[2 * i + 1] = sel < 2 ? 0 : sel == 2 ? 255 : uint8_t(rng() & 255u);
+    for (int c = 0; c < 3; ++c) rgba[4 * i + size_t(c)] = la[2 * i];
+    rgba[4 * i + 3] = la[2 * i + 1];
+  }
+  LaPair p;
+  auto e = Texture::from_la8(w, h, la.data(), p.la);
+  EXPECT_FALSE(e.has_value()) << (e ? e->message() : "");
+  e = Texture::from_rgba8(w, h, rgba.data(), TexelEncoding::Linear, p.rgba);
+  EXPECT_FALSE(e.has_value()) << (e ? e->message() : "");
+  return p;
+}
+
 // Level k of `tex` as a texture of its own (same bytes, same encoding).
 inline Texture level_as_texture(const Texture& tex, int k) {
   const MipLevel& L = tex.level(k);

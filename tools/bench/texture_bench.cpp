@@ -1,6 +1,6 @@
 // Texture sampling throughput: samples per second per filter, Highway target, texture size
-// and encoding, at 1 and 4 texels per pixel (magnified-to-1:1 and minified, the range of the
-// fur shells). Each iteration samples 64K lanes laid out as the 4x4 blocks of a rotated,
+// and layout (RGBA8 linear or sRGB, luminance-alpha), at 1 and 4 texels per pixel
+// (magnified-to-1:1 and minified, the range of the fur shells). Each iteration samples 64K lanes laid out as the 4x4 blocks of a rotated,
 // slightly perspective screen-space mapping, as a FragmentBatch delivers them.
 #include <benchmark/benchmark.h>
 
@@ -21,19 +21,27 @@ using namespace pelt::raster;
 
 constexpr size_t kLanes = 64 * 1024;
 
-Texture make(int size, TexelEncoding enc) {
+// The stored layouts measured: RGBA8 (linear or sRGB colour) and luminance-alpha (La8, the
+// fur shells').
+enum class Kind { rgba8, srgb, la8 };
+
+Texture make(int size, Kind kind) {
   std::mt19937 rng(static_cast<uint32_t>(size));
   std::vector<uint8_t> bytes(size_t(size) * size_t(size) * 4);
   for (auto& b : bytes) b = uint8_t(rng());
   Texture t;
-  if (Texture::from_rgba8(size, size, bytes.data(), enc, t)) std::abort();
+  if (kind == Kind::la8 ? Texture::from_la8(size, size, bytes.data(), t)
+                        : Texture::from_rgba8(size, size, bytes.data(),
+                                              kind == Kind::srgb ? TexelEncoding::Srgb : TexelEncoding::Linear, t))
+    std::abort();
   return t;
 }
 
-const Texture& texture(int size, TexelEncoding enc) {
-  static const Texture t256 = make(256, TexelEncoding::Linear), t1024 = make(1024, TexelEncoding::Linear),
-                       s256 = make(256, TexelEncoding::Srgb);
-  if (enc == TexelEncoding::Srgb) return s256;
+const Texture& texture(int size, Kind kind) {
+  static const Texture t256 = make(256, Kind::rgba8), t1024 = make(1024, Kind::rgba8), s256 = make(256, Kind::srgb),
+                       l256 = make(256, Kind::la8);
+  if (kind == Kind::srgb) return s256;
+  if (kind == Kind::la8) return l256;
   return size == 256 ? t256 : t1024;
 }
 
@@ -54,10 +62,10 @@ void coords(int size, float texels_per_pixel, std::vector<float>& u, std::vector
   }
 }
 
-void BM_Sample(benchmark::State& state, int64_t target, Filter filter, int size, TexelEncoding enc,
+void BM_Sample(benchmark::State& state, int64_t target, Filter filter, int size, Kind kind,
                float texels_per_pixel) {
   hwy::SetSupportedTargetsForTest(target);
-  const Texture& tex = texture(size, enc);
+  const Texture& tex = texture(size, kind);
   std::vector<float> u, v;
   coords(size, texels_per_pixel, u, v);
   auto o0 = hwy::AllocateAligned<float>(kLanes), o1 = hwy::AllocateAligned<float>(kLanes),
@@ -81,13 +89,13 @@ const char* filter_name(Filter f) {
 void register_all() {
   for (int64_t target : hwy::SupportedAndGeneratedTargets())
     for (Filter f : {Filter::Nearest, Filter::Bilinear, Filter::Trilinear})
-      for (auto [size, enc] : {std::pair{256, TexelEncoding::Linear}, std::pair{1024, TexelEncoding::Linear},
-                               std::pair{256, TexelEncoding::Srgb}})
+      for (auto [size, kind] : {std::pair{256, Kind::rgba8}, std::pair{1024, Kind::rgba8}, std::pair{256, Kind::srgb},
+                                std::pair{256, Kind::la8}})
         for (float tpp : {1.0f, 4.0f}) {
+          const char* suffix = kind == Kind::srgb ? "_srgb" : kind == Kind::la8 ? "_la8" : "_rgba8";
           const std::string name = std::string("Sample/") + hwy::TargetName(target) + "/" + filter_name(f) +
-                                   "/" + std::to_string(size) + (enc == TexelEncoding::Srgb ? "_srgb" : "_rgba8") +
-                                   "/texels_per_pixel:" + std::to_string(int(tpp));
-          benchmark::RegisterBenchmark(name.c_str(), BM_Sample, target, f, size, enc, tpp);
+                                   "/" + std::to_string(size) + suffix + "/texels_per_pixel:" + std::to_string(int(tpp));
+          benchmark::RegisterBenchmark(name.c_str(), BM_Sample, target, f, size, kind, tpp);
         }
 }
 

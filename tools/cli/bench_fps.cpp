@@ -40,6 +40,7 @@ struct Options {
   std::vector<int> threads{1, 2};
   int frames = 200, warmup = 20;
   bool match_llvmpipe = false;
+  std::string sort;  // empty: tile, or none with --match-llvmpipe (the harness's order)
   std::string json;
 };
 
@@ -157,6 +158,7 @@ Result run_one(const PaperTable& t, int threads, const Options& o) {
   // The harness draws in submission order; pelt's default sorts per tile.
   io::Quality q;
   q.sort = o.match_llvmpipe ? io::SortQuality::none : io::SortQuality::tile;
+  if (!o.sort.empty()) io::set_knob(q, "sort", o.sort);  // checked by run_fps
   rs.quality = q;
   render::SceneRenderer r(scene, std::move(meshes), rs);
   render::FrameImage img;
@@ -182,6 +184,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
                     {"height", o.height},
                     {"threads", r.threads},
                     {"match_llvmpipe", o.match_llvmpipe},
+                    {"sort", o.sort.empty() ? (o.match_llvmpipe ? "none" : "tile") : o.sort},
                     {"fps_median", 1000.0 / percentile(r.ms, 0.5)},
                     {"fps_min", 1000.0 / *std::max_element(r.ms.begin(), r.ms.end())},
                     {"fps_max", 1000.0 / *std::min_element(r.ms.begin(), r.ms.end())},
@@ -200,6 +203,8 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
 }
 
 int run_fps(const Options& o) {
+  if (io::Quality q; !o.sort.empty())
+    if (const auto err = io::set_knob(q, "sort", o.sort)) throw io::InputError("", "--sort", *err);
   std::vector<const PaperTable*> tables;
   for (const std::string& s : o.scenes) {
     const PaperTable* t = nullptr;
@@ -209,8 +214,9 @@ int run_fps(const Options& o) {
     tables.push_back(t);
   }
   std::vector<Result> results;
-  std::printf("pelt bench fps: %dx%d, %d frames after %d warm-up, %s\n", o.width, o.height, o.frames, o.warmup,
-              o.match_llvmpipe ? "the llvmpipe harness's scene (--match-llvmpipe)" : "pelt's own fur");
+  std::printf("pelt bench fps: %dx%d, %d frames after %d warm-up, %s%s%s\n", o.width, o.height, o.frames, o.warmup,
+              o.match_llvmpipe ? "the llvmpipe harness's scene (--match-llvmpipe)" : "pelt's own fur",
+              o.sort.empty() ? "" : ", sort ", o.sort.c_str());
   for (const PaperTable* t : tables) {
     std::vector<Result> rows;
     for (int th : o.threads) rows.push_back(run_one(*t, th, o));
@@ -248,6 +254,8 @@ Run add_bench_fps(CLI::App& bench) {
   sub->add_option("--frames", o->frames, "Timed frames (median over them)")->check(CLI::Range(1, 1000000));
   sub->add_option("--warmup", o->warmup, "Frames rendered before timing")->check(CLI::Range(0, 1000000));
   sub->add_flag("--match-llvmpipe", o->match_llvmpipe, "Draw the llvmpipe harness's exact scene");
+  sub->add_option("--sort", o->sort,
+                  "Fur sort: none | layer | tile | exact (default: tile; none with --match-llvmpipe)");
   sub->add_option("--json", o->json, "Also write the results as JSON");
   return [o] { return run_fps(*o); };
 }

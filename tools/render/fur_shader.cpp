@@ -13,6 +13,7 @@ constexpr size_t kLanes = raster::kMaxBatchLanes;
 
 struct alignas(64) Scratch {
   alignas(64) float texel[4][kLanes];
+  alignas(64) float tint[3][raster::kMaxBatchBlocks];  // per block: its layer's tint, or 1
 };
 thread_local Scratch tls_scratch;
 
@@ -32,8 +33,10 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   const float* u = b.varying[uv_slot];
   const float* v = b.varying[uv_slot + 1];
 
-  // Texture: the fin texture for the whole batch, or per run of blocks on one shell layer
-  // (a block belongs to one triangle, so to one layer).
+  // Texture: the fin texture for the whole batch, or per run of blocks on one shell layer.
+  // A block holds lanes of one triangle or of triangles sharing edges (pipeline.h), and a
+  // shell triangle shares vertices only with triangles of its own layer (eq. 1: layer s
+  // owns vertices s N .. s N + N - 1), so lane 0's layer is the block's.
   if (s_.fins) {
     float* const out[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
     sample_texture(*s_.fin, s_.sampler, u, v, n, out, s_.double_precision);
@@ -49,20 +52,25 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
       while (j < b.blocks && layer_of(j) == layer) ++j;
       const size_t off = size_t{i} * raster::kBlockLanes;
       float* const out[4] = {s.texel[0] + off, s.texel[1] + off, s.texel[2] + off, s.texel[3] + off};
-      sample_texture(s_.shells->layers[layer], s_.sampler, u + off, v + off, size_t{j - i} * raster::kBlockLanes,
-                     out, s_.double_precision);
+      const size_t run = size_t{j - i} * raster::kBlockLanes;
+      sample_texture(s_.shells->layers[layer], s_.sampler, u + off, v + off, run, out, s_.double_precision);
+      if (s_.shell_tint)
+        for (uint32_t k = i; k < j; ++k)
+          for (int c = 0; c < 3; ++c) s.tint[c][k] = s_.shell_tint[layer][c];
       i = j;
     }
   }
   if (s_.fins && weight_) {
-    for (uint32_t i = 0; i < b.blocks; ++i) {
-      const uint32_t quad = (b.primitive[size_t{i} * raster::kBlockLanes] + s_.primitive_offset) / 2;
-      const float w = weight_[quad_edge_[quad]];
-      float* a = s.texel[3] + size_t{i} * raster::kBlockLanes;
-      for (int l = 0; l < raster::kBlockLanes; ++l) a[l] *= w;
-    }
+    // Per lane: a block may hold the quads of several fins.
+    float* a = s.texel[3];
+    for (size_t i = 0; i < n; ++i) a[i] *= weight_[quad_edge_[(b.primitive[i] + s_.primitive_offset) / 2]];
   }
 
+  // Colour = min(1, tint * texel): the layer's tint for luminance shells
+  // (fur::ShellLuminance), 1 for RGBA textures.
+  const bool tinted = !s_.fins && s_.shell_tint;
+  if (!tinted)
+    for (int c = 0; c < 3; ++c) std::fill(s.tint[c], s.tint[c] + b.blocks, 1.0f);
   if (!s_.per_pixel_lighting) {
     using V = FurVaryings;
     for (int c = 0; c < 3; ++c) {
@@ -70,11 +78,18 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
       const float* sp = b.varying[V::kSpecular + c];
       const float* t = s.texel[c];
       float* o = b.out[c];
-      for (size_t i = 0; i < n; ++i) o[i] = t[i] * d[i] + sp[i];
+      for (uint32_t blk = 0; blk < b.blocks; ++blk) {
+        const float tint = s.tint[c][blk];
+        const size_t first = size_t{blk} * raster::kBlockLanes;
+        for (size_t i = first; i < first + raster::kBlockLanes; ++i) o[i] = std::min(1.0f, t[i] * tint) * d[i] + sp[i];
+      }
     }
     std::copy(s.texel[3], s.texel[3] + n, b.out[3]);
     return;
   }
+  if (tinted)
+    for (int c = 0; c < 3; ++c)
+      for (size_t i = 0; i < n; ++i) s.texel[c][i] = std::min(1.0f, s.texel[c][i] * s.tint[c][i / raster::kBlockLanes]);
   using P = FurPixelVaryings;
   shading::FurSurfaceSoA surf{};
   surf.n = n;

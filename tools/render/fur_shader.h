@@ -18,6 +18,9 @@ namespace pelt::render {
 struct FurShaderSetup {
   bool fins = false;                         // fin draw (else shells)
   const raster::TextureArray* shells = nullptr;
+  // Per layer, for luminance-alpha shells (fur::ShellLuminance): colour = min(1, tint * L).
+  // Null: the shells are RGBA.
+  const glm::vec3* shell_tint = nullptr;
   const raster::Texture* fin = nullptr;
   raster::SamplerState sampler;
   uint32_t base_faces = 0;                   // shells: triangles per layer

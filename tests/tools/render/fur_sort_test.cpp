@@ -26,11 +26,12 @@ TEST(FurSort, EveryModeStaysCloseToTheExactPerPixelSort) {
   const double layer = image_rmse(render_sorted(scene, io::SortQuality::layer), exact);
   const double tile = image_rmse(render_sorted(scene, io::SortQuality::tile), exact);
   std::printf("fur sort RMSE vs exact: none %.5f, layer %.5f, tile %.5f\n", none, layer, tile);
-  // Measured on this scene (none 0.022, layer 0.0005, tile 0.004), bounded with headroom:
-  // drawing each layer's fins right after its shell is nearly exact here.
+  // Measured on this scene (none 0.022, layer 0.0006, tile 0.0023; tile was 0.004 before a
+  // quad's two halves sorted as one), bounded with headroom: drawing each layer's fins right
+  // after its shell is nearly exact here.
   EXPECT_LT(none, 0.04);
   EXPECT_LT(layer, 0.005);
-  EXPECT_LT(tile, 0.01);
+  EXPECT_LT(tile, 0.005);
   EXPECT_LT(layer, none);
   EXPECT_GT(none, 0.0);  // fins over shells really are out of order somewhere
 }

@@ -84,7 +84,8 @@ inline constexpr uint32_t kBatchLanes = kMaxBatchLanes;
 
 struct TranslucentRef {
   const TriSetup* tri;
-  uint32_t id;  // setup_id
+  uint32_t id;     // setup_id
+  float sort_key;  // tri->sort_key, copied so the tile sort compares without chasing pointers
 };
 
 // Per-worker state, reused for every tile the worker takes. Tile planes are stored

@@ -628,7 +628,7 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   ForEachItem(frame, tile, [&](const TriSetup& t, uint32_t id, uint32_t draw_index) {
     const DrawCall& draw = frame.draws[draw_index];
     if (draw.state.blend != BlendMode::Opaque) {
-      s.translucent.push_back({&t, id});
+      s.translucent.push_back({&t, id, t.sort_key});
       return;
     }
     TileEdges te;
@@ -718,7 +718,7 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   if (frame.options.sort == SortMode::Tile)
     // Back to front; equal keys keep submission order, which setup ids follow (frame.h).
     std::sort(s.translucent.begin(), s.translucent.end(), [](const TranslucentRef& a, const TranslucentRef& b) {
-      const float ka = a.tri->sort_key, kb = b.tri->sort_key;
+      const float ka = a.sort_key, kb = b.sort_key;
       return ka > kb || (ka == kb && a.id < b.id);
     });
   ++s.batch_serial;  // no block slot of an earlier tile is valid here

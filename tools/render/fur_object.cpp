@@ -65,7 +65,8 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
       match_llvmpipe_(options.match_llvmpipe),
       lighting_(options.lighting),
       filter_(options.filter),
-      double_precision_(options.double_precision) {
+      double_precision_(options.double_precision),
+      grey_allowed_(options.grey_varyings) {
   {
     StageTimer t(setup, "fur_geometry");
     if (auto e = fur::build_fur_geometry(base, params, geo_)) throw io::InputError(name, "fur." + e->field, e->reason);
@@ -110,14 +111,16 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
     light_soa_.base = light_soa_.storage.data() + ((64 - addr % 64) % 64) / sizeof(float);
     for (int c = 0; c < 4; ++c) std::fill_n(light_soa_.row(kOnes + c), light_soa_.stride, 1.0f);
   }
-  // The static parts of the varyings: uvs never change.
-  const int uv = lighting_ == FurLighting::pixel ? FurPixelVaryings::kUv : FurVaryings::kUv;
-  for (size_t i = 0; i < v; ++i) {
-    shell_varyings_[i * vc + uv] = geo_.shell_uvs[i].x;
-    shell_varyings_[i * vc + uv + 1] = geo_.shell_uvs[i].y;
-    fin_varyings_[i * vc + uv] = geo_.fin_uvs[i].x;
-    fin_varyings_[i * vc + uv + 1] = geo_.fin_uvs[i].y;
-  }
+  // The static parts of the per-pixel varyings: uvs never change. (Per-vertex lighting
+  // writes its uvs with the light, in the frame's layout.)
+  if (lighting_ == FurLighting::pixel)
+    for (size_t i = 0; i < v; ++i) {
+      const int uv = FurPixelVaryings::kUv;
+      shell_varyings_[i * vc + uv] = geo_.shell_uvs[i].x;
+      shell_varyings_[i * vc + uv + 1] = geo_.shell_uvs[i].y;
+      fin_varyings_[i * vc + uv] = geo_.fin_uvs[i].x;
+      fin_varyings_[i * vc + uv + 1] = geo_.fin_uvs[i].y;
+    }
 }
 
 uint64_t FurObject::triangles() const {
@@ -183,19 +186,36 @@ void FurObject::light_vertices(const std::vector<shading::Light>& lights, const 
   }
 }
 
+int FurObject::varying_count() const {
+  return lighting_ == FurLighting::pixel ? FurPixelVaryings::kCount
+         : grey_                         ? FurGreyVaryings::kCount
+                                         : FurVaryings::kCount;
+}
+
 void FurObject::rebuild_varyings() {
   const size_t count = pose_.size();
   if (lighting_ == FurLighting::vertex) {
-    using V = FurVaryings;
     Soa& a = light_soa_;
+    auto diffuse = [&](int c, size_t i) { return a.row(kLitWhite + c)[i] - a.row(kLitBlack + c)[i]; };
+    auto specular = [&](int c, size_t i) { return a.row(kLitBlack + c)[i]; };
+    grey_ = grey_allowed_;
+    for (size_t i = 0; i < count && grey_; ++i)
+      grey_ = diffuse(0, i) == diffuse(1, i) && diffuse(0, i) == diffuse(2, i) && specular(0, i) == specular(1, i) &&
+              specular(0, i) == specular(2, i);
+    // Either layout packs the vertices' records from the array's start, so the uvs move too.
+    const int stride = grey_ ? FurGreyVaryings::kCount : FurVaryings::kCount;
+    const int channels = grey_ ? 1 : 3;
+    static_assert(FurGreyVaryings::kUv == FurVaryings::kUv && FurGreyVaryings::kDiffuse == FurVaryings::kDiffuse);
     for (size_t i = 0; i < count; ++i) {
-      float* sv = shell_varyings_.data() + i * V::kCount;
-      float* fv = fin_varyings_.data() + i * V::kCount;
-      for (int c = 0; c < 3; ++c) {
-        const float black = a.row(kLitBlack + c)[i];
-        const float diffuse = a.row(kLitWhite + c)[i] - black;
-        sv[V::kDiffuse + c] = fv[V::kDiffuse + c] = diffuse;
-        sv[V::kSpecular + c] = fv[V::kSpecular + c] = black;
+      float* sv = shell_varyings_.data() + i * stride;
+      float* fv = fin_varyings_.data() + i * stride;
+      sv[FurVaryings::kUv] = geo_.shell_uvs[i].x;
+      sv[FurVaryings::kUv + 1] = geo_.shell_uvs[i].y;
+      fv[FurVaryings::kUv] = geo_.fin_uvs[i].x;
+      fv[FurVaryings::kUv + 1] = geo_.fin_uvs[i].y;
+      for (int c = 0; c < channels; ++c) {
+        sv[FurVaryings::kDiffuse + c] = fv[FurVaryings::kDiffuse + c] = diffuse(c, i);
+        sv[FurVaryings::kDiffuse + channels + c] = fv[FurVaryings::kDiffuse + channels + c] = specular(c, i);
       }
     }
     return;
@@ -354,6 +374,7 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
   for (auto& sh : shaders_) {
     sh->set_view(lights, eye);
     sh->set_fins(fin_quad_edge_.data(), weight);
+    sh->set_grey_lighting(grey_);
   }
 
   auto draw = [&](bool fin, uint32_t first_tri, uint32_t count, FurShader* sh) {
@@ -364,7 +385,7 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
     d.indices = (fin ? fin_list_.data() : geo_.shell_indices.data()) + 3 * size_t{first_tri};
     d.triangle_count = count;
     d.varyings = fin ? fin_varyings_.data() : shell_varyings_.data();
-    d.varying_count = lighting_ == FurLighting::pixel ? FurPixelVaryings::kCount : FurVaryings::kCount;
+    d.varying_count = static_cast<uint32_t>(varying_count());
     d.clip_from_object = clip_from_world;
     d.shader = sh;
     d.state.blend = raster::BlendMode::AlphaOver;

@@ -42,6 +42,9 @@ struct FurDrawOptions {
   FurLighting lighting = FurLighting::vertex;
   raster::Filter filter = raster::Filter::Trilinear;  // strand and fin textures
   bool double_precision = false;  // lighting and texture sampling by the double references
+  // Per-vertex lighting that is grey everywhere is passed as FurGreyVaryings (the same image
+  // from half the varyings); off: always FurVaryings (for tests and measurements).
+  bool grey_varyings = true;
 };
 
 // What may change from frame to frame.
@@ -72,6 +75,8 @@ class FurObject {
                     FurSort sort, const std::vector<shading::Light>& lights, const glm::vec3& eye);
 
   const fur::FurCounts& counts() const { return geo_.counts; }
+  // Floats per vertex of the fur draws' varyings as of the last update().
+  int varying_count() const;
   uint64_t triangles() const;
   // Bytes held by this object's arrays and textures (for `pelt info`).
   size_t memory_bytes() const;
@@ -87,6 +92,8 @@ class FurObject {
   FurLighting lighting_;
   raster::Filter filter_;
   bool double_precision_;
+  bool grey_allowed_;
+  bool grey_ = false;  // this frame's varyings are FurGreyVaryings
   shading::FurLightParams light_params_;
   fur::FurGeometry geo_;
   raster::TextureArray shell_tex_;

@@ -72,10 +72,9 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   if (!tinted)
     for (int c = 0; c < 3; ++c) std::fill(s.tint[c], s.tint[c] + b.blocks, 1.0f);
   if (!s_.per_pixel_lighting) {
-    using V = FurVaryings;
     for (int c = 0; c < 3; ++c) {
-      const float* d = b.varying[V::kDiffuse + c];
-      const float* sp = b.varying[V::kSpecular + c];
+      const float* d = b.varying[grey_ ? FurGreyVaryings::kDiffuse : FurVaryings::kDiffuse + c];
+      const float* sp = b.varying[grey_ ? FurGreyVaryings::kSpecular : FurVaryings::kSpecular + c];
       const float* t = s.texel[c];
       float* o = b.out[c];
       for (uint32_t blk = 0; blk < b.blocks; ++blk) {

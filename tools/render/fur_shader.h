@@ -42,6 +42,8 @@ class FurShader final : public raster::Shader {
     quad_edge_ = quad_edge;
     weight_ = weight;
   }
+  // Per-vertex lighting arrives as FurGreyVaryings (else FurVaryings); per frame, as above.
+  void set_grey_lighting(bool grey) { grey_ = grey; }
   void shade(const raster::FragmentBatch& batch) const override;
 
  private:
@@ -50,6 +52,7 @@ class FurShader final : public raster::Shader {
   float eye_[3] = {0, 0, 0};
   const uint32_t* quad_edge_ = nullptr;
   const float* weight_ = nullptr;
+  bool grey_ = false;
 };
 
 }  // namespace pelt::render

@@ -275,6 +275,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       fo.lighting = settings.fur_lighting;
       fo.filter = quality_.filter;
       fo.double_precision = quality_.precision == io::Precision::double_precision;
+      fo.grey_varyings = settings.fur_grey_varyings;
       obj->fur = std::make_unique<FurObject>(obj->mesh, *so.fur, fo, name, setup_stats_);
     }
     objects_.push_back(std::move(obj));
@@ -313,6 +314,10 @@ size_t SceneRenderer::memory_estimate() const {
 
 const fur::FurCounts* SceneRenderer::fur_counts(size_t object) const {
   return objects_[object]->fur ? &objects_[object]->fur->counts() : nullptr;
+}
+
+int SceneRenderer::fur_varying_count(size_t object) const {
+  return objects_[object]->fur ? objects_[object]->fur->varying_count() : 0;
 }
 
 void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const io::Camera* camera_override) {

@@ -30,6 +30,7 @@ struct RenderSettings {
   Aov aov = Aov::color;
   bool match_llvmpipe = false;      // fur as the llvmpipe harness draws it (bench fps)
   FurLighting fur_lighting = FurLighting::vertex;
+  bool fur_grey_varyings = true;    // FurDrawOptions::grey_varyings (off: tests, measurements)
 };
 
 // The scene as a quality setting draws it: `shells` and `fins` replace every fur block's,
@@ -74,6 +75,9 @@ class SceneRenderer {
   uint64_t fur_triangles() const;
   // Fur vertex and face counts of object i (nullptr when it has no fur).
   const fur::FurCounts* fur_counts(size_t object) const;
+  // Floats per fur vertex that the last frame's fur draws of object i interpolate (0 without
+  // fur): 4 for grey per-vertex light, 8 for coloured, 12 lit per pixel.
+  int fur_varying_count(size_t object) const;
   // Estimated bytes for rendering a frame: meshes, varyings, fur arrays and textures,
   // colour maps, the output image and the rasterizer's per-worker tile scratch.
   size_t memory_estimate() const;

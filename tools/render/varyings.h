@@ -26,6 +26,16 @@ struct FurVaryings {
   static constexpr int kCount = 8;
 };
 
+// FurVaryings when every fur vertex's light is grey (equal in r, g and b, as under white
+// lights): one diffuse and one specular value stand for three, so the rasterizer
+// interpolates half the varyings.
+struct FurGreyVaryings {
+  static constexpr int kUv = 0;        // 2
+  static constexpr int kDiffuse = 2;   // 1
+  static constexpr int kSpecular = 3;  // 1
+  static constexpr int kCount = 4;
+};
+
 // Fur lit per pixel (Kajiya-Kay evaluated per fragment).
 struct FurPixelVaryings {
   static constexpr int kPos = 0;      // world position of the deformed fur vertex, 3

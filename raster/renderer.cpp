@@ -147,6 +147,7 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
     batch.count = 0;
   };
   ClipPolygon poly;
+  const bool translucent = draw.state.blend != BlendMode::Opaque;
   for (uint32_t p = ch.first; p < ch.first + ch.count; ++p) {
     const uint32_t i0 = draw.indices[3 * size_t{p}], i1 = draw.indices[3 * size_t{p} + 1],
                    i2 = draw.indices[3 * size_t{p} + 2];
@@ -160,7 +161,9 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
       ++ch.culled;
       continue;
     }
-    const float key = sort_key(draw, dv.front.data(), p, f0.w + f1.w + f2.w);
+    // Only translucent triangles are ever sorted.
+    const float key = translucent ? sort_key(draw, dv.front.data(), p, f0.w + f1.w + f2.w)
+                                  : (f0.w + f1.w + f2.w) * (1.0f / 3.0f);
     if (!((c0 | c1 | c2) & kClipPlaneBits)) {
       const uint32_t b = batch.count++;
       const FrontVertex* f[3] = {&f0, &f1, &f2};

@@ -88,6 +88,14 @@ struct TranslucentRef {
   float sort_key;  // tri->sort_key, copied so the tile sort compares without chasing pointers
 };
 
+// True when triangles a and b (three vertex indices each) share an edge: two indices. Such
+// triangles interpolate one continuous field of varyings across that edge.
+inline bool triangles_share_edge(const uint32_t* a, const uint32_t* b) {
+  int shared = 0;
+  for (int i = 0; i < 3; ++i) shared += int(a[i] == b[0]) + int(a[i] == b[1]) + int(a[i] == b[2]);
+  return shared >= 2;
+}
+
 // Per-worker state, reused for every tile the worker takes. Tile planes are stored
 // block-major: block (bx, by) of the tile at [(by * 16 + bx) * 16], lane l = pixel
 // (l % 4, l / 4) of the block, so 16 lanes are one contiguous load.

@@ -80,21 +80,17 @@ void Renderer::Impl::transform(std::span<const DrawCall> draws, const Viewport& 
 // partner p ^ 1 when the two share an edge (a grid mesh's cells, a fur fin). Both halves of a
 // quad then sort as one primitive, one right after the other, so the tiles pack their
 // lanes into shared blocks; apart, other layers' triangles of nearly equal depth fall
-// between them. The sum runs lower triangle first, so both halves get the same float.
+// between them. Each half sums its own three depths in its index order, and float addition
+// is commutative, so both halves get the same key.
 // `own`: p's three vertex depths summed; its vertices are valid and finite.
 static float sort_key(const DrawCall& draw, const FrontVertex* front, uint32_t p, float own) {
   const uint32_t q = p ^ 1u;
   if (q >= draw.triangle_count) return own * (1.0f / 3.0f);
-  const uint32_t* a = draw.indices + 3 * size_t{p};
   const uint32_t* b = draw.indices + 3 * size_t{q};
-  int shared = 0;
-  for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < 3; ++i)
     if (b[i] >= draw.vertex_count || (front[b[i]].code & kNonFinite)) return own * (1.0f / 3.0f);
-    shared += int(b[i] == a[0]) + int(b[i] == a[1]) + int(b[i] == a[2]);
-  }
-  if (shared < 2) return own * (1.0f / 3.0f);
-  const float other = front[b[0]].w + front[b[1]].w + front[b[2]].w;
-  return (p < q ? own + other : other + own) * (1.0f / 6.0f);
+  if (!triangles_share_edge(draw.indices + 3 * size_t{p}, b)) return own * (1.0f / 3.0f);
+  return (own + (front[b[0]].w + front[b[1]].w + front[b[2]].w)) * (1.0f / 6.0f);
 }
 
 void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVertices& dv,

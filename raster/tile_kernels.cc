@@ -394,15 +394,10 @@ uint32_t OpenSlot(const FrameView& frame, TileScratch& s, uint32_t draw, int32_t
   return i;
 }
 
-// True when triangles a and b of `draw` share an edge (two vertex indices): their varyings
-// are then one continuous field across it, so a block holding lanes of both still
-// differentiates to the field's derivative.
+// True when triangles a and b of `draw` share an edge, so that a block holding lanes of both
+// still differentiates to the derivative of one continuous field.
 HWY_INLINE bool SharesEdge(const DrawCall& draw, const TriSetup& a, const TriSetup& b) {
-  const uint32_t* ia = draw.indices + 3 * size_t{a.primitive};
-  const uint32_t* ib = draw.indices + 3 * size_t{b.primitive};
-  int shared = 0;
-  for (int i = 0; i < 3; ++i) shared += int(ia[i] == ib[0]) + int(ia[i] == ib[1]) + int(ia[i] == ib[2]);
-  return shared >= 2;
+  return triangles_share_edge(draw.indices + 3 * size_t{a.primitive}, draw.indices + 3 * size_t{b.primitive});
 }
 
 // Appends the passed lanes `bits` of translucent triangle t in block `blk`. They join the

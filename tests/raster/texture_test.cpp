@@ -151,7 +151,7 @@ TEST(Texture, CheckerboardLevelsAverageCorrectly) {
 // tile those bounds exactly) from the unrounded values of level k - 1. Every source texel
 // counts: nothing of an odd row or column is dropped.
 TEST(Texture, OddSizedLevelsAreAreaAverages) {
-  for (const std::pair<int, int> size : {std::pair{7, 5}, std::pair{5, 1}, std::pair{9, 11}, std::pair{3, 3}}) {
+  for (const std::pair<int, int>& size : {std::pair{7, 5}, std::pair{5, 1}, std::pair{9, 11}, std::pair{3, 3}}) {
     const int w0 = size.first, h0 = size.second;  // named copies: lambdas below capture them
     std::mt19937 rng(uint32_t(w0 * 31 + h0));
     std::vector<double> prev(size_t(w0) * size_t(h0));

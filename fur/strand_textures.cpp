@@ -36,6 +36,15 @@ void put_max(uint8_t* p, const glm::vec3& rgb, float alpha) {
   put(p, rgb, alpha);
 }
 
+// put_max for the luminance form (ShellLuminance): the same alpha rule, so both forms keep
+// the same strand where strands meet.
+void put_max_la(uint8_t* p, float luminance, float alpha) {
+  const uint8_t a = to8(alpha);
+  if (a <= p[1]) return;
+  p[0] = to8(luminance);
+  p[1] = a;
+}
+
 glm::vec3 layer_colour(const FurParams& p, float h) {
   return p.root_color + (p.tip_color - p.root_color) * h;
 }
@@ -111,12 +120,8 @@ std::optional<ParamError> generate_strand_textures(const FurParams& params, Stra
       int x, y;
       strand_texel(st, s, S, N, x, y);
       const size_t t = size_t(y) * N + size_t(x);
-      // The larger alpha wins in both forms (put_max), so they hold the same strands.
-      if (to8(a) > la[2 * t + 1]) {
-        la[2 * t] = to8(st.brightness / kMaxStrandBrightness);
-        la[2 * t + 1] = to8(a);
-      }
       put_max(layer + 4 * t, base * st.brightness, a);
+      put_max_la(la + 2 * t, st.brightness / kMaxStrandBrightness, a);
     }
   }
 

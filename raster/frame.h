@@ -117,12 +117,11 @@ struct alignas(64) TileScratch {
   // copied from a filled one before shading, so every lane a shader sees is finite.
   alignas(64) uint16_t batch_groups[kBatchBlocks];
   // Pass 3 packs a translucent triangle into its block's latest slot when their lanes are
-  // disjoint (and, for a shader that differentiates, the triangles share an edge): the
-  // block's slot, valid while block_batch equals batch_serial (bumped at every flush, 64
-  // bits so it never wraps), and the slot's latest triangle.
-  uint64_t batch_serial = 1;
-  alignas(64) uint8_t block_slot[kBlocksPerTile];
-  alignas(64) uint64_t block_batch[kBlocksPerTile] = {};
+  // disjoint (and, for a shader that differentiates, the triangles share an edge). The
+  // block's latest slot, if it is in the current batch: block_slot[blk] is that slot exactly
+  // when it is below batch_blocks and its batch_offset is blk (every slot of a pass-3 batch
+  // is opened by AppendTranslucent, which records it here). Then the slot's latest triangle.
+  alignas(64) uint8_t block_slot[kBlocksPerTile] = {};
   alignas(64) const TriSetup* batch_tri[kBatchBlocks];
   alignas(64) uint32_t lane_prim[kBatchLanes];
   alignas(64) float lane_depth[kBatchLanes];

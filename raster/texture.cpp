@@ -210,10 +210,10 @@ std::optional<TextureError> Texture::from_la8(int width, int height, const uint8
   TextureBuilder::build(width, height, std::move(level0), TexelEncoding::Linear, out.texels_, out.levels_);
   // Equal channels average to equal channels, so every level is still grey: repack each row
   // as (texel, right neighbour) pairs, the padding word as the row's first pair.
+  auto la16 = [](uint32_t rgba) { return (rgba & 255u) | ((rgba >> 16) & 0xFF00u); };  // L | A << 8
   for (const MipLevel& L : out.levels_)
     for (int y = 0; y < L.height; ++y) {
       uint32_t* row = out.texels_.data() + L.offset + size_t(y) * size_t(L.stride);
-      auto la16 = [](uint32_t rgba) { return (rgba & 255u) | ((rgba >> 16) & 0xFF00u); };
       const uint32_t first = la16(row[0]);
       for (int x = 0; x < L.width; ++x) {
         const uint32_t right = x + 1 < L.width ? la16(row[x + 1]) : first;

@@ -289,7 +289,6 @@ void Interpolate(const FrameView& frame, TileScratch& s, uint32_t i, const TriSe
 // output into the tile, block after block in batch order.
 void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
   const uint32_t nb = s.batch_blocks;
-  ++s.batch_serial;
   if (nb == 0) return;
   s.batch_blocks = 0;
   const DrawCall& draw = frame.draws[s.batch_draw];
@@ -408,19 +407,18 @@ HWY_INLINE bool SharesEdge(const DrawCall& draw, const TriSetup& a, const TriSet
 // instead of two or three slots holding a few lanes each.
 void AppendTranslucent(const FrameView& frame, TileScratch& s, const TriSetup& t, int32_t px, int32_t py,
                        uint32_t blk, uint32_t bits, bool derivatives) {
-  if (s.block_batch[blk] == s.batch_serial && s.batch_draw == t.draw) {
-    const uint32_t i = s.block_slot[blk];
-    if (!(s.batch_mask[i] & bits) && (!derivatives || SharesEdge(frame.draws[t.draw], *s.batch_tri[i], t))) {
-      Interpolate(frame, s, i, t, bits, false);
-      s.batch_tri[i] = &t;
-      return;
-    }
+  const uint32_t i = s.block_slot[blk];
+  const bool latest = i < s.batch_blocks && s.batch_offset[i] == blk && s.batch_draw == t.draw;
+  if (latest && !(s.batch_mask[i] & bits) &&
+      (!derivatives || SharesEdge(frame.draws[t.draw], *s.batch_tri[i], t))) {
+    Interpolate(frame, s, i, t, bits, false);
+    s.batch_tri[i] = &t;
+    return;
   }
-  const uint32_t i = OpenSlot(frame, s, t.draw, px, py, blk, true);
-  Interpolate(frame, s, i, t, bits, true);
-  s.block_slot[blk] = static_cast<uint8_t>(i);
-  s.block_batch[blk] = s.batch_serial;
-  s.batch_tri[i] = &t;
+  const uint32_t slot = OpenSlot(frame, s, t.draw, px, py, blk, true);
+  Interpolate(frame, s, slot, t, bits, true);
+  s.block_slot[blk] = static_cast<uint8_t>(slot);
+  s.batch_tri[slot] = &t;
 }
 
 // A set-up triangle is two cache lines, written by the front end and first read here,
@@ -716,7 +714,6 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
       const float ka = a.sort_key, kb = b.sort_key;
       return ka > kb || (ka == kb && a.id < b.id);
     });
-  ++s.batch_serial;  // no block slot of an earlier tile is valid here
   for (const TranslucentRef& ref : s.translucent) {
     const TriSetup& t = *ref.tri;
     const DrawCall& draw = frame.draws[t.draw];

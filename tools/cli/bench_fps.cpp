@@ -137,7 +137,17 @@ double percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, size_t(q * (v.size() - 1) + 0.5))];
 }
 
-Result run_one(const PaperTable& t, int threads, const Options& o) {
+// The quality knobs of every run: the harness draws in submission order, pelt's default sorts
+// per tile, and --sort overrides both. Throws io::InputError for a bad --sort.
+io::Quality bench_quality(const Options& o) {
+  io::Quality q;
+  q.sort = o.match_llvmpipe ? io::SortQuality::none : io::SortQuality::tile;
+  if (!o.sort.empty())
+    if (const auto err = io::set_knob(q, "sort", o.sort)) throw io::InputError("", "--sort", *err);
+  return q;
+}
+
+Result run_one(const PaperTable& t, int threads, const Options& o, const io::Quality& q) {
   const io::Scene scene = bench_scene(t, o.match_llvmpipe);
   std::vector<io::SceneMesh> meshes(1);
   meshes[0].loaded.mesh = io::make_builtin_mesh(t.mesh);
@@ -155,10 +165,6 @@ Result run_one(const PaperTable& t, int threads, const Options& o) {
   rs.height = o.height;
   rs.threads = threads;
   rs.match_llvmpipe = o.match_llvmpipe;
-  // The harness draws in submission order; pelt's default sorts per tile.
-  io::Quality q;
-  q.sort = o.match_llvmpipe ? io::SortQuality::none : io::SortQuality::tile;
-  if (!o.sort.empty()) io::set_knob(q, "sort", o.sort);  // checked by run_fps
   rs.quality = q;
   render::SceneRenderer r(scene, std::move(meshes), rs);
   render::FrameImage img;
@@ -174,7 +180,8 @@ Result run_one(const PaperTable& t, int threads, const Options& o) {
   return res;
 }
 
-void write_json(const std::string& path, const std::vector<Result>& results, const Options& o) {
+void write_json(const std::string& path, const std::vector<Result>& results, const Options& o,
+                const io::Quality& quality) {
   nlohmann::json list = nlohmann::json::array();
   for (const Result& r : results) {
     const fur::FurCounts& c = r.counts;
@@ -184,7 +191,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
                     {"height", o.height},
                     {"threads", r.threads},
                     {"match_llvmpipe", o.match_llvmpipe},
-                    {"sort", o.sort.empty() ? (o.match_llvmpipe ? "none" : "tile") : o.sort},
+                    {"sort", io::knob_value(quality, "sort")},
                     {"fps_median", 1000.0 / percentile(r.ms, 0.5)},
                     {"fps_min", 1000.0 / *std::max_element(r.ms.begin(), r.ms.end())},
                     {"fps_max", 1000.0 / *std::min_element(r.ms.begin(), r.ms.end())},
@@ -203,8 +210,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
 }
 
 int run_fps(const Options& o) {
-  if (io::Quality q; !o.sort.empty())
-    if (const auto err = io::set_knob(q, "sort", o.sort)) throw io::InputError("", "--sort", *err);
+  const io::Quality quality = bench_quality(o);
   std::vector<const PaperTable*> tables;
   for (const std::string& s : o.scenes) {
     const PaperTable* t = nullptr;
@@ -219,7 +225,7 @@ int run_fps(const Options& o) {
               o.sort.empty() ? "" : ", sort ", o.sort.c_str());
   for (const PaperTable* t : tables) {
     std::vector<Result> rows;
-    for (int th : o.threads) rows.push_back(run_one(*t, th, o));
+    for (int th : o.threads) rows.push_back(run_one(*t, th, o, quality));
     const fur::FurCounts& c = rows.front().counts;
     std::printf("\n%s: %s (ours: %s)\n", t->paper, t->name, t->mesh);
     std::printf("%-8s %8s %8s %8s %8s   | paper: %6s %6s %6s %6s\n", "", "Base", "Shell", "Fin", "Sum", "Base", "Shell", "Fin", "Sum");
@@ -238,7 +244,7 @@ int run_fps(const Options& o) {
     std::fflush(stdout);
     results.insert(results.end(), rows.begin(), rows.end());
   }
-  if (!o.json.empty()) write_json(o.json, results, o);
+  if (!o.json.empty()) write_json(o.json, results, o, quality);
   return 0;
 }
 

@@ -202,17 +202,23 @@ void FurObject::rebuild_varyings() {
     for (size_t i = 0; i < count && grey_; ++i)
       grey_ = diffuse(0, i) == diffuse(1, i) && diffuse(0, i) == diffuse(2, i) && specular(0, i) == specular(1, i) &&
               specular(0, i) == specular(2, i);
-    // Either layout packs the vertices' records from the array's start, so the uvs move too.
+    // Either layout packs the vertices' records from the array's start, so the (static) uvs
+    // are rewritten only when the layout changes: the first frame, or a light turning grey
+    // or coloured.
     const int stride = grey_ ? FurGreyVaryings::kCount : FurVaryings::kCount;
     const int channels = grey_ ? 1 : 3;
     static_assert(FurGreyVaryings::kUv == FurVaryings::kUv && FurGreyVaryings::kDiffuse == FurVaryings::kDiffuse);
+    const bool write_uvs = stride != uv_stride_;
+    uv_stride_ = stride;
     for (size_t i = 0; i < count; ++i) {
       float* sv = shell_varyings_.data() + i * stride;
       float* fv = fin_varyings_.data() + i * stride;
-      sv[FurVaryings::kUv] = geo_.shell_uvs[i].x;
-      sv[FurVaryings::kUv + 1] = geo_.shell_uvs[i].y;
-      fv[FurVaryings::kUv] = geo_.fin_uvs[i].x;
-      fv[FurVaryings::kUv + 1] = geo_.fin_uvs[i].y;
+      if (write_uvs) {
+        sv[FurVaryings::kUv] = geo_.shell_uvs[i].x;
+        sv[FurVaryings::kUv + 1] = geo_.shell_uvs[i].y;
+        fv[FurVaryings::kUv] = geo_.fin_uvs[i].x;
+        fv[FurVaryings::kUv + 1] = geo_.fin_uvs[i].y;
+      }
       for (int c = 0; c < channels; ++c) {
         sv[FurVaryings::kDiffuse + c] = fv[FurVaryings::kDiffuse + c] = diffuse(c, i);
         sv[FurVaryings::kDiffuse + channels + c] = fv[FurVaryings::kDiffuse + channels + c] = specular(c, i);

@@ -94,6 +94,7 @@ class FurObject {
   bool double_precision_;
   bool grey_allowed_;
   bool grey_ = false;  // this frame's varyings are FurGreyVaryings
+  int uv_stride_ = 0;  // the record stride the uvs in the varying arrays were written for (0: none yet)
   shading::FurLightParams light_params_;
   fur::FurGeometry geo_;
   raster::TextureArray shell_tex_;

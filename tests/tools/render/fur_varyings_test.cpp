@@ -5,8 +5,13 @@
 #include <cstring>
 #include <string>
 
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "raster/renderer.h"
 #include "tests/tools/render/render_test_scenes.h"
+#include "tools/io/builtin_meshes.h"
 #include "tools/io/scene.h"
+#include "tools/render/fur_object.h"
 #include "tools/render/scene_renderer.h"
 
 namespace pelt::render::test {
@@ -48,6 +53,44 @@ TEST(FurVaryings, ColouredLightKeepsThreeChannels) {
   const Frame forced = render_fur(R"("color": [0.3, 0.3, 0.35])", false);
   EXPECT_EQ(0, std::memcmp(tinted.image.color.data(), forced.image.color.data(),
                            tinted.image.color.size() * sizeof(float)));
+}
+
+// The varying layout follows the light from frame to frame: an object lit white and then
+// coloured draws exactly what an object lit coloured from the start draws (its uvs move
+// with the layout's stride), and back.
+TEST(FurVaryings, SwitchingBetweenGreyAndColouredLightMovesTheWholeRecord) {
+  const Mesh box = io::make_builtin_mesh("box:3");
+  fur::FurParams params;
+  params.shells = 8;
+  params.texture_size = 32;
+  const shading::Light sun{shading::Light::Type::Directional, {0.3f, 0.8f, 0.5f}, {1.0f, 1.0f, 1.0f}};
+  const std::vector<shading::Light> white = {sun, {shading::Light::Type::Ambient, {0, 0, 0}, {0.3f, 0.3f, 0.3f}}};
+  const std::vector<shading::Light> coloured = {sun, {shading::Light::Type::Ambient, {0, 0, 0}, {0.3f, 0.2f, 0.4f}}};
+  FurFrame f;
+  f.eye = glm::vec3(3.0f, 2.0f, 4.0f);
+  const glm::mat4 clip = glm::perspective(glm::radians(45.0f), 1.0f, 1.0f, 20.0f) *
+                         glm::lookAt(f.eye, glm::vec3(0.0f), glm::vec3(0, 1, 0));
+  auto draw = [&](FurObject& o, const std::vector<shading::Light>& lights) {
+    FrameStats st;
+    o.update(f, lights, st);
+    std::vector<raster::DrawCall> draws;
+    o.append_draws(draws, clip, FurSort::none, lights, f.eye);
+    std::vector<float> color(64 * 64 * 4), depth(64 * 64);
+    std::vector<uint32_t> id(64 * 64);
+    raster::Renderer r(1);
+    r.render(draws, {}, raster::RenderTarget{64, 64, color.data(), depth.data(), id.data()}, nullptr);
+    return std::make_pair(o.varying_count(), color);
+  };
+  FrameStats setup;
+  FurObject switched(box, params, {}, "switched", setup), fresh_coloured(box, params, {}, "coloured", setup),
+      fresh_white(box, params, {}, "white", setup);
+  EXPECT_EQ(draw(switched, white).first, 4);
+  const auto to_coloured = draw(switched, coloured), coloured_only = draw(fresh_coloured, coloured);
+  EXPECT_EQ(to_coloured.first, 8);
+  EXPECT_EQ(to_coloured.second, coloured_only.second);
+  const auto back = draw(switched, white), white_only = draw(fresh_white, white);
+  EXPECT_EQ(back.first, 4);
+  EXPECT_EQ(back.second, white_only.second);
 }
 
 }  // namespace

@@ -9,9 +9,10 @@
 // wraps only its left index. Gathers are the dominant cost of the sampler here (about half of
 // a bilinear sample's time, measured with perf on this Zen 3): RGBA8 needs one gather per
 // texel where float RGBA would need four, and a 256x256 level with its whole chain is 342 KiB,
-// so a shell layer stays in the 1 MiB L2 while it is drawn (float RGBA: 1.4 MiB a layer). Colour channels are stored linear or sRGB-encoded
-// (TexelEncoding); alpha is always linear. sRGB bytes are decoded through a 256-entry float
-// table, so filtering happens in linear space as the colour-map brief asks.
+// so a shell layer stays in a core's 512 KiB L2 while it is drawn (float RGBA: 1.4 MiB a
+// layer). Colour channels are stored linear or sRGB-encoded (TexelEncoding); alpha is always
+// linear. sRGB bytes are decoded through a 256-entry float table, so filtering happens in
+// linear space as the colour-map brief asks.
 //
 // Alpha: texels are stored and filtered with STRAIGHT alpha (full colour precision at low
 // alpha; four multiply-adds per texel, no division per sample). Fringes are prevented at

@@ -62,11 +62,35 @@ HWY_INLINE VF TexelCoord(VF c, int32_t size, bool repeat) {
   return hn::Max(hn::Min(x, hn::Set(df, float(size) + 1.0f)), hn::Set(df, -2.0f));
 }
 
+// Repeat on a power-of-two axis (every level of a power-of-two texture): TexelCoord's x,
+// floor and fraction, with the wrap of x0 = -1 (and of x0 + 1 = size) as a mask instead of a
+// compare and a blend. Bit for bit the general path: x lies in [-0.5, size - 0.5] already,
+// so of TexelCoord's clamps only the Min that maps NaN to size - 0.5 does anything.
+HWY_INLINE bool IsPow2(int32_t size) { return (size & (size - 1)) == 0; }
+
+HWY_INLINE VI RepeatPow2(VF c, int32_t size, VF& frac) {
+  const DF df;
+  const DI di;
+  c = hn::Sub(c, hn::Floor(c));
+  const VF x = hn::Min(hn::Sub(hn::Mul(c, hn::Set(df, float(size))), hn::Set(df, 0.5f)),
+                       hn::Set(df, float(size) - 0.5f));
+  const VF xf = hn::Floor(x);
+  frac = hn::Sub(x, xf);
+  return hn::ConvertTo(di, xf);
+}
+
 // The two texel indices around coordinate c along an axis of `size` texels and the weight
 // of the second. Repeat: x lies in [-0.5, size - 0.5] (TexelCoord), so only i0 = -1 and
 // i1 = size need wrapping.
 HWY_INLINE void AxisLinear(VF c, int32_t size, bool repeat, VI& i0, VI& i1, VF& frac) {
   const DI di;
+  if (repeat && IsPow2(size)) {
+    const VI mask = hn::Set(di, size - 1);
+    const VI i = RepeatPow2(c, size, frac);
+    i0 = hn::And(i, mask);
+    i1 = hn::And(hn::Add(i, hn::Set(di, 1)), mask);
+    return;
+  }
   const VI isize = hn::Set(di, size);
   const VF x = TexelCoord(c, size, repeat);
   const VF xf = hn::Floor(x);
@@ -91,6 +115,10 @@ HWY_INLINE void AxisLinear(VF c, int32_t size, bool repeat, VI& i0, VI& i1, VF& 
 HWY_INLINE void AxisPair(VF c, int32_t size, bool repeat, VI& i0, VF& frac) {
   const DF df;
   const DI di;
+  if (repeat && IsPow2(size)) {
+    i0 = hn::And(RepeatPow2(c, size, frac), hn::Set(di, size - 1));
+    return;
+  }
   const VF x = TexelCoord(c, size, repeat);
   const VF xf = hn::Floor(x);
   frac = hn::Sub(x, xf);

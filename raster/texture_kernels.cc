@@ -258,34 +258,41 @@ void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRIC
   const LevelView base = View(tex, 0);
   const double top = tex.levels() - 1;
 
-  // Trilinear: the levels of up to kChunkBlocks blocks are chosen first, in a scalar loop of
-  // its own, so the vector loop below makes no calls (std::log2 would spill its vector
-  // registers every block) and its gathers overlap from block to block.
+  // Trilinear and BilinearMip: the levels of up to kChunkBlocks blocks are chosen first, in a
+  // scalar loop of its own, so the vector loop below makes no calls (std::log2 would spill its
+  // vector registers every block) and its gathers overlap from block to block.
+  constexpr bool kMipmapped = kFilter == Filter::Trilinear || kFilter == Filter::BilinearMip;
+  // Without a bias, a squared length up to this (or NaN) is level 0 whatever the logarithm:
+  // skipped there, it is most of a magnified surface's blocks.
+  constexpr double kLevel0Length2 = kFilter == Filter::BilinearMip ? 2.0 : 1.0;
   constexpr size_t kChunkBlocks = 64;
   int32_t level[kChunkBlocks];
   float weight[kChunkBlocks];
   for (size_t first = 0; first < lanes; first += kChunkBlocks * kBlockLanes) {
     const size_t blocks = std::min(kChunkBlocks, (lanes - first) / kBlockLanes);
-    if constexpr (kFilter == Filter::Trilinear) {
+    if constexpr (kMipmapped) {
       for (size_t k = 0; k < blocks; ++k) {
-        // Without a bias, a length of at most one texel (or NaN) is level 0 whatever the
-        // logarithm: skipped there, it is most of a magnified surface's blocks.
         const size_t b = first + k * kBlockLanes;
         const double length2 = block_lod_length2(u + b, v + b, base.w, base.h);
         double clamped = 0.0;
-        if (s.lod_bias != 0.0f || length2 > 1.0) {
+        if (s.lod_bias != 0.0f || length2 > kLevel0Length2) {
           const double lambda = 0.5 * std::log2(length2) + double(s.lod_bias);
           clamped = lambda > 0.0 ? std::min(lambda, top) : 0.0;
         }
-        level[k] = int32_t(clamped);
-        weight[k] = float(clamped - level[k]);
+        if constexpr (kFilter == Filter::Trilinear) {
+          level[k] = int32_t(clamped);
+          weight[k] = float(clamped - level[k]);
+        } else {
+          level[k] = nearest_mip_level(clamped);
+          weight[k] = 0.0f;
+        }
       }
     }
     for (size_t k = 0; k < blocks; ++k) {
       const size_t b = first + k * kBlockLanes;
       LevelView L0 = base, L1 = base;
       float t = 0.0f;
-      if constexpr (kFilter == Filter::Trilinear) {
+      if constexpr (kMipmapped) {
         L0 = View(tex, level[k]);
         t = weight[k];
         if (t > 0.0f) L1 = View(tex, std::min(level[k] + 1, tex.levels() - 1));
@@ -345,6 +352,8 @@ void SampleImpl(const Texture& tex, const SamplerState& s, const float* u, const
         return SampleT<false, Filter::Bilinear, true>(tex, s, u, v, lanes, out);
       case Filter::Trilinear:
         return SampleT<false, Filter::Trilinear, true>(tex, s, u, v, lanes, out);
+      case Filter::BilinearMip:
+        return SampleT<false, Filter::BilinearMip, true>(tex, s, u, v, lanes, out);
     }
   }
   const bool srgb = tex.encoding() == TexelEncoding::Srgb;
@@ -358,6 +367,9 @@ void SampleImpl(const Texture& tex, const SamplerState& s, const float* u, const
     case Filter::Trilinear:
       return srgb ? SampleT<true, Filter::Trilinear>(tex, s, u, v, lanes, out)
                   : SampleT<false, Filter::Trilinear>(tex, s, u, v, lanes, out);
+    case Filter::BilinearMip:
+      return srgb ? SampleT<true, Filter::BilinearMip>(tex, s, u, v, lanes, out)
+                  : SampleT<false, Filter::BilinearMip>(tex, s, u, v, lanes, out);
   }
 }
 
@@ -382,7 +394,7 @@ void sample(const Texture& tex, const SamplerState& state, const float* u, const
     if (out == nullptr || out[ch] == nullptr)
       throw std::invalid_argument("sample: out[" + std::to_string(ch) + "] is null");
   if (state.filter != Filter::Nearest && state.filter != Filter::Bilinear &&
-      state.filter != Filter::Trilinear)
+      state.filter != Filter::Trilinear && state.filter != Filter::BilinearMip)
     throw std::invalid_argument("sample: state.filter is not a Filter value");
   HWY_DYNAMIC_DISPATCH(SampleImpl)(tex, state, u, v, lanes, out);
 }

@@ -16,7 +16,6 @@
 namespace pelt::raster::test {
 namespace {
 
-constexpr Filter kFilters[] = {Filter::Nearest, Filter::Bilinear, Filter::Trilinear};
 constexpr Wrap kWraps[] = {Wrap::Repeat, Wrap::Clamp};
 
 struct Coords {
@@ -128,11 +127,11 @@ void expect_nearest_matches(const Texture& tex, const SamplerState& s, const Coo
 
 void compare_all(const Texture& tex, const Coords& c, const std::string& name) {
   for_each_target([&](const std::string& target) {
-    for (Filter f : kFilters)
+    for (Filter f : kAllFilters)
       for (Wrap wu : kWraps)
         for (Wrap wv : kWraps)
           for (float bias : {0.0f, -1.5f, 2.25f}) {
-            if (f != Filter::Trilinear && bias != 0.0f) continue;
+            if (!mipmapped(f) && bias != 0.0f) continue;
             const SamplerState s{f, wu, wv, bias};
             const std::string what = name + " " + target + " filter " + std::to_string(int(f)) +
                                      " wrap " + std::to_string(int(wu)) + std::to_string(int(wv)) +
@@ -212,7 +211,7 @@ TEST(TextureSampling, LuminanceAlphaSamplesBitForBitLikeItsRgbaTwin) {
     const LaPair t = random_la_texture(k.w, k.h, seed++);
     for (const Coords& c : {random_coords(64, seed++), hard_coords(std::min(k.w, 64), std::min(k.h, 64), seed++)})
       for_each_target([&](const std::string& target) {
-        for (Filter f : kFilters)
+        for (Filter f : kAllFilters)
           for (Wrap wu : kWraps)
             for (Wrap wv : kWraps)
               for (float bias : {0.0f, -1.5f, 2.25f}) {

@@ -232,7 +232,7 @@ TEST(Texture, ConstantTextureSamplesToTheConstant) {
           expect[ch] = enc == TexelEncoding::Srgb ? srgb8_to_linear_table()[channel(c, ch)] : channel(c, ch) / 255.0;
         expect[3] = channel(c, 3) / 255.0;
         for_each_target([&](const std::string& target) {
-          for (Filter f : {Filter::Nearest, Filter::Bilinear, Filter::Trilinear})
+          for (Filter f : kAllFilters)
             for (float bias : {-3.0f, 0.0f, 1.7f, 100.0f}) {
               const Samples s = run_sample(t, {f, Wrap::Repeat, Wrap::Clamp, bias}, u, v);
               for (size_t i = 0; i < u.size(); ++i)
@@ -295,6 +295,51 @@ TEST(Texture, TrilinearAtIntegerLodEqualsBilinearOnThatLevel) {
   }
 }
 
+// OpenGL's *_MIPMAP_NEAREST rule: level 0 up to lambda = 0.5, then the nearest level with
+// halves rounding down.
+TEST(Texture, NearestMipLevelFollowsOpenGl) {
+  const double above = std::nextafter(0.5, 1.0);
+  EXPECT_EQ(nearest_mip_level(0.0), 0);
+  EXPECT_EQ(nearest_mip_level(0.5), 0);
+  EXPECT_EQ(nearest_mip_level(above), 1);
+  EXPECT_EQ(nearest_mip_level(1.0), 1);
+  EXPECT_EQ(nearest_mip_level(1.5), 1);
+  EXPECT_EQ(nearest_mip_level(std::nextafter(1.5, 2.0)), 2);
+  EXPECT_EQ(nearest_mip_level(7.0), 7);
+}
+
+// BilinearMip returns exactly what bilinear returns on the nearest level alone, for LODs from
+// the derivatives (clamped at the last level) and from the bias.
+TEST(Texture, BilinearMipSamplesTheNearestLevel) {
+  std::mt19937 texel_rng(22);
+  const Texture t = make_texture(128, 64, TexelEncoding::Srgb, [&](int, int) { return texel_rng() | 0xFF000000u; });
+  ASSERT_EQ(t.levels(), 8);
+  struct Lod {
+    float lambda, bias;
+    int level;
+  };
+  const Lod lods[] = {{0.3f, 0.0f, 0}, {0.7f, 0.0f, 1}, {1.2f, 0.0f, 1}, {1.8f, 0.0f, 2}, {2.4f, 0.0f, 2},
+                      {3.6f, 0.0f, 4}, {9.5f, 0.0f, 7}, {0.0f, 1.6f, 2},  {0.0f, -3.0f, 0}};
+  std::mt19937 rng(5);
+  for (const Lod& lod : lods) {
+    std::vector<float> u, v;
+    for (int b = 0; b < 16; ++b) {
+      const float u0 = float(int(rng() % 4096) - 2048) / 1024.0f, v0 = float(int(rng() % 4096) - 2048) / 1024.0f;
+      ramp_block(u0, v0, std::exp2(lod.lambda) / 128, 0.0f, u, v);
+    }
+    const Texture level = level_as_texture(t, lod.level);
+    for_each_target([&](const std::string& target) {
+      for (Wrap w : {Wrap::Repeat, Wrap::Clamp}) {
+        const Samples mip = run_sample(t, {Filter::BilinearMip, w, w, lod.bias}, u, v);
+        const Samples bil = run_sample(level, {Filter::Bilinear, w, w, 0.0f}, u, v);
+        for (int ch = 0; ch < 4; ++ch)
+          ASSERT_EQ(mip.c[ch], bil.c[ch]) << target << " lambda " << lod.lambda << " bias " << lod.bias
+                                          << " channel " << ch;
+      }
+    });
+  }
+}
+
 // Beyond the last level the LOD clamps: a huge derivative samples the 1x1 level.
 TEST(Texture, HugeDerivativeClampsToTheLastLevel) {
   const Texture t = random_texture(32, 8, TexelEncoding::Linear, 9);
@@ -322,7 +367,7 @@ TEST(Texture, RepeatWrappingIsPeriodic) {
     ramp_block(float(rng() % 1024) / 1024.0f, float(rng() % 1024) / 1024.0f,
                float(int(rng() % 64)) / 1024.0f, float(int(rng() % 64)) / 1024.0f, u, v);
   for_each_target([&](const std::string& target) {
-    for (Filter f : {Filter::Nearest, Filter::Bilinear, Filter::Trilinear}) {
+    for (Filter f : kAllFilters) {
       const SamplerState s{f, Wrap::Repeat, Wrap::Repeat, 0.0f};
       const Samples base = run_sample(t, s, u, v);
       for (auto [n, m] : {std::pair{1, 0}, std::pair{-1, 3}, std::pair{-7, -2}, std::pair{1000, -1000}}) {

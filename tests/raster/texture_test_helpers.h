@@ -17,6 +17,10 @@
 
 namespace pelt::raster::test {
 
+inline constexpr Filter kAllFilters[] = {Filter::Nearest, Filter::Bilinear, Filter::BilinearMip, Filter::Trilinear};
+
+inline bool mipmapped(Filter f) { return f == Filter::Trilinear || f == Filter::BilinearMip; }
+
 // Runs fn(target name) with dispatch restricted to each compiled target this CPU supports.
 inline void for_each_target(const std::function<void(const std::string&)>& fn) {
   const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();

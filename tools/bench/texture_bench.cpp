@@ -83,12 +83,18 @@ void BM_Sample(benchmark::State& state, int64_t target, Filter filter, int size,
 }
 
 const char* filter_name(Filter f) {
-  return f == Filter::Nearest ? "nearest" : f == Filter::Bilinear ? "bilinear" : "trilinear";
+  switch (f) {
+    case Filter::Nearest: return "nearest";
+    case Filter::Bilinear: return "bilinear";
+    case Filter::BilinearMip: return "bilinear_mip";
+    case Filter::Trilinear: break;
+  }
+  return "trilinear";
 }
 
 void register_all() {
   for (int64_t target : hwy::SupportedAndGeneratedTargets())
-    for (Filter f : {Filter::Nearest, Filter::Bilinear, Filter::Trilinear})
+    for (Filter f : {Filter::Nearest, Filter::Bilinear, Filter::BilinearMip, Filter::Trilinear})
       for (auto [size, kind] : {std::pair{256, Kind::rgba8}, std::pair{1024, Kind::rgba8}, std::pair{256, Kind::srgb},
                                 std::pair{256, Kind::la8}})
         for (float tpp : {1.0f, 4.0f}) {

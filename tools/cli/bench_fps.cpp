@@ -41,6 +41,7 @@ struct Options {
   int frames = 200, warmup = 20;
   bool match_llvmpipe = false;
   std::string sort;  // empty: tile, or none with --match-llvmpipe (the harness's order)
+  std::string filter;  // empty: trilinear (the harness's filter too)
   std::string json;
 };
 
@@ -138,12 +139,14 @@ double percentile(std::vector<double> v, double q) {
 }
 
 // The quality knobs of every run: the harness draws in submission order, pelt's default sorts
-// per tile, and --sort overrides both. Throws io::InputError for a bad --sort.
+// per tile, and --sort overrides both; --filter overrides trilinear. Throws io::InputError for
+// a bad --sort or --filter.
 io::Quality bench_quality(const Options& o) {
   io::Quality q;
   q.sort = o.match_llvmpipe ? io::SortQuality::none : io::SortQuality::tile;
-  if (!o.sort.empty())
-    if (const auto err = io::set_knob(q, "sort", o.sort)) throw io::InputError("", "--sort", *err);
+  for (const auto& [knob, value] : {std::pair{"sort", &o.sort}, std::pair{"filter", &o.filter}})
+    if (!value->empty())
+      if (const auto err = io::set_knob(q, knob, *value)) throw io::InputError("", std::string("--") + knob, *err);
   return q;
 }
 
@@ -192,6 +195,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
                     {"threads", r.threads},
                     {"match_llvmpipe", o.match_llvmpipe},
                     {"sort", io::knob_value(quality, "sort")},
+                    {"filter", io::knob_value(quality, "filter")},
                     {"fps_median", 1000.0 / percentile(r.ms, 0.5)},
                     {"fps_min", 1000.0 / *std::max_element(r.ms.begin(), r.ms.end())},
                     {"fps_max", 1000.0 / *std::min_element(r.ms.begin(), r.ms.end())},
@@ -220,9 +224,9 @@ int run_fps(const Options& o) {
     tables.push_back(t);
   }
   std::vector<Result> results;
-  std::printf("pelt bench fps: %dx%d, %d frames after %d warm-up, %s%s%s\n", o.width, o.height, o.frames, o.warmup,
-              o.match_llvmpipe ? "the llvmpipe harness's scene (--match-llvmpipe)" : "pelt's own fur",
-              o.sort.empty() ? "" : ", sort ", o.sort.c_str());
+  std::printf("pelt bench fps: %dx%d, %d frames after %d warm-up, %s, sort %s, filter %s\n", o.width, o.height,
+              o.frames, o.warmup, o.match_llvmpipe ? "the llvmpipe harness's scene (--match-llvmpipe)" : "pelt's own fur",
+              io::knob_value(quality, "sort").c_str(), io::knob_value(quality, "filter").c_str());
   for (const PaperTable* t : tables) {
     std::vector<Result> rows;
     for (int th : o.threads) rows.push_back(run_one(*t, th, o, quality));
@@ -262,6 +266,8 @@ Run add_bench_fps(CLI::App& bench) {
   sub->add_flag("--match-llvmpipe", o->match_llvmpipe, "Draw the llvmpipe harness's exact scene");
   sub->add_option("--sort", o->sort,
                   "Fur sort: none | layer | tile | exact (default: tile; none with --match-llvmpipe)");
+  sub->add_option("--filter", o->filter,
+                  "Fur texture filter: nearest | bilinear | bilinear_mip | trilinear (default: trilinear)");
   sub->add_option("--json", o->json, "Also write the results as JSON");
   return [o] { return run_fps(*o); };
 }

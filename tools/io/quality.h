@@ -28,7 +28,7 @@ struct Quality {
   std::optional<fur::FinMode> fins;      // "fins": off | all | silhouette
   SortQuality sort = SortQuality::tile;  // "sort": none | layer | tile | exact
   int spp = 1;                           // "spp": 1, 4, 9, ..., 64 (a square)
-  raster::Filter filter = raster::Filter::Trilinear;  // "filter": nearest | bilinear | trilinear
+  raster::Filter filter = raster::Filter::Trilinear;  // "filter": nearest | bilinear | bilinear_mip | trilinear
   std::optional<shading::MultipleScattering> multiple_scattering;  // every skin material's
   std::optional<shading::SingleScattering> single_scattering;      // every skin material's
   Precision precision = Precision::simd;  // "precision": simd | double

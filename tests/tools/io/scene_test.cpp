@@ -217,7 +217,7 @@ TEST_F(SceneFixture, QualityBlockErrorsNameTheKnob) {
   expect_error(with(R"({"spp": 81})"), "quality.spp", "must be a square number");
   expect_error(with(R"({"shells": 1})"), "quality.shells", "must be an integer in [2, 128]");
   expect_error(with(R"({"sort": "depth"})"), "quality.sort", "unknown value `depth` (none, layer, tile, exact)");
-  expect_error(with(R"({"filter": "anisotropic"})"), "quality.filter", "(nearest, bilinear, trilinear)");
+  expect_error(with(R"({"filter": "anisotropic"})"), "quality.filter", "(nearest, bilinear, bilinear_mip, trilinear)");
   expect_error(with(R"({"precision": "half"})"), "quality.precision", "(simd, double)");
   expect_error(with(R"({"preset": "ultra"})"), "quality.preset", "unknown preset `ultra` (default, fast");
   expect_error(with(R"({"sppp": 4})"), "quality.sppp", "did you mean `spp`?");

@@ -78,6 +78,13 @@ struct DrawCall {
   const Shader* shader = nullptr;
   // The id AOV of a pixel shows id_base + triangle index + 1 of its visible opaque triangle.
   uint32_t id_base = 0;
+  // Translucent draws: the tile sort keys each run of sort_group consecutive triangles (0 ..
+  // sort_group - 1, then the next run) by the run's mean view depth, so the run sorts as one
+  // primitive and the tiles pack its triangles into shared blocks; quads (2, the default) and
+  // strips of quads. A run keeps the shared key only when all its triangles are valid and each
+  // shares an edge with the one before; otherwise each triangle sorts by its own mean depth, as
+  // every triangle does with 1. Blend order within a run is submission order.
+  uint32_t sort_group = 2;
 };
 
 }  // namespace pelt::raster

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -76,21 +78,26 @@ void Renderer::Impl::transform(std::span<const DrawCall> draws, const Viewport& 
   });
 }
 
-// The tile sort's key: the mean view depth of triangle p, or of the quad it forms with its
-// partner p ^ 1 when the two share an edge (a grid mesh's cells, a fur fin). Both halves of a
-// quad then sort as one primitive, one right after the other, so the tiles pack their
-// lanes into shared blocks; apart, other layers' triangles of nearly equal depth fall
-// between them. Each half sums its own three depths in its index order, and float addition
-// is commutative, so both halves get the same key.
-// `own`: p's three vertex depths summed; its vertices are valid and finite.
-static float sort_key(const DrawCall& draw, const FrontVertex* front, uint32_t p, float own) {
-  const uint32_t q = p ^ 1u;
-  if (q >= draw.triangle_count) return own * (1.0f / 3.0f);
-  const uint32_t* b = draw.indices + 3 * size_t{q};
-  for (int i = 0; i < 3; ++i)
-    if (b[i] >= draw.vertex_count || (front[b[i]].code & kNonFinite)) return own * (1.0f / 3.0f);
-  if (!triangles_share_edge(draw.indices + 3 * size_t{p}, b)) return own * (1.0f / 3.0f);
-  return (own + (front[b[0]].w + front[b[1]].w + front[b[2]].w)) * (1.0f / 6.0f);
+// The tile sort's key for the run of draw.sort_group triangles holding triangle p (pipeline.h):
+// the mean view depth of the run (a grid mesh's quad, a fur fin's strip), or NaN when the run
+// does not qualify and each triangle keeps its own key. Together, a run sorts as one
+// primitive, its triangles one right after the other, so the tiles pack their lanes into
+// shared blocks; apart, other layers' triangles of nearly equal depth fall between them.
+// Every triangle of a run computes the same sum in the same order, so all get the same key.
+static float run_key(const DrawCall& draw, const FrontVertex* front, uint32_t p) {
+  const uint32_t group = std::max(draw.sort_group, 1u);
+  const uint32_t first = p / group * group;
+  const uint32_t n = std::min(group, draw.triangle_count - first);
+  if (n < 2) return std::numeric_limits<float>::quiet_NaN();
+  float sum = 0.0f;
+  for (uint32_t q = first; q < first + n; ++q) {
+    const uint32_t* t = draw.indices + 3 * size_t{q};
+    for (int i = 0; i < 3; ++i)
+      if (t[i] >= draw.vertex_count || (front[t[i]].code & kNonFinite)) return std::numeric_limits<float>::quiet_NaN();
+    if (q > first && !triangles_share_edge(t - 3, t)) return std::numeric_limits<float>::quiet_NaN();
+    sum += front[t[0]].w + front[t[1]].w + front[t[2]].w;
+  }
+  return sum * (1.0f / float(3 * n));
 }
 
 void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVertices& dv,
@@ -144,6 +151,9 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
   };
   ClipPolygon poly;
   const bool translucent = draw.state.blend != BlendMode::Opaque;
+  // The current run's key (run_key), computed at the run's first triangle in this chunk.
+  uint32_t keyed_run = std::numeric_limits<uint32_t>::max();
+  float shared_key = 0.0f;
   for (uint32_t p = ch.first; p < ch.first + ch.count; ++p) {
     const uint32_t i0 = draw.indices[3 * size_t{p}], i1 = draw.indices[3 * size_t{p} + 1],
                    i2 = draw.indices[3 * size_t{p} + 2];
@@ -158,8 +168,15 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
       continue;
     }
     // Only translucent triangles are ever sorted.
-    const float key = translucent ? sort_key(draw, dv.front.data(), p, f0.w + f1.w + f2.w)
-                                  : (f0.w + f1.w + f2.w) * (1.0f / 3.0f);
+    float key = (f0.w + f1.w + f2.w) * (1.0f / 3.0f);
+    if (translucent) {
+      const uint32_t run = p / std::max(draw.sort_group, 1u);
+      if (run != keyed_run) {
+        keyed_run = run;
+        shared_key = run_key(draw, dv.front.data(), p);
+      }
+      if (!std::isnan(shared_key)) key = shared_key;
+    }
     if (!((c0 | c1 | c2) & kClipPlaneBits)) {
       const uint32_t b = batch.count++;
       const FrontVertex* f[3] = {&f0, &f1, &f2};

@@ -48,6 +48,8 @@ glm::vec3 layer_colour(int layer) { return {0.2f + 0.2f * layer, 0.9f - 0.15f * 
 // share their diagonal. The tilt spans more depth within a quad than the layer spacing, so
 // per-triangle depths of neighbouring layers interleave. `shared`: the quads' triangles
 // share vertex indices; otherwise every triangle has its own copies (same positions).
+// `strips`: each row of cells is a strip instead, (v00, v10, v01) and (v10, v11, v01), so that
+// every triangle shares an edge with the one before it along the row (like a fur fin's quads).
 struct Grid {
   std::vector<glm::vec3> pos;
   std::vector<float> var;
@@ -55,7 +57,7 @@ struct Grid {
   std::vector<glm::vec3> centroid;  // per triangle, for picking interior pixels
   std::vector<int> layer;           // per triangle
 
-  explicit Grid(bool shared) {
+  explicit Grid(bool shared, bool strips = false) {
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> jitter(-0.1f, 0.1f);
     glm::vec2 xy[kCells + 1][kCells + 1];
@@ -78,8 +80,9 @@ struct Grid {
           for (int i = 0; i <= kCells; ++i) grid[j][i] = vertex(i, j);
       for (int j = 0; j < kCells; ++j)
         for (int i = 0; i < kCells; ++i) {
-          const int corner[2][3][2] = {{{0, 0}, {1, 0}, {1, 1}}, {{0, 0}, {1, 1}, {0, 1}}};
-          for (const auto& tri : corner) {
+          const int quad[2][3][2] = {{{0, 0}, {1, 0}, {1, 1}}, {{0, 0}, {1, 1}, {0, 1}}};
+          const int strip[2][3][2] = {{{0, 0}, {1, 0}, {0, 1}}, {{1, 0}, {1, 1}, {0, 1}}};
+          for (const auto& tri : strips ? strip : quad) {
             glm::vec3 c(0.0f);
             for (const auto& k : tri) {
               const uint32_t v = shared ? grid[j + k[1]][i + k[0]] : vertex(i + k[0], j + k[1]);
@@ -152,6 +155,51 @@ TEST(TranslucentPacking, AQuadsTrianglesShareBlocksWithoutChangingAPixel) {
       // sort next to each other, although other layers' triangles lie between their depths.
       EXPECT_LT(double(packed.stats.lanes_shaded), 0.9 * double(apart.stats.lanes_shaded)) << what;
     }
+  });
+}
+
+// A strip keyed as one run (DrawCall::sort_group) sorts as one primitive: its quads follow each
+// other in the tile sort, although other layers' quads lie between their depths, and pack
+// into shared blocks; the layers still composite in order.
+TEST(TranslucentPacking, AStripKeyedAsOneRunPacksAcrossItsQuads) {
+  const VaryingShader sh(kAlpha, /*derivatives=*/true);
+  const Grid strips(true, true);
+  DrawCall quads = strips.draw(sh), rows = strips.draw(sh);
+  rows.sort_group = 2 * kCells;
+  const glm::dvec4 expect = expected_colour();
+  for_each_target([&](const std::string& target) {
+    const Image by_quad = render({&quads, 1}, kSize, kSize, 2, options(SortMode::Tile));
+    const Image by_row = render({&rows, 1}, kSize, kSize, 2, options(SortMode::Tile));
+    EXPECT_EQ(by_quad.stats.fragments_blended, by_row.stats.fragments_blended) << target;
+    for (const Image* img : {&by_quad, &by_row})
+      for (size_t t = 0; t < strips.centroid.size(); ++t) {
+        const glm::ivec2 p = pixel_of(rows, strips.centroid[t]);
+        for (int c = 0; c < 4; ++c)
+          ASSERT_NEAR(img->color[(size_t(p.y) * kSize + size_t(p.x)) * 4 + c], expect[c], 1e-5)
+              << target << " triangle " << t << " pixel " << p.x << "," << p.y;
+      }
+    EXPECT_LT(double(by_row.stats.lanes_shaded), 0.95 * double(by_quad.stats.lanes_shaded)) << target;
+  });
+}
+
+// A run whose triangles do not share edges one after the other is no strip: each of its
+// triangles sorts by its own depth. Triangles 0 and 1 (one run of 2) are a far green triangle
+// over the centre and a near one off screen, whose mean depth lies in front of the red
+// triangle 2 over the centre; by their own depths the green one lies behind the red.
+TEST(TranslucentPacking, ARunThatIsNotAChainSortsItsTrianglesByTheirOwnDepths) {
+  std::vector<glm::vec3> pos = {{-3, -3, -8}, {3, -3, -8}, {0, 3, -8},      {-60, 0, -2}, {-59, 0, -2},
+                                {-60, 1, -2}, {-1, -1, -5.5f}, {1, -1, -5.5f}, {0, 1, -5.5f}};
+  std::vector<uint32_t> idx = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+  std::vector<float> var;  // green, then red
+  for (size_t v = 0; v < pos.size(); ++v) var.insert(var.end(), {v >= 6 ? 1.0f : 0.0f, v < 6 ? 1.0f : 0.0f, 0.0f});
+  const VaryingShader sh(0.5f);
+  const DrawCall d = translucent_draw(pos, idx, var, 3, glm::perspective(glm::radians(60.0f), 1.0f, 0.5f, 20.0f), sh);
+  for_each_target([&](const std::string& target) {
+    const Image img = render({&d, 1}, 64, 64, 1, options(SortMode::Tile));
+    const size_t centre = (size_t(32) * 64 + 32) * 4;
+    // Back to front: green first, then red over it.
+    EXPECT_NEAR(img.color[centre], 0.5f + kBackground.r * 0.25f, 1e-5) << target;
+    EXPECT_NEAR(img.color[centre + 1], 0.25f + kBackground.g * 0.25f, 1e-5) << target;
   });
 }
 

@@ -21,6 +21,20 @@ enum SoaRow : int { kPosRow = 0, kTangentRow = 3, kNormalRow = 6, kHeightRow = 9
 // 8 bits): most edges are far from a silhouette.
 constexpr float kMinFinWeight = 1.0f / 512.0f;
 
+// The tile sort keys a fin's quads in runs of this many (root to tip) by their mean depth, so
+// a run's triangles follow each other and pack into shared blocks (DrawCall::sort_group).
+// Measured on frame 0 of the shipped fur scenes (box, teapot, teapot2, bunny), against quads
+// keyed alone: runs of 3 quads shade 4-10 % fewer lanes a frame for 1-2 % more RMSE against
+// the exact sort; runs of 5, 1.5-2 % fewer again for 4-8 % more; a whole 15-quad fin, whose
+// root and tip lie at different depths, doubled the box's error. A run must not straddle two
+// fins (a straddling run shares no edge and falls back to per-triangle keys), so it divides
+// the fin's quad count.
+uint32_t fin_quads_per_sort_run(uint32_t quads) {
+  for (uint32_t run : {3u, 2u})
+    if (quads % run == 0) return run;
+  return 1;
+}
+
 // Frames for one swing from the gravity pose to the wind pose and back (seed Fig. 12):
 // two seconds at 24 fps.
 constexpr double kSwingFrames = 48.0;
@@ -248,12 +262,24 @@ void FurObject::rebuild_fin_list() {
   fin_list_.clear();
   fin_quad_edge_.clear();
   fin_segment_.assign(geo_.layers, 0);
+  auto quad = [&](uint32_t s, uint32_t e) -> const uint32_t* {
+    return geo_.fin_indices.data() + (size_t{s} * edges + e) * 6;
+  };
+  if (fin_strips_) {
+    for (uint32_t e = 0; e < edges; ++e) {
+      if (fin_weight_[e] < kMinFinWeight) continue;
+      for (uint32_t s = 0; s + 1 < geo_.layers; ++s) {
+        fin_list_.insert(fin_list_.end(), quad(s, e), quad(s, e) + 6);
+        fin_quad_edge_.push_back(e);
+      }
+    }
+    return;
+  }
   for (uint32_t s = 0; s + 1 < geo_.layers; ++s) {
     fin_segment_[s] = static_cast<uint32_t>(fin_quad_edge_.size());
     for (uint32_t e = 0; e < edges; ++e) {
       if (fin_weight_[e] < kMinFinWeight) continue;
-      const uint32_t* q = geo_.fin_indices.data() + (size_t{s} * edges + e) * 6;
-      fin_list_.insert(fin_list_.end(), q, q + 6);
+      fin_list_.insert(fin_list_.end(), quad(s, e), quad(s, e) + 6);
       fin_quad_edge_.push_back(e);
     }
   }
@@ -353,6 +379,11 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
                              FurSort sort, const std::vector<shading::Light>& lights,
                              const glm::vec3& eye) {
   const uint32_t faces = static_cast<uint32_t>(geo_.counts.base_faces);
+  const bool strips = sort == FurSort::tile || sort == FurSort::exact;
+  if (strips != fin_strips_ && params_.fins != fur::FinMode::off) {
+    fin_strips_ = strips;
+    rebuild_fin_list();
+  }
   const bool fins = params_.fins != fur::FinMode::off && !fin_quad_edge_.empty();
   // One shader per draw (the layer order splits shells and fins into per-layer draws);
   // built once per sort mode, only their per-frame inputs change.
@@ -398,6 +429,7 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
     d.state.depth_func = raster::DepthFunc::LessEqual;  // shell 0 lies exactly on the base
     d.state.depth_write = false;
     d.state.cull = fin ? raster::CullMode::None : raster::CullMode::Back;
+    if (fin && fin_strips_) d.sort_group = 2 * fin_quads_per_sort_run(geo_.layers - 1);
     draws.push_back(d);
   };
   if (sort == FurSort::layer) {

@@ -24,10 +24,12 @@ namespace pelt::render {
 
 // Order of the translucent fur triangles.
 enum class FurSort {
-  none,   // all shells inner to outer, then all fins (the paper's and the harness's order)
+  none,   // all shells inner to outer, then all fins layer by layer (the paper's and the
+          // harness's order)
   layer,  // shell s, then the fins between layers s and s+1, for s = 0, 1, ...
-  tile,   // as `none`, then back to front per tile by the rasterizer
-  exact,  // as `none`, then every fragment sorted per pixel (the reference)
+  tile,   // all shells, then the fins fin by fin (root to tip), back to front per tile by
+          // the rasterizer, a fin's quads in runs of three (DrawCall::sort_group)
+  exact,  // as `tile`, then every fragment sorted per pixel (the reference)
 };
 
 // Where strand lighting is evaluated.
@@ -105,9 +107,13 @@ class FurObject {
   std::optional<fur::WindField> wind_field_;
   std::vector<float> shell_varyings_, fin_varyings_;
   std::vector<float> fin_weight_;           // per edge
-  // Fins drawn this frame: all of them, or (silhouette) those with a visible weight, in
-  // layer-then-edge order; the edge of each quad, and where each layer segment starts.
+  // Fins drawn this frame: all of them, or (silhouette) those with a visible weight; the edge
+  // of each quad. In layer-then-edge order (FurSort none and layer), with where each layer's
+  // segment starts, or (fin_strips_: tile and exact) each fin's quads root to tip, a strip
+  // whose triangles share edges one after the other, so that the tiles pack them into
+  // shared blocks.
   std::vector<uint32_t> fin_list_, fin_quad_edge_, fin_segment_;
+  bool fin_strips_ = false;
 
   // Per-vertex lighting: SoA inputs and outputs padded to whole 16-lane batches.
   struct Soa {

@@ -160,6 +160,18 @@ StrandTextures match_llvmpipe_textures() {
   out.shells.size = W;
   out.shells.layers = L;
   out.shells.rgba.assign(size_t(W) * H * L * 4, 0);
+  // The same shells as luminance and alpha (ShellLuminance): the harness's texel colour is
+  // its layer's colour times the strand's brightness, so L = brightness / kMaxStrandBrightness
+  // and tint = layer colour * kMaxStrandBrightness give it back within L's rounding.
+  ShellLuminance& lum = out.shell_luminance;
+  lum.size = W;
+  lum.layers = L;
+  lum.la.assign(size_t(W) * H * L * 2, 0);
+  lum.tint.resize(L);
+  for (int s = 0; s < L; ++s) {
+    const float shade = 0.45f + 0.55f * (float(s) / (L - 1));
+    lum.tint[size_t(s)] = glm::vec3(fur[0], fur[1], fur[2]) * (shade * kMaxStrandBrightness);
+  }
   Uniform rng(2008);
   for (int y = 0; y < H; ++y) {
     for (int x = 0; x < W; ++x) {
@@ -171,6 +183,9 @@ StrandTextures match_llvmpipe_textures() {
         uint8_t* p = &out.shells.rgba[((size_t(s) * H + y) * W + x) * 4];
         for (int c = 0; c < 3; ++c) p[c] = to8(fur[c] * shade);
         p[3] = strand ? to8(1.0f - 0.8f * f) : 0;
+        uint8_t* q = &lum.la[((size_t(s) * H + y) * W + x) * 2];
+        q[0] = to8((strand ? bright : 1.0f) / kMaxStrandBrightness);
+        q[1] = p[3];
       }
     }
   }

@@ -94,8 +94,9 @@ inline constexpr float kFinDepthTexels = 4.0f;
 std::optional<ParamError> generate_strand_textures(const FurParams& params, StrandTextures& out);
 
 // The llvmpipe harness's textures, byte for byte (its README: 16 layers of 256^2 from
-// mt19937 seed 2008, one 256^2 fin texture from seed 7600, colour (0.80,0.58,0.36)).
-// `strands` is left empty (its strands are vertical columns).
+// mt19937 seed 2008, one 256^2 fin texture from seed 7600, colour (0.80,0.58,0.36)), and its
+// shells' luminance form, whose colour is the harness's within L's rounding. `strands` is
+// left empty (its strands are vertical columns).
 StrandTextures match_llvmpipe_textures();
 
 }  // namespace pelt::fur

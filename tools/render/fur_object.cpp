@@ -93,18 +93,12 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
     } else if (auto e = fur::generate_strand_textures(params, tex)) {
       throw io::InputError(name, "fur." + e->field, e->reason);
     }
-    if (match_llvmpipe_) {
-      // The harness's bytes as they are.
-      throw_if(raster::TextureArray::from_rgba8_layers(tex.shells.size, tex.shells.size, tex.shells.layers,
-                                                       tex.shells.rgba.data(), raster::TexelEncoding::Linear,
-                                                       shell_tex_),
-               name);
-    } else {
-      // Brightness and alpha with a tint per layer: the sampler's La8 path.
-      const fur::ShellLuminance& lum = tex.shell_luminance;
-      throw_if(raster::TextureArray::from_la8_layers(lum.size, lum.size, lum.layers, lum.la.data(), shell_tex_), name);
-      shell_tint_ = lum.tint;
-    }
+    // Brightness and alpha with a tint per layer: the sampler's La8 path. The harness's shells
+    // too: their colour is a layer colour times a brightness, so only L's rounding (at most
+    // 0.63/255 of a channel) separates them from its bytes, as pelt's own mip chains do.
+    const fur::ShellLuminance& lum = tex.shell_luminance;
+    throw_if(raster::TextureArray::from_la8_layers(lum.size, lum.size, lum.layers, lum.la.data(), shell_tex_), name);
+    shell_tint_ = lum.tint;
     throw_if(raster::Texture::from_rgba8(tex.fin.size, tex.fin.size, tex.fin.rgba.data(),
                                          raster::TexelEncoding::Linear, fin_tex_),
              name);
@@ -395,7 +389,7 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
       const bool fin = sort == FurSort::layer ? (k % 2 == 1) : (k == 1);
       su.fins = fin;
       su.shells = &shell_tex_;
-      su.shell_tint = shell_tint_.empty() ? nullptr : shell_tint_.data();
+      su.shell_tint = shell_tint_.data();
       su.fin = &fin_tex_;
       su.sampler = fur_sampler(fin, filter_);
       su.double_precision = double_precision_;

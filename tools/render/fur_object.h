@@ -100,7 +100,7 @@ class FurObject {
   shading::FurLightParams light_params_;
   fur::FurGeometry geo_;
   raster::TextureArray shell_tex_;
-  std::vector<glm::vec3> shell_tint_;  // per layer, with La8 shells (empty: RGBA shells)
+  std::vector<glm::vec3> shell_tint_;  // per layer: colour = min(1, tint * L) of the La8 shells
   raster::Texture fin_tex_;
 
   std::vector<glm::vec3> gravity_pose_, wind_pose_, pose_, tangents_, forces_;

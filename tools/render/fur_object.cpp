@@ -95,7 +95,8 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
     }
     // Brightness and alpha with a tint per layer: the sampler's La8 path. The harness's shells
     // too: their colour is a layer colour times a brightness, so only L's rounding (at most
-    // 0.63/255 of a channel) separates them from its bytes, as pelt's own mip chains do.
+    // 0.63/255 of a channel) separates level 0 from its bytes; the levels above differ more
+    // anyway (pelt's alpha-weighted mip chain, not glGenerateMipmap's plain average).
     const fur::ShellLuminance& lum = tex.shell_luminance;
     throw_if(raster::TextureArray::from_la8_layers(lum.size, lum.size, lum.layers, lum.la.data(), shell_tex_), name);
     shell_tint_ = lum.tint;

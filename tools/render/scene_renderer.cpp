@@ -147,28 +147,13 @@ void check_quality(const io::Scene& scene, const RenderSettings& rs, const io::Q
 }  // namespace
 
 SceneRenderer::SceneRenderer(const io::Scene& scene, const RenderSettings& settings)
-    : quality_(settings.quality.value_or(scene.quality)),
-      scene_(apply_quality(scene, quality_)),
-      settings_(settings),
-      width_(settings.width > 0 ? settings.width : scene.image.width),
-      height_(settings.height > 0 ? settings.height : scene.image.height),
-      renderer_(settings.threads) {
-  setup_stats_.frame = -1;
-  check_quality(scene_, settings_, quality_);
-  // Budgets: what the scene file asks for before any mesh is read, the loaders check faces
-  // and texture sizes as they read headers, and the memory estimate is checked from the
-  // loaded counts before anything else is allocated.
-  check_scene_budget(scene_, width_, height_, quality_.spp, settings_.budget);
-  std::vector<io::SceneMesh> meshes;
-  {
-    StageTimer t(setup_stats_, "meshes");
-    meshes = io::load_scene_meshes(scene_, settings_.budget);
-  }
-  check_memory_budget(scene_, meshes, width_, height_, settings_.threads, quality_.spp, settings_.budget);
-  build(std::move(meshes));
-}
+    : SceneRenderer(scene, std::nullopt, settings) {}
 
 SceneRenderer::SceneRenderer(const io::Scene& scene, std::vector<io::SceneMesh> meshes,
+                             const RenderSettings& settings)
+    : SceneRenderer(scene, std::optional(std::move(meshes)), settings) {}
+
+SceneRenderer::SceneRenderer(const io::Scene& scene, std::optional<std::vector<io::SceneMesh>> meshes,
                              const RenderSettings& settings)
     : quality_(settings.quality.value_or(scene.quality)),
       scene_(apply_quality(scene, quality_)),
@@ -178,11 +163,18 @@ SceneRenderer::SceneRenderer(const io::Scene& scene, std::vector<io::SceneMesh> 
       renderer_(settings.threads) {
   setup_stats_.frame = -1;
   check_quality(scene_, settings_, quality_);
-  if (meshes.size() != scene.objects.size())
+  if (meshes && meshes->size() != scene.objects.size())
     throw std::invalid_argument("SceneRenderer: one mesh per scene object expected");
+  // Budgets: what the scene file asks for before any mesh is read, the loaders check faces
+  // and texture sizes as they read headers, and the memory estimate is checked from the
+  // loaded counts before anything else is allocated.
   check_scene_budget(scene_, width_, height_, quality_.spp, settings_.budget);
-  check_memory_budget(scene_, meshes, width_, height_, settings_.threads, quality_.spp, settings_.budget);
-  build(std::move(meshes));
+  if (!meshes) {
+    StageTimer t(setup_stats_, "meshes");
+    meshes = io::load_scene_meshes(scene_, settings_.budget);
+  }
+  check_memory_budget(scene_, *meshes, width_, height_, settings_.threads, quality_.spp, settings_.budget);
+  build(std::move(*meshes));
 }
 
 void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {

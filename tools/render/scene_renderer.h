@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -96,6 +97,9 @@ class SceneRenderer {
   std::vector<glm::vec2> offsets_;       // sub-pixel sample offsets, one per pass
   std::vector<float> sample_color_;      // one sample's image when spp > 1
   std::vector<double> accum_;            // the sum of the samples' images
+  // Both public constructors: meshes given, or (nullopt) loaded here after the scene budget.
+  SceneRenderer(const io::Scene& scene, std::optional<std::vector<io::SceneMesh>> meshes,
+                const RenderSettings& settings);
   void build(std::vector<io::SceneMesh> meshes);
   FrameStats setup_stats_;  // stages run by the constructor, reported once
   bool setup_reported_ = false;

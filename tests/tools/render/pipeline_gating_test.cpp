@@ -35,6 +35,24 @@ int count_ran(const Frames& run, const char* stage) {
   return n;
 }
 
+// Meshes are loaded (and timed) only by the renderer that loads them: a caller's meshes are
+// taken as given, one per object, and draw the same image.
+TEST(Gating, MeshesAreLoadedOnlyWhenNotGiven) {
+  const io::Scene scene = io::parse_scene(bare_box_scene(1), "test.json");
+  RenderSettings rs;
+  rs.threads = 1;
+  SceneRenderer loads(scene, rs);
+  SceneRenderer given(scene, io::load_scene_meshes(scene, rs.budget), rs);
+  FrameImage a, b;
+  FrameStats sa, sb;
+  loads.render(0, a, sa);
+  given.render(0, b, sb);
+  EXPECT_TRUE(sa.stage("meshes").ran);
+  EXPECT_FALSE(sb.stage("meshes").ran);
+  EXPECT_EQ(a.color, b.color);
+  EXPECT_THROW(SceneRenderer(scene, std::vector<io::SceneMesh>{}, rs), std::invalid_argument);
+}
+
 TEST(Gating, SceneWithoutFurBuildsNoShellsAndSimulatesNothing) {
   const Frames run = render_frames(bare_box_scene(3), 3);
   for (const char* stage : {"fur_geometry", "fur_textures", "gravity", "wind", "fur_pose", "fur_lighting", "fins"})

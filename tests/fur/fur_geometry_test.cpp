@@ -195,7 +195,9 @@ TEST(FurGeometry, UvCombOnACurvedMeshStaysInEachTangentPlane) {
     // the seam's triangles give the two columns beside it a wrong direction: skipped.
     const size_t column = (i - 1) % 24;
     const bool by_seam = column == 0 || column == 23;
-    if (std::abs(sphere.positions[i].y) < 0.95f && !by_seam) EXPECT_NEAR(d[i].y, 0.0f, 5e-3f) << i;
+    if (std::abs(sphere.positions[i].y) < 0.95f && !by_seam) {
+      EXPECT_NEAR(d[i].y, 0.0f, 5e-3f) << i;
+    }
   }
   EXPECT_GT(directed, d.size() * 9 / 10);
 }

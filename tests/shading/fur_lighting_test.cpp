@@ -80,7 +80,7 @@ void expect_close(const Outputs& ref, const Outputs& got, const std::function<st
       if (std::isfinite(g) && g >= 0.0 && close_enough(r, g)) continue;
       if (bad++ < 5)
         ADD_FAILURE() << "lane " << i << " channel " << k << ": kernel " << g << " reference " << r
-                      << (describe ? " " + describe(i) : std::string());
+                      << (describe ? std::string(" ").append(describe(i)) : std::string());
     }
   EXPECT_EQ(bad, 0u);
 }

@@ -4,10 +4,9 @@
 #include <system_error>
 #include <vector>
 
-#include <unistd.h>
-
 #include <OpenImageIO/imageio.h>
 
+#include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/io/srgb.h"
 
@@ -30,8 +29,7 @@ AnimatedGifWriter::AnimatedGifWriter(const std::filesystem::path& path, int widt
   if (!(fps > 0.0)) throw InputError(file, "", "frames per second must be positive");
   Impl& m = *impl_;
   m.path = path;
-  const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-  m.tmp = dir / ("." + path.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  m.tmp = temp_beside(path);
   m.width = width;
   m.height = height;
   m.out = OIIO::ImageOutput::create(file);

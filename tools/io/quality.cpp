@@ -180,7 +180,12 @@ std::vector<std::string_view> quality_preset_names() { return {"default", "fast"
 
 std::string describe(const Quality& q) {
   std::string s;
-  for (std::string_view k : kKnobs) s += (s.empty() ? "" : " ") + std::string(k) + "=" + knob_value(q, k);
+  for (std::string_view k : kKnobs) {
+    if (!s.empty()) s += ' ';
+    s += k;
+    s += '=';
+    s += knob_value(q, k);
+  }
   if (q.exact_physics) s += " physics=exact";
   return s;
 }

@@ -41,7 +41,8 @@ std::string format_duration(double seconds) {
 
 std::string progress_bar(int done, int total, double elapsed_seconds, int width) {
   const int filled = total > 0 ? static_cast<int>(static_cast<long long>(width) * done / total) : width;
-  std::string bar = "[" + std::string(filled, '#') + std::string(width - filled, '.') + "]";
+  std::string bar = "[";
+  bar.append(size_t(filled), '#').append(size_t(width - filled), '.') += ']';
   bar += "  " + std::to_string(done) + "/" + std::to_string(total) + " frames  ";
   bar += printf_string("%.2f frames/s  ", frames_per_second(done, elapsed_seconds));
   bar += done == total ? format_duration(elapsed_seconds) + " total" : time_left(done, total, elapsed_seconds);

@@ -126,7 +126,10 @@ TEST(Quality, ReferenceCompositesTranslucentLayersToTheClosedFormInAnyOrder) {
   for (int trial = 0; trial < 6; ++trial) {
     std::shuffle(order, order + 4, rng);
     std::string objects;
-    for (int k : order) objects += (objects.empty() ? "" : ",") + layer_object(z[k], rgb[k], opacity[k]);
+    for (int k : order) {
+      if (!objects.empty()) objects += ',';
+      objects += layer_object(z[k], rgb[k], opacity[k]);
+    }
     const io::Scene scene = io::parse_scene(
         R"({"pelt": 1, "image": {"width": 32, "height": 24, "background": [0.05, 0.1, 0.2]},
         "camera": {"eye": [0, 0, 6], "target": [0, 0, 0], "fovy_deg": 30},

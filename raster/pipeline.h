@@ -83,7 +83,7 @@ struct DrawCall {
   // primitive and the tiles pack its triangles into shared blocks; quads (2, the default) and
   // strips of quads. A run keeps the shared key only when all its triangles are valid and each
   // shares an edge with the one before; otherwise each triangle sorts by its own mean depth, as
-  // every triangle does with 1. Blend order within a run is submission order.
+  // every triangle does with 1 (or 0). Blend order within a run is submission order.
   uint32_t sort_group = 2;
 };
 

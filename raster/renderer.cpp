@@ -78,16 +78,14 @@ void Renderer::Impl::transform(std::span<const DrawCall> draws, const Viewport& 
   });
 }
 
-// The tile sort's key for the run of draw.sort_group triangles holding triangle p (pipeline.h):
-// the mean view depth of the run (a grid mesh's quad, a fur fin's strip), or NaN when the run
-// does not qualify and each triangle keeps its own key. Together, a run sorts as one
-// primitive, its triangles one right after the other, so the tiles pack their lanes into
-// shared blocks; apart, other layers' triangles of nearly equal depth fall between them.
-// Every triangle of a run computes the same sum in the same order, so all get the same key.
-static float run_key(const DrawCall& draw, const FrontVertex* front, uint32_t p) {
-  const uint32_t group = std::max(draw.sort_group, 1u);
-  const uint32_t first = p / group * group;
-  const uint32_t n = std::min(group, draw.triangle_count - first);
+// The tile sort's key for the run of triangles [first, first + n) (DrawCall::sort_group): the
+// mean view depth of the run (a grid mesh's quad, a fur fin's strip), or NaN when the run does
+// not qualify and each triangle keeps its own key. Together, a run sorts as one primitive, its
+// triangles one right after the other, so the tiles pack their lanes into shared blocks;
+// apart, other layers' triangles of nearly equal depth fall between them. The key is computed
+// once per run and chunk, from the run's first triangle on, so every triangle of a run gets
+// the same float.
+static float run_key(const DrawCall& draw, const FrontVertex* front, uint32_t first, uint32_t n) {
   if (n < 2) return std::numeric_limits<float>::quiet_NaN();
   float sum = 0.0f;
   for (uint32_t q = first; q < first + n; ++q) {
@@ -151,6 +149,7 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
   };
   ClipPolygon poly;
   const bool translucent = draw.state.blend != BlendMode::Opaque;
+  const uint32_t group = std::max(draw.sort_group, 1u);
   // The current run's key (run_key), computed at the run's first triangle in this chunk.
   uint32_t keyed_run = std::numeric_limits<uint32_t>::max();
   float shared_key = 0.0f;
@@ -170,10 +169,10 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
     // Only translucent triangles are ever sorted.
     float key = (f0.w + f1.w + f2.w) * (1.0f / 3.0f);
     if (translucent) {
-      const uint32_t run = p / std::max(draw.sort_group, 1u);
+      const uint32_t run = p / group;
       if (run != keyed_run) {
         keyed_run = run;
-        shared_key = run_key(draw, dv.front.data(), p);
+        shared_key = run_key(draw, dv.front.data(), run * group, std::min(group, draw.triangle_count - run * group));
       }
       if (!std::isnan(shared_key)) key = shared_key;
     }

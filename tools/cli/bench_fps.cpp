@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tools/cli/commands.h"
+#include "tools/cli/quality_options.h"
 #include "tools/io/builtin_meshes.h"
 #include "tools/io/input_error.h"
 #include "tools/render/scene_renderer.h"
@@ -144,9 +145,8 @@ double percentile(std::vector<double> v, double q) {
 io::Quality bench_quality(const Options& o) {
   io::Quality q;
   q.sort = o.match_llvmpipe ? io::SortQuality::none : io::SortQuality::tile;
-  for (const auto& [knob, value] : {std::pair{"sort", &o.sort}, std::pair{"filter", &o.filter}})
-    if (!value->empty())
-      if (const auto err = io::set_knob(q, knob, *value)) throw io::InputError("", std::string("--") + knob, *err);
+  apply_knob_flag(q, "sort", o.sort);
+  apply_knob_flag(q, "filter", o.filter);
   return q;
 }
 
@@ -264,10 +264,8 @@ Run add_bench_fps(CLI::App& bench) {
   sub->add_option("--frames", o->frames, "Timed frames (median over them)")->check(CLI::Range(1, 1000000));
   sub->add_option("--warmup", o->warmup, "Frames rendered before timing")->check(CLI::Range(0, 1000000));
   sub->add_flag("--match-llvmpipe", o->match_llvmpipe, "Draw the llvmpipe harness's exact scene");
-  sub->add_option("--sort", o->sort,
-                  "Fur sort: none | layer | tile | exact (default: tile; none with --match-llvmpipe)");
-  sub->add_option("--filter", o->filter,
-                  "Fur texture filter: nearest | bilinear | bilinear_mip | trilinear (default: trilinear)");
+  add_knob_option(*sub, "sort", o->sort, "Fur sort (default: tile; none with --match-llvmpipe):");
+  add_knob_option(*sub, "filter", o->filter, "Fur texture filter (default: trilinear):");
   sub->add_option("--json", o->json, "Also write the results as JSON");
   return [o] { return run_fps(*o); };
 }

@@ -19,11 +19,21 @@ void add_quality_options(CLI::App& sub, QualityFlags& flags) {
   std::string presets;
   for (std::string_view n : io::quality_preset_names()) presets += (presets.empty() ? "" : " | ") + std::string(n);
   sub.add_option("--quality", flags.preset, "Quality preset: " + presets + " (default: the scene's `quality`)");
-  for (size_t k = 0; k < std::size(io::kKnobs); ++k) {
-    std::string choices;
-    for (const std::string& v : io::knob_sweep(io::kKnobs[k])) choices += (choices.empty() ? "" : " | ") + v;
-    sub.add_option(flag_of(io::kKnobs[k]), flags.values[k], "Quality knob, e.g. " + choices);
+  for (size_t k = 0; k < std::size(io::kKnobs); ++k) add_knob_option(sub, io::kKnobs[k], flags.values[k], "Quality knob, e.g.");
+}
+
+void add_knob_option(CLI::App& sub, std::string_view knob, std::string& value, const std::string& what) {
+  std::string help = what;
+  for (const std::string& v : io::knob_sweep(knob)) {
+    help += help.size() == what.size() ? " " : " | ";
+    help += v;
   }
+  sub.add_option(flag_of(knob), value, help);
+}
+
+void apply_knob_flag(io::Quality& q, std::string_view knob, const std::string& value) {
+  if (value.empty()) return;
+  if (auto e = io::set_knob(q, knob, value)) throw io::InputError("", flag_of(knob), *e);
 }
 
 io::Quality resolve_quality(const io::Scene& scene, const QualityFlags& flags) {
@@ -37,10 +47,7 @@ io::Quality resolve_quality(const io::Scene& scene, const QualityFlags& flags) {
     }
     q = *p;
   }
-  for (size_t k = 0; k < std::size(io::kKnobs); ++k) {
-    if (flags.values[k].empty()) continue;
-    if (auto e = io::set_knob(q, io::kKnobs[k], flags.values[k])) throw io::InputError("", flag_of(io::kKnobs[k]), *e);
-  }
+  for (size_t k = 0; k < std::size(io::kKnobs); ++k) apply_knob_flag(q, io::kKnobs[k], flags.values[k]);
   return q;
 }
 

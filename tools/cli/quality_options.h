@@ -3,8 +3,9 @@
 // scene's own `quality` block: the scene first, then the preset, then each knob flag.
 #pragma once
 
-#include <string>
 #include <iterator>
+#include <string>
+#include <string_view>
 
 #include <CLI/CLI.hpp>
 
@@ -19,6 +20,12 @@ struct QualityFlags {
 };
 
 void add_quality_options(CLI::App& sub, QualityFlags& flags);
+// One knob's flag (`--multiple-scattering` for multiple_scattering) into `value`; the help is
+// `what` followed by the knob's values (io::knob_sweep).
+void add_knob_option(CLI::App& sub, std::string_view knob, std::string& value, const std::string& what);
+// Sets the knob from its flag's value (nothing when empty). Throws io::InputError naming the
+// flag for a bad value.
+void apply_knob_flag(io::Quality& q, std::string_view knob, const std::string& value);
 // The quality to render `scene` at. Throws io::InputError naming the flag for an unknown
 // preset or a bad knob value.
 io::Quality resolve_quality(const io::Scene& scene, const QualityFlags& flags);

@@ -216,6 +216,7 @@ void FurObject::rebuild_varyings() {
     // or coloured.
     const int stride = grey_ ? FurGreyVaryings::kCount : FurVaryings::kCount;
     const int channels = grey_ ? 1 : 3;
+    const int spec = grey_ ? FurGreyVaryings::kSpecular : FurVaryings::kSpecular;
     static_assert(FurGreyVaryings::kUv == FurVaryings::kUv && FurGreyVaryings::kDiffuse == FurVaryings::kDiffuse);
     const bool write_uvs = stride != uv_stride_;
     uv_stride_ = stride;
@@ -230,7 +231,7 @@ void FurObject::rebuild_varyings() {
       }
       for (int c = 0; c < channels; ++c) {
         sv[FurVaryings::kDiffuse + c] = fv[FurVaryings::kDiffuse + c] = diffuse(c, i);
-        sv[FurVaryings::kDiffuse + channels + c] = fv[FurVaryings::kDiffuse + channels + c] = specular(c, i);
+        sv[spec + c] = fv[spec + c] = specular(c, i);
       }
     }
     return;
@@ -256,7 +257,6 @@ void FurObject::rebuild_fin_list() {
   const uint32_t edges = static_cast<uint32_t>(geo_.edges.size());
   fin_list_.clear();
   fin_quad_edge_.clear();
-  fin_segment_.assign(geo_.layers, 0);
   auto quad = [&](uint32_t s, uint32_t e) -> const uint32_t* {
     return geo_.fin_indices.data() + (size_t{s} * edges + e) * 6;
   };
@@ -270,6 +270,7 @@ void FurObject::rebuild_fin_list() {
     }
     return;
   }
+  fin_segment_.assign(geo_.layers, 0);
   for (uint32_t s = 0; s + 1 < geo_.layers; ++s) {
     fin_segment_[s] = static_cast<uint32_t>(fin_quad_edge_.size());
     for (uint32_t e = 0; e < edges; ++e) {

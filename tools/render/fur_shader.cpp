@@ -13,7 +13,7 @@ constexpr size_t kLanes = raster::kMaxBatchLanes;
 
 struct alignas(64) Scratch {
   alignas(64) float texel[4][kLanes];
-  alignas(64) float tint[3][raster::kMaxBatchBlocks];  // per block: its layer's tint, or 1
+  alignas(64) float tint[3][raster::kMaxBatchBlocks];  // per block: its layer's tint, or 1 (fins)
 };
 thread_local Scratch tls_scratch;
 
@@ -54,9 +54,8 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
       float* const out[4] = {s.texel[0] + off, s.texel[1] + off, s.texel[2] + off, s.texel[3] + off};
       const size_t run = size_t{j - i} * raster::kBlockLanes;
       sample_texture(s_.shells->layers[layer], s_.sampler, u + off, v + off, run, out, s_.double_precision);
-      if (s_.shell_tint)
-        for (uint32_t k = i; k < j; ++k)
-          for (int c = 0; c < 3; ++c) s.tint[c][k] = s_.shell_tint[layer][c];
+      for (uint32_t k = i; k < j; ++k)
+        for (int c = 0; c < 3; ++c) s.tint[c][k] = s_.shell_tint[layer][c];
       i = j;
     }
   }
@@ -66,9 +65,9 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
     for (size_t i = 0; i < n; ++i) a[i] *= weight_[quad_edge_[(b.primitive[i] + s_.primitive_offset) / 2]];
   }
 
-  // Colour = min(1, tint * texel): the layer's tint for luminance shells
-  // (fur::ShellLuminance), 1 for RGBA textures.
-  const bool tinted = !s_.fins && s_.shell_tint;
+  // Colour = min(1, tint * texel): the layer's tint for the luminance shells, 1 for the fins'
+  // RGBA texture.
+  const bool tinted = !s_.fins;
   if (!tinted)
     for (int c = 0; c < 3; ++c) std::fill(s.tint[c], s.tint[c] + b.blocks, 1.0f);
   if (!s_.per_pixel_lighting) {

@@ -4,6 +4,7 @@
 // Kajiya-Kay per fragment.
 #pragma once
 
+#include <stdexcept>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -18,8 +19,8 @@ namespace pelt::render {
 struct FurShaderSetup {
   bool fins = false;                         // fin draw (else shells)
   const raster::TextureArray* shells = nullptr;
-  // Per layer, for luminance-alpha shells (fur::ShellLuminance): colour = min(1, tint * L).
-  // Null: the shells are RGBA.
+  // Per layer (required for shells): the shells are luminance-alpha (fur::ShellLuminance,
+  // raster::TexelFormat::La8), colour = min(1, tint * L).
   const glm::vec3* shell_tint = nullptr;
   const raster::Texture* fin = nullptr;
   raster::SamplerState sampler;
@@ -34,7 +35,10 @@ struct FurShaderSetup {
 
 class FurShader final : public raster::Shader {
  public:
-  explicit FurShader(const FurShaderSetup& setup) : s_(setup) {}
+  // Throws std::invalid_argument for a shell draw without shell_tint.
+  explicit FurShader(const FurShaderSetup& setup) : s_(setup) {
+    if (!s_.fins && !s_.shell_tint) throw std::invalid_argument("FurShader: a shell draw needs shell_tint");
+  }
   // Per-frame inputs; call between renders, never during one. Fins: `quad_edge` maps a fin
   // quad of the object's fin list to its edge, `weight` an edge to its fade (null: 1).
   void set_view(const std::vector<shading::Light>& lights, const glm::vec3& eye);

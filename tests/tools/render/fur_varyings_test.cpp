@@ -12,6 +12,7 @@
 #include "tools/io/builtin_meshes.h"
 #include "tools/io/scene.h"
 #include "tools/render/fur_object.h"
+#include "tools/render/fur_shader.h"
 #include "tools/render/scene_renderer.h"
 
 namespace pelt::render::test {
@@ -91,6 +92,19 @@ TEST(FurVaryings, SwitchingBetweenGreyAndColouredLightMovesTheWholeRecord) {
   const auto back = draw(switched, white), white_only = draw(fresh_white, white);
   EXPECT_EQ(back.first, 4);
   EXPECT_EQ(back.second, white_only.second);
+}
+
+// Shells are always luminance-alpha: a shell draw without its per-layer tint is a set-up error,
+// not an RGBA fallback.
+TEST(FurVaryings, AShellShaderNeedsItsTint) {
+  FurShaderSetup su;
+  EXPECT_THROW(FurShader{su}, std::invalid_argument);
+  su.fins = true;
+  EXPECT_NO_THROW(FurShader{su});
+  const glm::vec3 tint(1.0f);
+  su.fins = false;
+  su.shell_tint = &tint;
+  EXPECT_NO_THROW(FurShader{su});
 }
 
 }  // namespace

@@ -14,6 +14,15 @@ inline constexpr int kBlocksPerTileSide = kTileSize / kBlockSize;
 inline constexpr int kBlocksPerTile = kBlocksPerTileSide * kBlocksPerTileSide;
 inline constexpr int kTilePixels = kTileSize * kTileSize;
 
+// Lane layout of a 4x4 block, and each lane's bit in a block mask.
+alignas(64) inline constexpr int32_t kLaneX[kBlockLanes] = {0, 1, 2, 3, 0, 1, 2, 3,
+                                                            0, 1, 2, 3, 0, 1, 2, 3};
+alignas(64) inline constexpr int32_t kLaneY[kBlockLanes] = {0, 0, 0, 0, 1, 1, 1, 1,
+                                                            2, 2, 2, 2, 3, 3, 3, 3};
+alignas(64) inline constexpr int32_t kLaneBit[kBlockLanes] = {
+    1 << 0, 1 << 1, 1 << 2,  1 << 3,  1 << 4,  1 << 5,  1 << 6,  1 << 7,
+    1 << 8, 1 << 9, 1 << 10, 1 << 11, 1 << 12, 1 << 13, 1 << 14, 1 << 15};
+
 // 8 sub-pixel bits: positions snap to 1/256 pixel.
 inline constexpr int kSubPixelBits = 8;
 inline constexpr int kSubPixelScale = 1 << kSubPixelBits;

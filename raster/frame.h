@@ -152,15 +152,6 @@ struct alignas(64) TileScratch {
   uint64_t fragments_visible = 0, pixels_shaded = 0, fragments_blended = 0, lanes_shaded = 0;
 };
 
-// Lane layout of a 4x4 block.
-alignas(64) inline constexpr int32_t kLaneX[kBlockLanes] = {0, 1, 2, 3, 0, 1, 2, 3,
-                                                            0, 1, 2, 3, 0, 1, 2, 3};
-alignas(64) inline constexpr int32_t kLaneY[kBlockLanes] = {0, 0, 0, 0, 1, 1, 1, 1,
-                                                            2, 2, 2, 2, 3, 3, 3, 3};
-alignas(64) inline constexpr int32_t kLaneBit[kBlockLanes] = {
-    1 << 0, 1 << 1, 1 << 2,  1 << 3,  1 << 4,  1 << 5,  1 << 6,  1 << 7,
-    1 << 8, 1 << 9, 1 << 10, 1 << 11, 1 << 12, 1 << 13, 1 << 14, 1 << 15};
-
 // Rasterizes, shades, blends and resolves tile `tile` (dispatched once per tile).
 void raster_tile(const FrameView& frame, uint32_t tile, TileScratch& scratch);
 

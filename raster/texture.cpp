@@ -369,7 +369,7 @@ double ref_lod(const Texture& tex, const float* u, const float* v, float bias) {
 }  // namespace
 
 void sample_reference(const Texture& tex, const SamplerState& s, const float* u, const float* v,
-                      size_t lanes, double* const out[4]) {
+                      size_t lanes, double* const out[4], const uint16_t* block_mask) {
   if (tex.empty()) throw std::invalid_argument("sample_reference: texture is empty");
   if (lanes % 16 != 0) throw std::invalid_argument("sample_reference: lanes must be a multiple of 16");
   for (size_t b = 0; b < lanes; b += 16) {
@@ -379,6 +379,10 @@ void sample_reference(const Texture& tex, const SamplerState& s, const float* u,
     const int l1 = std::min(l0 + 1, tex.levels() - 1);
     const double t = lambda - l0;
     for (size_t i = b; i < b + 16; ++i) {
+      if (block_mask && !(block_mask[b / 16] >> (i - b) & 1u)) {
+        for (int ch = 0; ch < 4; ++ch) out[ch][i] = 0.0;
+        continue;
+      }
       if (s.filter == Filter::Nearest) {
         const MipLevel& L = tex.level(0);
         const int64_t xi = wrap_index(int64_t(std::floor(texel_coord(u[i], L.width, s.wrap_u))), L.width, s.wrap_u);

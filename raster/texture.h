@@ -184,13 +184,19 @@ struct SamplerState {
 // read outside the texture. Throws std::invalid_argument (naming the argument) if the texture
 // is empty, lanes is not a multiple of 16, or a pointer is null. Dispatches once per call to
 // the best Highway target; allocation-free; safe to call concurrently.
+//
+// `block_mask` (optional, one per block, bit l = lane l, as FragmentBatch::mask): lanes
+// outside it are written 0 and the kernel skips every vector of lanes outside it. A block's
+// LOD still comes from all 16 of its u, v, so the sampled lanes are those of the call without
+// a mask.
 void sample(const Texture& tex, const SamplerState& state, const float* u, const float* v,
-            size_t lanes, float* const out[4]);
+            size_t lanes, float* const out[4], const uint16_t* block_mask = nullptr);
 
 // The scalar reference: the same contract evaluated in double from the same float inputs
 // and texel bytes (the sRGB table in double), written as double. For tests.
 void sample_reference(const Texture& tex, const SamplerState& state, const float* u,
-                      const float* v, size_t lanes, double* const out[4]);
+                      const float* v, size_t lanes, double* const out[4],
+                      const uint16_t* block_mask = nullptr);
 
 // The LOD of the 4x4 block at u[0..16), v[0..16) as defined above, before the bias and clamp
 // (may be -inf for a zero derivative). For tests and for shaders that want to skip work.

@@ -326,10 +326,12 @@ void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
   const bool additive = draw.state.blend == BlendMode::Additive;
   const bool exact = frame.options.sort == SortMode::Exact;
 
+  const uint32_t group_bits = n >= kBlockLanes ? 0xFFFFu : (1u << n) - 1u;
   for (uint32_t i = 0; i < nb; ++i) {
     const uint32_t off = s.batch_offset[i] * kBlockLanes;
     const uint32_t bits = s.batch_mask[i];
     for (size_t g = 0; g * n < kBlockLanes; ++g) {
+      if (((bits >> (g * n)) & group_bits) == 0) continue;  // e.g. the uncovered half of an edge block
       const size_t lane = i * kBlockLanes + g * n;
       const auto m = BitsToMask(bits, g);
       if (!blend) {

@@ -226,6 +226,52 @@ TEST(TextureSampling, LuminanceAlphaSamplesBitForBitLikeItsRgbaTwin) {
   }
 }
 
+// A block mask (a fur batch's covered lanes): the lanes inside it sample bit for bit as without
+// the mask, both in the kernel and in the reference, and within the reference's tolerance; every
+// lane outside it reads +0. The
+// masks cover the shapes that let a vector be skipped on each width (one half, one row, one
+// lane) as well as empty, full and random blocks.
+TEST(TextureSampling, ABlockMaskSamplesItsLanesAndZeroesTheRest) {
+  const uint16_t shapes[] = {0x0000, 0xFFFF, 0x00FF, 0xFF00, 0x000F, 0xF000, 0x0001, 0x8000, 0x0F0F, 0x1248};
+  uint32_t seed = 500;
+  const LaPair la = random_la_texture(64, 64, seed++);
+  const Texture textures[] = {random_texture(64, 64, TexelEncoding::Linear, seed++),
+                              random_texture(37, 20, TexelEncoding::Srgb, seed++), la.la};
+  for (const Texture& tex : textures)
+    for (const Coords& c : {random_coords(40, seed++), hard_coords(tex.width(), tex.height(), seed++)}) {
+      std::mt19937 rng(seed++);
+      std::vector<uint16_t> mask(c.u.size() / 16);
+      for (size_t b = 0; b < mask.size(); ++b)
+        mask[b] = b % 2 ? shapes[b / 2 % std::size(shapes)] : uint16_t(rng());
+      auto inside = [&](size_t i) { return (mask[i / 16] >> (i % 16)) & 1u; };
+      for_each_target([&](const std::string& target) {
+        for (Filter f : kAllFilters)
+          for (Wrap w : kWraps) {
+            const SamplerState s{f, w, w, f == Filter::Trilinear ? 0.75f : 0.0f};
+            const Samples all = run_sample(tex, s, c.u, c.v), masked = run_sample(tex, s, c.u, c.v, mask.data());
+            const RefSamples ref_all = run_reference(tex, s, c.u, c.v);
+            const RefSamples ref_masked = run_reference(tex, s, c.u, c.v, mask.data());
+            size_t failures = 0;
+            for (size_t i = 0; i < c.u.size() && failures < 5; ++i)
+              for (int ch = 0; ch < 4; ++ch) {
+                const float want = inside(i) ? all.c[ch][i] : 0.0f;
+                const double ref_want = inside(i) ? ref_all.c[ch][i] : 0.0;
+                const bool ok = std::memcmp(&masked.c[ch][i], &want, sizeof(float)) == 0 &&
+                                std::memcmp(&ref_masked.c[ch][i], &ref_want, sizeof(double)) == 0;
+                // And close to the reference (nearest: see expect_nearest_matches, run on `all`).
+                const bool near_ref = f == Filter::Nearest || !inside(i) ||
+                                      std::abs(double(masked.c[ch][i]) - ref_all.c[ch][i]) <= linear_tolerance(tex);
+                failures += !ok || !near_ref;
+                EXPECT_TRUE(near_ref) << target << " filter " << int(f) << " lane " << i << " channel " << ch;
+                EXPECT_TRUE(ok) << target << " filter " << int(f) << " wrap " << int(w) << " lane " << i
+                                << " mask " << mask[i / 16] << " channel " << ch << ": " << masked.c[ch][i]
+                                << " / " << ref_masked.c[ch][i] << " want " << want << " / " << ref_want;
+              }
+          }
+      });
+    }
+}
+
 TEST(TextureSampling, RejectsBadArguments) {
   const Texture tex = random_texture(4, 4, TexelEncoding::Linear, 1);
   std::vector<float> u(16, 0.5f), v(16, 0.5f), o(16);

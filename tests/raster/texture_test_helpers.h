@@ -98,11 +98,11 @@ struct Samples {
 };
 
 inline Samples run_sample(const Texture& tex, const SamplerState& s, const std::vector<float>& u,
-                          const std::vector<float>& v) {
+                          const std::vector<float>& v, const uint16_t* block_mask = nullptr) {
   Samples out;
   for (auto& c : out.c) c.assign(u.size(), -1.0f);
   float* const ptr[4] = {out.c[0].data(), out.c[1].data(), out.c[2].data(), out.c[3].data()};
-  sample(tex, s, u.data(), v.data(), u.size(), ptr);
+  sample(tex, s, u.data(), v.data(), u.size(), ptr, block_mask);
   return out;
 }
 
@@ -111,11 +111,11 @@ struct RefSamples {
 };
 
 inline RefSamples run_reference(const Texture& tex, const SamplerState& s, const std::vector<float>& u,
-                                const std::vector<float>& v) {
+                                const std::vector<float>& v, const uint16_t* block_mask = nullptr) {
   RefSamples out;
   for (auto& c : out.c) c.assign(u.size(), -1.0);
   double* const ptr[4] = {out.c[0].data(), out.c[1].data(), out.c[2].data(), out.c[3].data()};
-  sample_reference(tex, s, u.data(), v.data(), u.size(), ptr);
+  sample_reference(tex, s, u.data(), v.data(), u.size(), ptr, block_mask);
   return out;
 }
 

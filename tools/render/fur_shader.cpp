@@ -33,13 +33,14 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   const float* u = b.varying[uv_slot];
   const float* v = b.varying[uv_slot + 1];
 
-  // Texture: the fin texture for the whole batch, or per run of blocks on one shell layer.
+  // Texture: the fin texture for the whole batch, or per run of blocks on one shell layer;
+  // only the covered lanes (the others read 0, and the colour below stays finite there).
   // A block holds lanes of one triangle or of triangles sharing edges (pipeline.h), and a
   // shell triangle shares vertices only with triangles of its own layer (eq. 1: layer s
   // owns vertices s N .. s N + N - 1), so lane 0's layer is the block's.
   if (s_.fins) {
     float* const out[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
-    sample_texture(*s_.fin, s_.sampler, u, v, n, out, s_.double_precision);
+    sample_texture(*s_.fin, s_.sampler, u, v, n, out, s_.double_precision, b.mask);
   } else {
     const uint32_t layers = static_cast<uint32_t>(s_.shells->layers.size());
     auto layer_of = [&](uint32_t block) {
@@ -53,7 +54,8 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
       const size_t off = size_t{i} * raster::kBlockLanes;
       float* const out[4] = {s.texel[0] + off, s.texel[1] + off, s.texel[2] + off, s.texel[3] + off};
       const size_t run = size_t{j - i} * raster::kBlockLanes;
-      sample_texture(s_.shells->layers[layer], s_.sampler, u + off, v + off, run, out, s_.double_precision);
+      sample_texture(s_.shells->layers[layer], s_.sampler, u + off, v + off, run, out, s_.double_precision,
+                     b.mask + i);
       for (uint32_t k = i; k < j; ++k)
         for (int c = 0; c < 3; ++c) s.tint[c][k] = s_.shell_tint[layer][c];
       i = j;

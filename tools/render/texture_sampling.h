@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include "raster/texture.h"
 
@@ -11,6 +12,7 @@ namespace pelt::render {
 // As raster::sample; `lanes` a multiple of 16, any count (the reference runs in chunks of
 // raster::kMaxBatchLanes through per-thread scratch, so nothing is allocated).
 void sample_texture(const raster::Texture& tex, const raster::SamplerState& state, const float* u,
-                    const float* v, size_t lanes, float* const out[4], bool double_precision);
+                    const float* v, size_t lanes, float* const out[4], bool double_precision,
+                    const uint16_t* block_mask = nullptr);
 
 }  // namespace pelt::render

@@ -26,12 +26,47 @@ void FurShader::set_view(const std::vector<shading::Light>& lights, const glm::v
   eye_[2] = eye.z;
 }
 
+namespace {
+
+// min(1, c) as std::min(1.0f, c) computes it, but by value: through std::min's reference GCC
+// sees a load from one of two addresses and does not vectorize.
+inline float clamp1(float c) { return c < 1.0f ? c : 1.0f; }
+
+// One channel of one block: o = min(1, tint * x) * d + s. Restrict parameters (which GCC
+// honours, unlike restrict locals) let the loop vectorize without alias checks.
+inline void light_block(float tint, const float* __restrict x, const float* __restrict d, const float* __restrict s,
+                        float* __restrict o) {
+  for (size_t l = 0; l < raster::kBlockLanes; ++l) o[l] = clamp1(x[l] * tint) * d[l] + s[l];
+}
+
+// colour = min(1, tint * texel) * diffuse + specular per channel. The loop is bound by its
+// loads and stores (a few multiply-adds a lane). A luminance shell's three texel channels are
+// one array, as are the grey light's three values (FurGreyVaryings).
+void light_vertex_lit(const raster::FragmentBatch& b, const float* const texel[3],
+                      const float (*tint)[raster::kMaxBatchBlocks], const float* const diffuse[3],
+                      const float* const specular[3]) {
+  for (uint32_t blk = 0; blk < b.blocks; ++blk) {
+    const size_t first = size_t{blk} * raster::kBlockLanes;
+    for (int c = 0; c < 3; ++c)
+      light_block(tint[c][blk], texel[c] + first, diffuse[c] + first, specular[c] + first, b.out[c] + first);
+  }
+}
+
+}  // namespace
+
 void FurShader::shade(const raster::FragmentBatch& b) const {
   Scratch& s = tls_scratch;
   const size_t n = size_t{b.blocks} * raster::kBlockLanes;
   const int uv_slot = s_.per_pixel_lighting ? FurPixelVaryings::kUv : FurVaryings::kUv;
   const float* u = b.varying[uv_slot];
   const float* v = b.varying[uv_slot + 1];
+  // With per-vertex lighting the alpha is sampled straight into the output, and a luminance
+  // shell's three colour channels (La8: all equal) into texel[0] alone.
+  const bool vertex_lit = !s_.per_pixel_lighting;
+  const bool one_channel = !s_.fins && vertex_lit;
+  float* const alpha = vertex_lit ? b.out[3] : s.texel[3];
+  float* const texel_out[4] = {s.texel[0], one_channel ? s.texel[0] : s.texel[1],
+                               one_channel ? s.texel[0] : s.texel[2], alpha};
 
   // Texture: the fin texture for the whole batch, or per run of blocks on one shell layer;
   // only the covered lanes (the others read 0, and the colour below stays finite there).
@@ -39,8 +74,8 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   // shell triangle shares vertices only with triangles of its own layer (eq. 1: layer s
   // owns vertices s N .. s N + N - 1), so lane 0's layer is the block's.
   if (s_.fins) {
-    float* const out[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
-    sample_texture(*s_.fin, s_.sampler, u, v, n, out, s_.double_precision, b.mask);
+    sample_texture(*s_.fin, s_.sampler, u, v, n, texel_out, s_.double_precision, b.mask);
+    for (int c = 0; c < 3; ++c) std::fill(s.tint[c], s.tint[c] + b.blocks, 1.0f);
   } else {
     const uint32_t layers = static_cast<uint32_t>(s_.shells->layers.size());
     auto layer_of = [&](uint32_t block) {
@@ -52,9 +87,9 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
       uint32_t j = i + 1;
       while (j < b.blocks && layer_of(j) == layer) ++j;
       const size_t off = size_t{i} * raster::kBlockLanes;
-      float* const out[4] = {s.texel[0] + off, s.texel[1] + off, s.texel[2] + off, s.texel[3] + off};
+      float* const run_out[4] = {texel_out[0] + off, texel_out[1] + off, texel_out[2] + off, texel_out[3] + off};
       const size_t run = size_t{j - i} * raster::kBlockLanes;
-      sample_texture(s_.shells->layers[layer], s_.sampler, u + off, v + off, run, out, s_.double_precision,
+      sample_texture(s_.shells->layers[layer], s_.sampler, u + off, v + off, run, run_out, s_.double_precision,
                      b.mask + i);
       for (uint32_t k = i; k < j; ++k)
         for (int c = 0; c < 3; ++c) s.tint[c][k] = s_.shell_tint[layer][c];
@@ -63,31 +98,23 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   }
   if (s_.fins && weight_) {
     // Per lane: a block may hold the quads of several fins.
-    float* a = s.texel[3];
-    for (size_t i = 0; i < n; ++i) a[i] *= weight_[quad_edge_[(b.primitive[i] + s_.primitive_offset) / 2]];
+    for (size_t i = 0; i < n; ++i) alpha[i] *= weight_[quad_edge_[(b.primitive[i] + s_.primitive_offset) / 2]];
   }
 
   // Colour = min(1, tint * texel): the layer's tint for the luminance shells, 1 for the fins'
   // RGBA texture.
-  const bool tinted = !s_.fins;
-  if (!tinted)
-    for (int c = 0; c < 3; ++c) std::fill(s.tint[c], s.tint[c] + b.blocks, 1.0f);
-  if (!s_.per_pixel_lighting) {
+  if (vertex_lit) {
+    const float* const texel[3] = {texel_out[0], texel_out[1], texel_out[2]};
+    const float* d[3];
+    const float* sp[3];
     for (int c = 0; c < 3; ++c) {
-      const float* d = b.varying[grey_ ? FurGreyVaryings::kDiffuse : FurVaryings::kDiffuse + c];
-      const float* sp = b.varying[grey_ ? FurGreyVaryings::kSpecular : FurVaryings::kSpecular + c];
-      const float* t = s.texel[c];
-      float* o = b.out[c];
-      for (uint32_t blk = 0; blk < b.blocks; ++blk) {
-        const float tint = s.tint[c][blk];
-        const size_t first = size_t{blk} * raster::kBlockLanes;
-        for (size_t i = first; i < first + raster::kBlockLanes; ++i) o[i] = std::min(1.0f, t[i] * tint) * d[i] + sp[i];
-      }
+      d[c] = b.varying[grey_ ? FurGreyVaryings::kDiffuse : FurVaryings::kDiffuse + c];
+      sp[c] = b.varying[grey_ ? FurGreyVaryings::kSpecular : FurVaryings::kSpecular + c];
     }
-    std::copy(s.texel[3], s.texel[3] + n, b.out[3]);
+    light_vertex_lit(b, texel, s.tint, d, sp);
     return;
   }
-  if (tinted)
+  if (!s_.fins)
     for (int c = 0; c < 3; ++c)
       for (size_t i = 0; i < n; ++i) s.texel[c][i] = std::min(1.0f, s.texel[c][i] * s.tint[c][i / raster::kBlockLanes]);
   using P = FurPixelVaryings;

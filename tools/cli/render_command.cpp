@@ -2,6 +2,7 @@
 // frame through a `#` pattern, or one animated GIF), or a farm shard of a range.
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <memory>
 #include <optional>
@@ -176,27 +177,68 @@ int run_render(const RenderOptions& o) {
 
   render::Progress progress(mode, static_cast<int>(plan.frames.size()), stderr);
   render::InterruptGuard interrupt;
-  render::FrameImage img;
-  render::FrameStats st;
   int last_done = -1;
+
+  // Frame k is written on a thread of its own while frame k + 1 renders: encoding a PNG
+  // (zlib) takes longer than rasterizing a fur frame. One write is in flight at a time, so
+  // files (and a GIF's frames) are written in frame order, and a frame counts as done, in the
+  // progress and the stats, once its file is written.
+  struct Slot {
+    render::FrameImage img;
+    render::FrameStats st;
+    int frame = -1;
+    std::chrono::steady_clock::time_point start;
+  };
+  Slot slots[2];
+  std::exception_ptr write_error;
+  std::thread writer;
+  // Joins a write still in flight on every way out (a render error, an exception below),
+  // before the slots and the GIF writer it uses are destroyed.
+  struct JoinWriter {
+    std::thread& t;
+    ~JoinWriter() {
+      if (t.joinable()) t.join();
+    }
+  } join_writer{writer};
+  Slot* pending = nullptr;
+  auto write_slot = [&](Slot& slot) {
+    try {
+      render::StageTimer t(slot.st, "write");
+      if (gif) {
+        gif->add_frame(slot.img.color.data());
+      } else {
+        const std::filesystem::path path = pattern.path_for(slot.frame);
+        make_parent_folder(path);
+        write_frame(path, slot.img, aov);
+      }
+    } catch (...) {
+      write_error = std::current_exception();
+    }
+  };
+  auto finish_write = [&] {
+    if (!pending) return;
+    writer.join();
+    Slot& slot = *pending;
+    pending = nullptr;
+    if (write_error) std::rethrow_exception(write_error);
+    stats_frames.push_back(slot.st.to_json());
+    last_done = slot.frame;
+    progress.frame_done(slot.frame,
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - slot.start).count());
+  };
+  size_t next = 0;
   for (int frame : plan.frames) {
     if (render::InterruptGuard::requested()) break;
-    const auto start = std::chrono::steady_clock::now();
-    renderer.render(frame, img, st);
-    {
-      render::StageTimer t(st, "write");
-      if (gif) {
-        gif->add_frame(img.color.data());
-      } else {
-        const std::filesystem::path path = pattern.path_for(frame);
-        make_parent_folder(path);
-        write_frame(path, img, aov);
-      }
-    }
-    stats_frames.push_back(st.to_json());
-    last_done = frame;
-    progress.frame_done(frame, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    Slot& slot = slots[next];
+    next ^= 1;
+    slot.frame = frame;
+    slot.start = std::chrono::steady_clock::now();
+    renderer.render(frame, slot.img, slot.st);
+    finish_write();
+    pending = &slot;
+    writer = std::thread([&write_slot, &slot] { write_slot(slot); });
   }
+  finish_write();
   progress.finish();
 
   const int done = progress.done();

@@ -165,7 +165,8 @@ std::string describe_bytes(uint64_t bytes) {
 
 uint64_t image_bytes(int width, int height, int spp) {
   const uint64_t px = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0));
-  uint64_t per_pixel = 4 * sizeof(float) + 4;  // float RGBA, and the 8-bit RGBA written to the file
+  // Two float RGBA images (one written while the next renders), the 8-bit RGBA written to the file.
+  uint64_t per_pixel = 2 * 4 * sizeof(float) + 4;
   if (spp > 1) per_pixel += 4 * sizeof(float) + 4 * sizeof(double);  // one sample's image, the sum
   return sat_mul(px, per_pixel);
 }

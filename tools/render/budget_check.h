@@ -26,8 +26,9 @@ namespace pelt::render {
 // reason) whose reason gives the requested number, the budget and the flag raising it.
 void check_scene_budget(const io::Scene& scene, int width, int height, int spp, const io::Budget& budget);
 
-// Bytes of the image buffers of a render: the float RGBA colour image, its 8-bit encoding
-// for the file, and with spp > 1 one sample's image and a double accumulator.
+// Bytes of the image buffers of a render: two float RGBA colour images (`pelt render` writes
+// one frame while the next renders), the 8-bit encoding for the file, and with spp > 1 one
+// sample's image and a double accumulator.
 uint64_t image_bytes(int width, int height, int spp);
 
 // One part of a memory estimate: where it comes from (a scene field path, or `--threads`

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <csignal>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -223,6 +224,23 @@ TEST_F(RenderCommand, StatsListEveryRenderedFrame) {
     EXPECT_TRUE(wrote) << f.dump();
   }
   EXPECT_TRUE(fs::exists(dir.path() / "s/f_5.exr"));
+}
+
+// A frame is written on a second thread while the next one renders; a write that fails there still
+// ends the render with exit code 2 naming the file, after the frames before it were written and
+// before any frame after it is. Frame 1's folder is taken by a regular file, so its write fails.
+TEST_F(RenderCommand, AFailedWriteStopsTheSequenceWithExitCode2) {
+  const fs::path out = dir.path() / "w";
+  fs::create_directories(out);
+  std::ofstream(out / "d1") << "not a folder";
+  const Result r = pelt({"-o", (out / "d#/f.png").string(), "--frames", "0:4", "-q"});
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find((out / "d1").string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("cannot create folder"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(out / "d0/f.png"));
+  for (const char* later : {"d2", "d3", "d4"}) EXPECT_FALSE(fs::exists(out / later)) << later;
+  for (const auto& e : fs::recursive_directory_iterator(out))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "temporary left behind: " << e.path();
 }
 
 // The quality flags reach the image: a preset, then a knob on top of it, change the pixels, and the

@@ -69,8 +69,8 @@ TEST(SceneBudget, ImagePixelsAtTheLimitAcceptedOneMoreRefused) {
 TEST(SceneBudget, ImageBuffersAgainstTheMemoryBudget) {
   SceneDir dir;
   const io::Scene s = dir.scene(two_objects());
-  EXPECT_EQ(image_bytes(100, 50, 1), 5000u * 20);       // float RGBA and the 8-bit file
-  EXPECT_EQ(image_bytes(100, 50, 4), 5000u * (20 + 48));  // plus a sample image and a double sum
+  EXPECT_EQ(image_bytes(100, 50, 1), 5000u * 36);       // two float RGBA and the 8-bit file
+  EXPECT_EQ(image_bytes(100, 50, 4), 5000u * (36 + 48));  // plus a sample image and a double sum
   io::Budget b;
   b.max_memory_bytes = image_bytes(100, 50, 1);
   EXPECT_NO_THROW(check_scene_budget(s, 0, 0, 1, b));
@@ -190,7 +190,7 @@ TEST(MemoryEstimate, ColourMapSizedFromItsHeader) {
 }
 
 TEST(MemoryEstimate, SaturatesInsteadOfWrapping) {
-  EXPECT_EQ(image_bytes(INT_MAX, INT_MAX, 64), UINT64_MAX);  // 68 bytes x 4.6e18 pixels
+  EXPECT_EQ(image_bytes(INT_MAX, INT_MAX, 64), UINT64_MAX);  // 84 bytes x 4.6e18 pixels
   EXPECT_EQ(io::sat_mul(uint64_t{1} << 40, uint64_t{1} << 30), UINT64_MAX);
   EXPECT_EQ(io::sat_add(UINT64_MAX - 1, 5), UINT64_MAX);
   EXPECT_EQ(describe_bytes(uint64_t{8} << 30), "8589934592 bytes (8.0 GiB)");

@@ -174,23 +174,25 @@ StrandTextures match_llvmpipe_textures() {
   lum.layers = L;
   lum.la.assign(size_t(W) * H * L * 2, 0);
   lum.tint.resize(L);
-  for (int s = 0; s < L; ++s) {
-    const float shade = 0.45f + 0.55f * (float(s) / (L - 1));
-    lum.tint[size_t(s)] = glm::vec3(fur[0], fur[1], fur[2]) * (shade * kMaxStrandBrightness);
-  }
+  // The harness's layer shading, darker toward the root; f = s / (L - 1).
+  auto layer_shade = [](float f) { return 0.45f + 0.55f * f; };
+  for (int s = 0; s < L; ++s)
+    lum.tint[size_t(s)] =
+        glm::vec3(fur[0], fur[1], fur[2]) * (layer_shade(float(s) / (L - 1)) * kMaxStrandBrightness);
   Uniform rng(2008);
   for (int y = 0; y < H; ++y) {
     for (int x = 0; x < W; ++x) {
       const bool strand = rng() < 0.30;
       const float bright = float(0.75 + 0.5 * rng());
+      const uint8_t luminance = to8((strand ? bright : 1.0f) / kMaxStrandBrightness);  // the same in every layer
       for (int s = 0; s < L; ++s) {
         const float f = float(s) / (L - 1);
-        const float shade = (0.45f + 0.55f * f) * (strand ? bright : 1.0f);
+        const float shade = layer_shade(f) * (strand ? bright : 1.0f);
         uint8_t* p = &out.shells.rgba[((size_t(s) * H + y) * W + x) * 4];
         for (int c = 0; c < 3; ++c) p[c] = to8(fur[c] * shade);
         p[3] = strand ? to8(1.0f - 0.8f * f) : 0;
         uint8_t* q = &lum.la[((size_t(s) * H + y) * W + x) * 2];
-        q[0] = to8((strand ? bright : 1.0f) / kMaxStrandBrightness);
+        q[0] = luminance;
         q[1] = p[3];
       }
     }

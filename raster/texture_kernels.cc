@@ -17,6 +17,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "raster/block_mask-inl.h"
 #include "raster/config.h"
 #include "raster/texture.h"
 
@@ -246,20 +247,12 @@ HWY_INLINE void BilinearLa(const LevelView& L, VF u, VF v, bool rep_u, bool rep_
   tap(hn::ShiftRight<16>(bottom), f.w[3]);
 }
 
-// Lanes [g, g + N) of a block mask as a vector mask (g a multiple of N).
-HWY_INLINE hn::Mask<DF> LaneMask(uint32_t bits, size_t g) {
-  const DI di;
-  const auto lane_bits = hn::LoadU(di, kLaneBit + g);
-  return hn::RebindMask(DF(), hn::Ne(hn::And(hn::Set(di, int32_t(bits)), lane_bits), hn::Zero(di)));
-}
-
 template <bool kSrgb, Filter kFilter, bool kLa = false>
 void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRICT u,
              const float* HWY_RESTRICT v, size_t lanes, float* const out[4], const uint16_t* block_mask) {
   const DF df;
   const size_t N = hn::Lanes(df);
-  // The bits of one vector of a block (N <= 16 lanes: one AVX-512 vector is a block).
-  const uint32_t group_bits = N >= 16 ? 0xFFFFu : (1u << N) - 1u;
+  const uint32_t group_bits = GroupBits();
   const bool rep_u = s.wrap_u == Wrap::Repeat, rep_v = s.wrap_v == Wrap::Repeat;
   const float* srgb = srgb8_to_linear_table();
   const VF colour_scale = hn::Set(df, kSrgb ? 1.0f : 1.0f / 255.0f);
@@ -320,7 +313,7 @@ void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRIC
           for (int ch = 0; ch < 4; ++ch) hn::StoreU(hn::Zero(df), df, out[ch] + i);
           continue;
         }
-        const auto keep = LaneMask(wanted, i - b);
+        const auto keep = BitsToMask(wanted, (i - b) / N);
         const VF uu = hn::LoadU(df, u + i), vv = hn::LoadU(df, v + i);
         if constexpr (kFilter == Filter::Nearest) {
           const VI xi = AxisNearest(uu, base.w, rep_u);

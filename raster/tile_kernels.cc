@@ -18,6 +18,7 @@
 #include <bit>
 #include <cstring>
 
+#include "raster/block_mask-inl.h"
 #include "raster/frame.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -34,16 +35,6 @@ HWY_INLINE uint32_t MaskToBits(D d, M m) {
   uint8_t bytes[8] = {};
   hn::StoreMaskBits(d, m, bytes);
   return uint32_t{bytes[0]} | (uint32_t{bytes[1]} << 8);
-}
-
-// Lanes [g * N, g * N + N) of a 16-bit block mask as a vector mask.
-HWY_INLINE hn::Mask<DF> BitsToMask(uint32_t bits, size_t g) {
-  const DI di;
-  const DF df;
-  const size_t n = hn::Lanes(di);
-  const auto lane_bits = hn::LoadU(di, kLaneBit + g * n);
-  return hn::RebindMask(df, hn::Ne(hn::And(hn::Set(di, static_cast<int32_t>(bits)), lane_bits),
-                                   hn::Zero(di)));
 }
 
 // Plane value at lanes g of the block whose lane 0 is pixel (ox, oy) relative to the
@@ -74,7 +65,7 @@ inline uint32_t BlockIndex(int32_t px, int32_t py, int32_t tx0, int32_t ty0) {
 HWY_INLINE uint32_t BlockCover(const int32_t (&step)[3][kBlockLanes], int32_t e0, int32_t e1, int32_t e2) {
   const DI di;
   const size_t n = hn::Lanes(di);
-  const uint32_t group_bits = (n >= 32) ? ~0u : ((1u << n) - 1u);
+  const uint32_t group_bits = GroupBits();
   uint32_t cover = 0;
   for (size_t g = 0; g * n < kBlockLanes; ++g) {
     const auto v0 = hn::Add(hn::Set(di, e0), hn::Load(di, step[0] + g * n));
@@ -326,7 +317,7 @@ void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
   const bool additive = draw.state.blend == BlendMode::Additive;
   const bool exact = frame.options.sort == SortMode::Exact;
 
-  const uint32_t group_bits = n >= kBlockLanes ? 0xFFFFu : (1u << n) - 1u;
+  const uint32_t group_bits = GroupBits();
   for (uint32_t i = 0; i < nb; ++i) {
     const uint32_t off = s.batch_offset[i] * kBlockLanes;
     const uint32_t bits = s.batch_mask[i];

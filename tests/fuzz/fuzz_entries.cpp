@@ -1,7 +1,5 @@
 #include "tests/fuzz/fuzz_entries.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -13,6 +11,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "raster/renderer.h"
+#include "tests/tools/io/temp_dir.h"
 #include "tools/io/input_error.h"
 #include "tools/io/mesh_loader.h"
 #include "tools/io/scene.h"
@@ -103,12 +102,9 @@ class CheckingShader final : public raster::Shader {
 }  // namespace
 
 std::string scratch_dir() {
-  static const std::string dir = [] {
-    const auto p = std::filesystem::temp_directory_path() / ("pelt_fuzz_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(p);
-    return p.string();
-  }();
-  return dir;
+  // Removed at exit: every test and fuzzer process made one, and a CI machine kept them all.
+  static const io::TempDir dir("pelt_fuzz_");
+  return dir.path().string();
 }
 
 Outcome run_obj(const uint8_t* data, size_t size) {

@@ -12,10 +12,10 @@ namespace pelt::io {
 
 class TempDir {
  public:
-  TempDir() {
+  explicit TempDir(const std::string& prefix = "pelt_io_test_") {
     static std::atomic<int> counter{0};
     path_ = std::filesystem::temp_directory_path() /
-            ("pelt_io_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+            (prefix + std::to_string(::getpid()) + "_" + std::to_string(counter++));
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }

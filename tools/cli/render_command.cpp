@@ -15,6 +15,7 @@
 #include "tools/cli/commands.h"
 #include "tools/cli/quality_options.h"
 #include "tools/io/gif_writer.h"
+#include "tools/io/image_backend.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/io/scene.h"
@@ -158,6 +159,10 @@ int run_render(const RenderOptions& o) {
     write_stats();
     return 0;
   }
+
+  // OpenImageIO's module loads on a thread of its own while the scene is set up and the first
+  // frame renders, rather than before everything (tools/io/image_backend.h).
+  io::preload_image_backend();
 
   render::RenderSettings rs;
   rs.width = o.width;

@@ -4,8 +4,7 @@
 #include <system_error>
 #include <vector>
 
-#include <OpenImageIO/imageio.h>
-
+#include "tools/io/image_backend.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/io/srgb.h"
@@ -15,8 +14,7 @@ namespace pelt::io {
 struct AnimatedGifWriter::Impl {
   std::filesystem::path path, tmp;
   int width = 0, height = 0;
-  OIIO::ImageSpec spec;
-  std::unique_ptr<OIIO::ImageOutput> out;
+  std::unique_ptr<GifFrames> out;
   std::vector<uint8_t> bytes;
   bool committed = false;
 };
@@ -32,20 +30,15 @@ AnimatedGifWriter::AnimatedGifWriter(const std::filesystem::path& path, int widt
   m.tmp = temp_beside(path);
   m.width = width;
   m.height = height;
-  m.out = OIIO::ImageOutput::create(file);
-  if (!m.out) throw InputError(file, "", "no GIF writer in this OpenImageIO: " + OIIO::geterror());
-  if (!m.out->supports("appendsubimage"))
-    throw InputError(file, "", "this OpenImageIO cannot append GIF frames");
-  m.spec = OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8);
-  // OIIO's GIF writer turns this into the per-frame delay of 100 / fps centiseconds.
-  m.spec.attribute("FramesPerSecond", static_cast<float>(fps));
-  m.spec.attribute("oiio:ColorSpace", "sRGB");
+  std::string error;
+  m.out = image_backend_for(file).gif(file, width, height, fps, error);
+  if (!m.out) throw InputError(file, "", error);
   m.bytes.resize(static_cast<size_t>(width) * height * 3);
 }
 
 AnimatedGifWriter::~AnimatedGifWriter() {
   if (!impl_ || impl_->committed) return;
-  if (frames_ > 0) impl_->out->close();
+  if (impl_->out) impl_->out.reset();  // closes the temporary before it is removed
   std::error_code ec;
   std::filesystem::remove(impl_->tmp, ec);
 }
@@ -56,11 +49,8 @@ void AnimatedGifWriter::add_frame(const float* rgba) {
   if (m.committed) throw InputError(file, "", "frame added after the GIF was finished");
   for (size_t p = 0, n = static_cast<size_t>(m.width) * m.height; p < n; ++p)
     for (int c = 0; c < 3; ++c) m.bytes[p * 3 + c] = linear_to_srgb8_fast(rgba[p * 4 + c]);
-  const auto mode = frames_ == 0 ? OIIO::ImageOutput::Create : OIIO::ImageOutput::AppendSubimage;
-  if (!m.out->open(m.tmp.string(), m.spec, mode))
-    throw InputError(file, "", "cannot write GIF frame " + std::to_string(frames_) + ": " + m.out->geterror());
-  if (!m.out->write_image(OIIO::TypeDesc::UINT8, m.bytes.data()))
-    throw InputError(file, "", "cannot write GIF frame " + std::to_string(frames_) + ": " + m.out->geterror());
+  if (const std::string error = m.out->append(m.tmp.string(), m.bytes.data()); !error.empty())
+    throw InputError(file, "", "cannot write GIF frame " + std::to_string(frames_) + ": " + error);
   ++frames_;
 }
 
@@ -68,7 +58,8 @@ void AnimatedGifWriter::commit() {
   Impl& m = *impl_;
   const std::string file = m.path.string();
   if (frames_ == 0) throw InputError(file, "", "a GIF needs at least one frame");
-  if (!m.out->close()) throw InputError(file, "", "finishing the GIF failed: " + m.out->geterror());
+  if (const std::string error = m.out->close(); !error.empty())
+    throw InputError(file, "", "finishing the GIF failed: " + error);
   std::error_code ec;
   std::filesystem::rename(m.tmp, m.path, ec);
   if (ec) throw InputError(file, "", "cannot move the finished GIF into place: " + ec.message());

@@ -11,8 +11,7 @@
 
 #include <unistd.h>
 
-#include <OpenImageIO/imageio.h>
-
+#include "tools/io/image_backend.h"
 #include "tools/io/input_error.h"
 #include "tools/io/pixels.h"
 #include "tools/io/srgb.h"
@@ -80,7 +79,7 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
   if (!pixels) throw InputError(file, "", "no pixel data");
 
   // Decide what goes into the file, converting float colour to sRGB bytes where needed.
-  OIIO::TypeDesc file_type;
+  StoredType file_type;
   const void* data = pixels;
   std::vector<uint8_t> encoded;
   const bool float_as_srgb8 = type == PixelType::f32 &&
@@ -90,45 +89,31 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
     encode_srgb8_rows(static_cast<const float*>(pixels), static_cast<size_t>(width) * channels, encoded.data(),
                       static_cast<size_t>(width) * channels, width, height, channels);
     data = encoded.data();
-    file_type = OIIO::TypeDesc::UINT8;
+    file_type = StoredType::u8;
   } else if (type == PixelType::u8 && kind != FileKind::exr) {
-    file_type = OIIO::TypeDesc::UINT8;
+    file_type = StoredType::u8;
   } else if (type == PixelType::u32 && kind == FileKind::tiff && channels == 1) {
-    file_type = OIIO::TypeDesc::UINT32;
+    file_type = StoredType::u32;
   } else if (type == PixelType::f32 && (kind == FileKind::exr || kind == FileKind::tiff)) {
-    file_type = OIIO::TypeDesc::FLOAT;
+    file_type = StoredType::f32;
   } else {
     throw InputError(file, "", std::string("cannot write ") + type_name(type) + " pixels with " +
                                    std::to_string(channels) + " channel(s) to this file type " +
                                    "(32-bit unsigned needs one channel and .tif; .exr needs float)");
   }
 
+  const ImageBackend& backend = image_backend_for(file);
   TempFile tmp(temp_beside(path));
-
-  // create() picks the writer from the target's extension; open() then writes to the
-  // temporary name, whose own extension means nothing to OIIO.
-  auto out = OIIO::ImageOutput::create(file);
-  if (!out) throw InputError(file, "", "no image writer for this extension: " + OIIO::geterror());
-  OIIO::ImageSpec spec(width, height, channels, file_type);
-  if (kind == FileKind::exr) {
-    if (channels == 1) spec.channelnames = {"Y"};
-    else if (channels == 2) spec.channelnames = {"Y", "A"};
-  }
-  if (channels == 2 || channels == 4) {
-    spec.alpha_channel = channels - 1;
-    // The values are stored exactly as given; without this OIIO's PNG writer would divide
-    // the (already sRGB-encoded) colour by alpha.
-    spec.attribute("oiio:UnassociatedAlpha", 1);
-  }
-  if (file_type == OIIO::TypeDesc::UINT8) spec.attribute("oiio:ColorSpace", "sRGB");
-  else if (file_type == OIIO::TypeDesc::FLOAT) spec.attribute("oiio:ColorSpace", "Linear");
-  if (!out->open(tmp.path().string(), spec))
-    throw InputError(file, "", "cannot create the image file: " + out->geterror());
-  const bool wrote = out->write_image(file_type, data);
-  const std::string write_error = wrote ? std::string() : out->geterror();
-  const bool closed = out->close();
-  if (!wrote) throw InputError(file, "", "writing the image failed: " + write_error);
-  if (!closed) throw InputError(file, "", "finishing the image file failed: " + out->geterror());
+  ImageWriteRequest request;
+  request.target = file;
+  request.temp = tmp.path().string();
+  request.width = width;
+  request.height = height;
+  request.channels = channels;
+  request.type = file_type;
+  request.exr_grey_names = kind == FileKind::exr;
+  request.pixels = data;
+  if (const std::string error = backend.write(request); !error.empty()) throw InputError(file, "", error);
   std::error_code ec;
   std::filesystem::rename(tmp.path(), path, ec);
   if (ec) throw InputError(file, "", "cannot move the finished image into place: " + ec.message());
@@ -137,20 +122,17 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
 
 namespace {
 
-// Opens an image for reading its header; the caller reads pixels or only the spec.
-std::unique_ptr<OIIO::ImageInput> open_image(const std::filesystem::path& path) {
+// Opens an image for reading its header; the caller reads pixels or only the header.
+std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path) {
   const std::string file = path.string();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw InputError(file, "", "image file not found");
-  // Keep stored values: by default OIIO multiplies PNG colour by alpha on read.
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  auto in = OIIO::ImageInput::open(file, &config);
-  if (!in) throw InputError(file, "", "cannot read the image: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-    throw InputError(file, "", "the image is empty");
-  if (spec.depth > 1) throw InputError(file, "", "volume images are not supported");
+  std::string error;
+  auto in = image_backend_for(file).open(file, error);
+  if (!in) throw InputError(file, "", "cannot read the image: " + error);
+  const ImageFileInfo& info = in->info();
+  if (info.width <= 0 || info.height <= 0 || info.channels <= 0) throw InputError(file, "", "the image is empty");
+  if (info.depth > 1) throw InputError(file, "", "volume images are not supported");
   return in;
 }
 
@@ -163,9 +145,9 @@ uint32_t big_endian16(const uint8_t* p) { return (uint32_t{p[0]} << 8) | uint32_
 
 ImageHeader read_image_header(const std::filesystem::path& path) {
   const auto in = open_image(path);
-  const OIIO::ImageSpec& spec = in->spec();
-  const int bytes = spec.format == OIIO::TypeDesc::UINT8 ? 1 : spec.format == OIIO::TypeDesc::UINT16 ? 2 : 4;
-  return ImageHeader{spec.width, spec.height, spec.nchannels, bytes};
+  const ImageFileInfo& info = in->info();
+  const int bytes = info.type == StoredType::u8 ? 1 : info.type == StoredType::u16 ? 2 : 4;
+  return ImageHeader{info.width, info.height, info.channels, bytes};
 }
 
 std::optional<EncodedImageSize> encoded_image_size(const uint8_t* bytes, size_t size) {
@@ -211,25 +193,17 @@ std::optional<EncodedImageSize> encoded_image_size(const uint8_t* bytes, size_t 
 ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encoding, const Budget& budget) {
   const std::string file = path.string();
   const auto in = open_image(path);
-  const OIIO::ImageSpec& spec = in->spec();
+  const ImageFileInfo& spec = in->info();
   if (spec.width > budget.max_texture_side || spec.height > budget.max_texture_side)
     throw InputError(file, "",
                      std::to_string(spec.width) + " x " + std::to_string(spec.height) + " texels, a side " +
                          over_budget(std::to_string(budget.max_texture_side), kMaxTextureSideFlag));
-  const int channels = std::min(spec.nchannels, 4);
-  int bits = 32;
-  OIIO::TypeDesc read_type = OIIO::TypeDesc::FLOAT;
-  if (spec.format == OIIO::TypeDesc::UINT8) {
-    bits = 8;
-    read_type = OIIO::TypeDesc::UINT8;
-  } else if (spec.format == OIIO::TypeDesc::UINT16) {
-    bits = 16;
-    read_type = OIIO::TypeDesc::UINT16;
-  }
+  const int channels = std::min(spec.channels, 4);
+  const StoredType read_type = spec.type == StoredType::u8 || spec.type == StoredType::u16 ? spec.type : StoredType::f32;
+  const int bits = read_type == StoredType::u8 ? 8 : read_type == StoredType::u16 ? 16 : 32;
   std::vector<uint8_t> buffer(static_cast<size_t>(spec.width) * spec.height * channels * (bits / 8));
-  if (!in->read_image(0, 0, 0, channels, read_type, buffer.data()))
-    throw InputError(file, "", "reading the pixels failed: " + in->geterror());
-  in->close();
+  if (const std::string error = in->read(channels, read_type, buffer.data()); !error.empty())
+    throw InputError(file, "", "reading the pixels failed: " + error);
   ImageRGBA img = pixels_to_rgba(buffer.data(), spec.width, spec.height, channels, bits, encoding);
   for (float v : img.rgba)
     if (!std::isfinite(v)) throw InputError(file, "", "the image holds non-finite values");

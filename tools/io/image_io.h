@@ -1,5 +1,6 @@
-// Image files through OpenImageIO: atomic writes of rendered images and AOVs, and
-// colour-map reads.
+// Image files through OpenImageIO (in a module loaded on first use, image_backend.h):
+// atomic writes of rendered images and AOVs, and colour-map reads. Failing to load the
+// module is an InputError naming the file, like any other failure here.
 #pragma once
 
 #include <cstddef>
@@ -49,7 +50,7 @@ std::filesystem::path temp_beside(const std::filesystem::path& path);
 ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encoding = ColorEncoding::srgb,
                           const Budget& budget = Budget{});
 
-// An image file's size from its header alone (OpenImageIO's spec; no pixels are read),
+// An image file's size from its header alone (no pixels are read),
 // for estimating memory before loading. Throws InputError naming the file when it cannot
 // be opened as an image.
 struct ImageHeader {

@@ -3,22 +3,10 @@
 #include <stdexcept>
 #include <string>
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-
+#include "tools/io/image_backend.h"
 #include "tools/io/srgb.h"
 
 namespace pelt::tradeoff {
-namespace {
-
-// A view of the bytes as an OIIO image; OIIO reads UINT8 channels as byte / 255.
-OIIO::ImageBuf wrap(const DisplayImage& img) {
-  const OIIO::ImageSpec spec(img.width, img.height, 4, OIIO::TypeDesc::UINT8);
-  return OIIO::ImageBuf(spec, const_cast<uint8_t*>(img.rgba.data()));
-}
-
-}  // namespace
-
 DisplayImage to_display(int width, int height, std::span<const float> rgba) {
   if (width <= 0 || height <= 0 || rgba.size() != size_t(width) * size_t(height) * 4)
     throw std::invalid_argument("to_display: " + std::to_string(rgba.size()) + " floats for a " +
@@ -38,24 +26,20 @@ ImageError compare(const DisplayImage& image, const DisplayImage& reference) {
     throw std::invalid_argument("compare: image " + std::to_string(image.width) + "x" +
                                 std::to_string(image.height) + " against reference " +
                                 std::to_string(reference.width) + "x" + std::to_string(reference.height));
-  const OIIO::ImageBuf a = wrap(image);
-  const OIIO::ImageBuf b = wrap(reference);
   // Channels 0..2: alpha is not part of what the user sees on an opaque background.
-  const OIIO::ROI rgb(0, image.width, 0, image.height, 0, 1, 0, 3);
-  // OIIO counts a pixel in nfail when any channel differs by more than failthresh. Byte
+  // OIIO counts a pixel over the threshold when any channel differs by more than it. Byte
   // differences are multiples of 1/255 up to float rounding, so 1.5/255 separates
   // "at most one step" from "two steps or more" without depending on that rounding.
   const float fail = 1.5f / 255.0f;
-  const OIIO::ImageBufAlgo::CompareResults r = OIIO::ImageBufAlgo::compare(a, b, fail, fail, rgb, 1);
-  // r.error only says that some pixel failed the threshold; an OIIO malfunction is an
-  // error on the buffers.
-  if (a.has_error() || b.has_error())
-    throw std::runtime_error("OpenImageIO compare failed: " + a.geterror() + b.geterror());
+  io::RgbComparison r;
+  const std::string error =
+      io::image_backend().compare_rgb8(image.rgba.data(), reference.rgba.data(), image.width, image.height, fail, r);
+  if (!error.empty()) throw std::runtime_error(error);
   ImageError e;
   e.rmse = r.rms_error;
-  e.psnr_db = r.rms_error > 0 ? r.PSNR : std::numeric_limits<double>::infinity();
-  e.max_abs = r.maxerror;
-  e.share_over_1_255 = double(r.nfail) / (double(image.width) * double(image.height));
+  e.psnr_db = r.rms_error > 0 ? r.psnr : std::numeric_limits<double>::infinity();
+  e.max_abs = r.max_error;
+  e.share_over_1_255 = double(r.pixels_over_threshold) / (double(image.width) * double(image.height));
   return e;
 }
 

@@ -31,7 +31,7 @@ struct ImageError {
   double share_over_1_255 = 0;
 };
 
-// Compares with OpenImageIO's ImageBufAlgo::compare. Throws std::invalid_argument when the
+// Compares with OpenImageIO's ImageBufAlgo::compare (io::image_backend()). Throws std::invalid_argument when the
 // sizes differ (a caller's bug: every row is rendered at the reference's size).
 ImageError compare(const DisplayImage& image, const DisplayImage& reference);
 

@@ -173,6 +173,21 @@ TEST_F(RenderCommand, CtrlCStopsAfterTheFrameInFlight) {
   }
 }
 
+// OpenImageIO is a module loaded on first use (tools/io/image_backend.h): a pelt without it
+// still starts, and fails the first write like any bad output, naming the paths it tried.
+TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
+  const std::string missing = (dir.path() / "nowhere" / "libpelt_oiio.so").string();
+  ::setenv("PELT_IMAGE_MODULE", missing.c_str(), 1);
+  const Result r = pelt({"-o", (dir.path() / "out/f.png").string(), "--frame", "0", "-q"});
+  const Result gif = pelt({"-o", (dir.path() / "out/a.gif").string(), "-q"});
+  ::unsetenv("PELT_IMAGE_MODULE");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(missing), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("f.png"), std::string::npos) << r.err;
+  EXPECT_EQ(gif.code, 2) << gif.err;
+  EXPECT_TRUE(!fs::exists(dir.path() / "out") || files("out").empty());
+}
+
 TEST_F(RenderCommand, PngSequenceAndGifReadBack) {
   const Result seq = pelt({"-o", (dir.path() / "seq/f_###.png").string(), "--frames", "2:6", "--width", "40",
                            "--height", "30", "-q"});

@@ -35,6 +35,7 @@ struct RenderOptions {
   std::string output;
   int width = 0, height = 0;
   int threads = 0;
+  int png_compression = io::kDefaultPngCompression;
   std::string stats;
   std::string aov = "color";
   QualityFlags quality;
@@ -56,7 +57,8 @@ render::Aov parse_aov(const std::string& s) {
   throw io::InputError("", "--aov", "unknown AOV `" + s + "` (color, depth, id, sebum, epidermis, dermis)");
 }
 
-void write_frame(const std::filesystem::path& path, const render::FrameImage& img, render::Aov aov) {
+void write_frame(const std::filesystem::path& path, const render::FrameImage& img, render::Aov aov,
+                 const io::ImageWriteOptions& options) {
   switch (aov) {
     case render::Aov::depth:
       io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::f32, img.depth.data());
@@ -70,7 +72,7 @@ void write_frame(const std::filesystem::path& path, const render::FrameImage& im
       }
       break;
     default:
-      io::write_image_atomic(path, img.width, img.height, 4, io::PixelType::f32, img.color.data());
+      io::write_image_atomic(path, img.width, img.height, 4, io::PixelType::f32, img.color.data(), options);
       break;
   }
 }
@@ -214,7 +216,7 @@ int run_render(const RenderOptions& o) {
       } else {
         const std::filesystem::path path = pattern.path_for(slot.frame);
         make_parent_folder(path);
-        write_frame(path, slot.img, aov);
+        write_frame(path, slot.img, aov, io::ImageWriteOptions{o.png_compression});
       }
     } catch (...) {
       write_error = std::current_exception();
@@ -273,6 +275,10 @@ Run add_render_command(CLI::App& app) {
   sub->add_option("--width", o->width, "Image width (default: the scene's)")->check(CLI::Range(1, 16384));
   sub->add_option("--height", o->height, "Image height (default: the scene's)")->check(CLI::Range(1, 16384));
   sub->add_option("--threads", o->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 256));
+  sub->add_option("--png-compression", o->png_compression,
+                  "PNG zlib level: 0 (fastest) to 9 (smallest) (default: " +
+                      std::to_string(io::kDefaultPngCompression) + ")")
+      ->check(CLI::Range(0, 9));
   sub->add_option("--stats", o->stats, "Write per-frame stage statistics as JSON");
   sub->add_option("--aov", o->aov, "color | depth | id | sebum | epidermis | dermis");
   add_quality_options(*sub, o->quality);

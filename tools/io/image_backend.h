@@ -28,6 +28,7 @@ struct ImageWriteRequest {
   int width = 0, height = 0, channels = 0;
   StoredType type = StoredType::u8;  // of both the pixels and the file's channels
   bool exr_grey_names = false;       // name 1 and 2 channels "Y" and "Y", "A"
+  int png_compression = -1;          // PNG: zlib level 0..9 with the Up filter; -1: not a PNG
   const void* pixels = nullptr;      // interleaved, rows top to bottom
 };
 
@@ -78,7 +79,7 @@ class ImageBackend {
                                    RgbComparison& out) const = 0;
 };
 
-inline constexpr int kImageBackendAbi = 1;
+inline constexpr int kImageBackendAbi = 2;
 // The module's one exported symbol: the backend, or nullptr when `abi` is not its own.
 inline constexpr const char* kImageBackendSymbol = "pelt_image_backend";
 using ImageBackendEntry = ImageBackend* (*)(int abi);

@@ -71,12 +71,15 @@ std::filesystem::path temp_beside(const std::filesystem::path& path) {
 }
 
 void write_image_atomic(const std::filesystem::path& path, int width, int height, int channels,
-                        PixelType type, const void* pixels) {
+                        PixelType type, const void* pixels, const ImageWriteOptions& options) {
   const std::string file = path.string();
   const FileKind kind = kind_of(path);
   if (width <= 0 || height <= 0) throw InputError(file, "", "image size must be positive");
   if (channels < 1 || channels > 4) throw InputError(file, "", "channels must be 1..4");
   if (!pixels) throw InputError(file, "", "no pixel data");
+  if (options.png_compression < 0 || options.png_compression > 9)
+    throw InputError(file, "", "PNG compression level " + std::to_string(options.png_compression) +
+                                   " outside 0..9");
 
   // Decide what goes into the file, converting float colour to sRGB bytes where needed.
   StoredType file_type;
@@ -112,6 +115,7 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
   request.channels = channels;
   request.type = file_type;
   request.exr_grey_names = kind == FileKind::exr;
+  if (kind == FileKind::png) request.png_compression = options.png_compression;
   request.pixels = data;
   if (const std::string error = backend.write(request); !error.empty()) throw InputError(file, "", error);
   std::error_code ec;

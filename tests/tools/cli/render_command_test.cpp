@@ -313,6 +313,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadOption{"GifResume", {"-o", "OUT/a.gif", "--resume"}, "--resume: a GIF is written whole"},
         BadOption{"GifPattern", {"-o", "OUT/a_##.gif"}, "-o: a GIF holds every frame in one file"},
         BadOption{"UnknownAov", {"-o", "OUT/f_#.png", "--aov", "normals"}, "--aov: unknown AOV"},
+        BadOption{"PngCompression", {"-o", "OUT/a.png", "--frame", "0", "--png-compression", "10"},
+                  "--png-compression: Value 10 not in range 0 to 9"},
         BadOption{"UnknownPreset", {"-o", "OUT/a.png", "--frame", "0", "--quality", "ultra"}, "--quality: unknown preset `ultra`"},
         BadOption{"SppNotSquare", {"-o", "OUT/a.png", "--frame", "0", "--spp", "3"}, "--spp: must be a square number"},
         BadOption{"UnknownSort", {"-o", "OUT/a.png", "--frame", "0", "--sort", "depth"}, "--sort: unknown value `depth`"},

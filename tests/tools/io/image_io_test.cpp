@@ -58,6 +58,49 @@ TEST(ImageIo, PngFromLinearFloatIsExactSrgb) {
   EXPECT_EQ(files_in(dir.path()), 1u);  // no temporary left
 }
 
+// Every compression level stores the same bytes; the levels trade size for time. The image
+// is smooth, as rendered frames are, so zlib finds something to squeeze.
+TEST(ImageIo, PngCompressionLevelsStoreTheSameBytes) {
+  TempDir dir;
+  constexpr int kW = 64, kH = 48;
+  std::vector<float> px(size_t(kW) * kH * 4);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x)
+      for (int c = 0; c < 4; ++c) px[(size_t(y) * kW + x) * 4 + c] = c == 3 ? 1.0f : float(x + y * c) / float(kW + kH * 3);
+  std::vector<uintmax_t> sizes;
+  std::vector<uint8_t> first;
+  for (int level : {0, 1, 6, 9}) {
+    std::string name = std::to_string(level);  // appended: `"l" + string` trips GCC 12's -Wstringop-overflow
+    name += ".png";
+    const auto f = dir.path() / name;
+    write_image_atomic(f, kW, kH, 4, PixelType::f32, px.data(), ImageWriteOptions{level});
+    OIIO::ImageSpec spec;
+    const auto bytes = read_back<uint8_t>(f, OIIO::TypeDesc::UINT8, spec);
+    if (first.empty()) first = bytes;
+    EXPECT_EQ(bytes, first) << "level " << level;
+    sizes.push_back(std::filesystem::file_size(f));
+  }
+  EXPECT_GT(sizes[0], sizes[1]);  // 0 stores the rows uncompressed
+  EXPECT_GE(sizes[1], sizes[3]);
+  // The default is level 1.
+  write_image_atomic(dir.path() / "d.png", kW, kH, 4, PixelType::f32, px.data());
+  EXPECT_EQ(std::filesystem::file_size(dir.path() / "d.png"), sizes[1]);
+}
+
+TEST(ImageIo, PngCompressionOutsideZeroToNineIsAnInputErrorAndWritesNothing) {
+  TempDir dir;
+  const std::vector<float> px(4, 0.5f);
+  for (int level : {-1, 10}) {
+    try {
+      write_image_atomic(dir.path() / "a.png", 1, 1, 4, PixelType::f32, px.data(), ImageWriteOptions{level});
+      ADD_FAILURE() << "level " << level << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(e.reason.find("outside 0..9"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(files_in(dir.path()), 0u);
+}
+
 TEST(ImageIo, TiffEightBitAndUint32AndFloat) {
   TempDir dir;
   const auto rgb = ramp(4, 3, 3);

@@ -234,4 +234,11 @@ inline int nearest_mip_level(double lambda) {
 // The 256 sRGB bytes decoded to linear (inverse transfer function in double, rounded once).
 const float* srgb8_to_linear_table();
 
+// The sRGB byte of linear x, as sRGB textures store their texels and mip levels:
+// round-half-up(255 s), s = 1.055 x^(1/2.4) - 0.055 (12.92 x below 0.0031308) in double, x
+// clamped to [0, 1]. srgb_byte_reference evaluates that with std::pow; srgb_byte gives the
+// same byte for every x by a search among the 255 boundaries, found once from the reference.
+uint8_t srgb_byte(double x);
+uint8_t srgb_byte_reference(double x);
+
 }  // namespace pelt::raster

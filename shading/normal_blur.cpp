@@ -35,7 +35,8 @@ double dist(const float* a, const float* b) {
 
 }  // namespace
 
-std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sigma[3], BlurredNormals& out) {
+std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sigma[3], BlurredNormals& out,
+                                       const ParallelFor& parallel) {
   for (auto& ch : out.channel) ch.clear();
   for (int c = 0; c < 3; ++c)
     if (!std::isfinite(sigma[c]) || sigma[c] < 0.0f)
@@ -110,39 +111,52 @@ std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sig
   std::vector<double> blurred(3 * 3 * W, 0.0);  // [channel][welded vertex][xyz]
   if (smax > 0.0) {
     const double cutoff = 3.0 * smax;
-    std::vector<double> best(W, INFINITY);
-    std::vector<uint32_t> touched;
-    using Item = std::pair<double, uint32_t>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-    for (size_t s = 0; s < W; ++s) {
-      double acc[3][3] = {};
-      best[s] = 0.0;
-      touched.push_back(uint32_t(s));
-      queue.emplace(0.0, uint32_t(s));
-      while (!queue.empty()) {
-        const auto [d, v] = queue.top();
-        queue.pop();
-        if (d > best[v]) continue;  // stale entry
-        for (int c = 0; c < 3; ++c) {
-          const double sg = sigma[c];
-          if (sg <= 0.0 || d > 3.0 * sg) continue;
-          const double w = area[v] * std::exp(-d * d / (2.0 * sg * sg));
-          for (int a = 0; a < 3; ++a) acc[c][a] += w * nrm[3 * v + a];
-        }
-        for (size_t e = row[v]; e < row[v + 1]; ++e) {
-          const uint32_t u = edges[e].second;
-          const double nd = d + elen[e];
-          if (nd <= cutoff && nd < best[u]) {
-            if (best[u] == INFINITY) touched.push_back(u);
-            best[u] = nd;
-            queue.emplace(nd, u);
+    // One Dijkstra search per welded vertex, each independent of the others: items of
+    // kItemVertices sources, each with its own search state (a search touches a few hundred
+    // vertices, so resetting only those keeps `best` cheap to reuse within an item).
+    constexpr size_t kItemVertices = 128;
+    auto item = [&](size_t k) {
+      std::vector<double> best(W, INFINITY);
+      std::vector<uint32_t> touched;
+      using Item = std::pair<double, uint32_t>;
+      std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+      const size_t end = std::min(W, (k + 1) * kItemVertices);
+      for (size_t s = k * kItemVertices; s < end; ++s) {
+        double acc[3][3] = {};
+        best[s] = 0.0;
+        touched.push_back(uint32_t(s));
+        queue.emplace(0.0, uint32_t(s));
+        while (!queue.empty()) {
+          const auto [d, v] = queue.top();
+          queue.pop();
+          if (d > best[v]) continue;  // stale entry
+          for (int c = 0; c < 3; ++c) {
+            const double sg = sigma[c];
+            if (sg <= 0.0 || d > 3.0 * sg) continue;
+            const double w = area[v] * std::exp(-d * d / (2.0 * sg * sg));
+            for (int a = 0; a < 3; ++a) acc[c][a] += w * nrm[3 * v + a];
+          }
+          for (size_t e = row[v]; e < row[v + 1]; ++e) {
+            const uint32_t u = edges[e].second;
+            const double nd = d + elen[e];
+            if (nd <= cutoff && nd < best[u]) {
+              if (best[u] == INFINITY) touched.push_back(u);
+              best[u] = nd;
+              queue.emplace(nd, u);
+            }
           }
         }
+        for (uint32_t t : touched) best[t] = INFINITY;
+        touched.clear();
+        for (int c = 0; c < 3; ++c)
+          for (int a = 0; a < 3; ++a) blurred[(c * W + s) * 3 + a] = acc[c][a];
       }
-      for (uint32_t t : touched) best[t] = INFINITY;
-      touched.clear();
-      for (int c = 0; c < 3; ++c)
-        for (int a = 0; a < 3; ++a) blurred[(c * W + s) * 3 + a] = acc[c][a];
+    };
+    const size_t items = (W + kItemVertices - 1) / kItemVertices;
+    if (parallel) {
+      parallel(items, item);
+    } else {
+      for (size_t k = 0; k < items; ++k) item(k);
     }
   }
 

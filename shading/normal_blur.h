@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,9 +39,16 @@ struct BlurredNormals {
   std::vector<float> channel[3];
 };
 
+// Calls fn(i) once for every i in [0, count), in any order and possibly on several threads at
+// once. blur_normals splits its vertices into such independent items (each writes only its
+// own vertices' results), so the result is the same whatever runs them.
+using ParallelFor = std::function<void(size_t count, const std::function<void(size_t)>& fn)>;
+
 // sigma[c] >= 0 in scene units (SkinParams::normal_blur_radius); sigma 0 returns the input
 // normals unchanged for that channel. Errors (bad index, non-finite value, negative sigma) are
-// returned as a ParamError naming the field; the result is then empty.
-std::optional<ParamError> blur_normals(const NormalBlurInput& mesh, const float sigma[3], BlurredNormals& out);
+// returned as a ParamError naming the field; the result is then empty. Without `parallel`
+// the items run in order on the calling thread.
+std::optional<ParamError> blur_normals(const NormalBlurInput& mesh, const float sigma[3], BlurredNormals& out,
+                                       const ParallelFor& parallel = {});
 
 }  // namespace pelt::shading

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -101,6 +102,38 @@ TEST(Texture, RejectsBadInputNamingTheField) {
   e = TextureArray::from_rgba8_layers(2, 2, 0, bytes.data(), TexelEncoding::Linear, arr);
   ASSERT_TRUE(e);
   EXPECT_EQ(e->field, "count");
+}
+
+// The boundary search against the pow it replaces: on random values, on every boundary's
+// neighbours within 64 doubles, and on the edges of the domain.
+TEST(Texture, SrgbByteEqualsThePowReference) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int i = 0; i < 1000000; ++i) {
+    const double x = unit(rng);
+    ASSERT_EQ(srgb_byte(x), srgb_byte_reference(x)) << x;
+  }
+  int boundaries = 0;
+  for (uint64_t bits = 0; bits <= std::bit_cast<uint64_t>(1.0);) {
+    // The next boundary above `bits`: bisection, as the table is built, but independent of it.
+    const uint8_t b = srgb_byte_reference(std::bit_cast<double>(bits));
+    if (b == 255) break;
+    uint64_t lo = bits, hi = std::bit_cast<uint64_t>(1.0);
+    while (hi - lo > 1) {
+      const uint64_t mid = lo + (hi - lo) / 2;
+      (srgb_byte_reference(std::bit_cast<double>(mid)) > b ? hi : lo) = mid;
+    }
+    for (uint64_t k = hi - std::min<uint64_t>(hi, 64); k <= hi + 64; ++k) {
+      const double x = std::bit_cast<double>(k);
+      ASSERT_EQ(srgb_byte(x), srgb_byte_reference(x)) << x;
+    }
+    ++boundaries;
+    bits = hi;
+  }
+  EXPECT_EQ(boundaries, 255);
+  for (double x : {0.0, -0.0, -1.0, 1e-320, 0.0031308, 1.0, 1.0000001, 2.0, 1e300})
+    EXPECT_EQ(srgb_byte(x), srgb_byte_reference(x)) << x;
+  EXPECT_EQ(srgb_byte(std::nan("")), 0);
 }
 
 TEST(Texture, SrgbFloatsRoundTripToTheirBytes) {

@@ -17,6 +17,7 @@ namespace pelt::render {
 // of them, ran or skipped.
 inline constexpr const char* kStageNames[] = {
     "meshes",        // load and validate mesh files, bake transforms (first frame only)
+    "textures",      // colour and normal maps: read, decoded, mip chains (once per mapped object)
     "fur_geometry",  // shared shell/fin vertex array of eq. 1 (once per furry object)
     "fur_textures",  // strand textures and their mip chains (once per furry object)
     "normal_blur",   // blurred normals for normal_blur skin (once per such mesh)

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/tools/render/render_test_scenes.h"
+#include "tools/io/image_io.h"
 #include "tools/io/scene.h"
 #include "tools/render/scene_renderer.h"
 
@@ -55,10 +56,35 @@ TEST(Gating, MeshesAreLoadedOnlyWhenNotGiven) {
 
 TEST(Gating, SceneWithoutFurBuildsNoShellsAndSimulatesNothing) {
   const Frames run = render_frames(bare_box_scene(3), 3);
-  for (const char* stage : {"fur_geometry", "fur_textures", "gravity", "wind", "fur_pose", "fur_lighting", "fins"})
+  for (const char* stage :
+       {"textures", "fur_geometry", "fur_textures", "gravity", "wind", "fur_pose", "fur_lighting", "fins"})
     EXPECT_EQ(count_ran(run, stage), 0) << stage;
   EXPECT_EQ(count_ran(run, "raster_tiles"), 3);
   EXPECT_EQ(run.stats[0].triangles(), 108u);  // box:3, no fur triangles
+}
+
+// A colour map is read and mip-mapped once, at set-up, and reported in frame 0 only.
+TEST(Gating, ColourMapIsBuiltOnceAndReportedAsTextures) {
+  SceneDir dir;
+  std::vector<uint8_t> px(16 * 8 * 3, 180);
+  io::write_image_atomic(dir.path() / "map.png", 16, 8, 3, io::PixelType::u8, px.data());
+  const io::Scene scene = dir.scene(R"({"pelt": 1, "image": {"width": 32, "height": 24},
+      "objects": [{"mesh": "plane:1", "material": {"type": "lambert", "color_map": "map.png"}}],
+      "animation": {"frames": 3}})");
+  RenderSettings rs;
+  rs.threads = 1;
+  SceneRenderer r(scene, rs);
+  int ran = 0;
+  for (int f = 0; f < 3; ++f) {
+    FrameImage img;
+    FrameStats st;
+    r.render(f, img, st);
+    ran += st.stage("textures").ran;
+    if (f == 0) {
+      EXPECT_TRUE(st.stage("textures").ran);
+    }
+  }
+  EXPECT_EQ(ran, 1);
 }
 
 TEST(Gating, FurWithoutWindRunsNoWindStageInAnyFrame) {

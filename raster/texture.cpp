@@ -132,9 +132,11 @@ std::vector<AxisTaps> box_taps(int src, int dst) {
   return taps;
 }
 
-// One level of the chain from the previous one, both as straight decoded texels. Colour is
-// averaged weighted by alpha; where the whole footprint is transparent, plainly.
-std::vector<Texel> reduce(const std::vector<Texel>& src, int sw, int sh, int dw, int dh) {
+// One level of the chain from the previous one, as straight decoded texels; src(i) gives the
+// previous level's texel i. Colour is averaged weighted by alpha; where the whole footprint
+// is transparent, plainly.
+template <class Source>
+std::vector<Texel> reduce(const Source& src, int sw, int sh, int dw, int dh) {
   const std::vector<AxisTaps> tx = box_taps(sw, dw), ty = box_taps(sh, dh);
   std::vector<Texel> dst(size_t(dw) * size_t(dh));
   for (int y = 0; y < dh; ++y)
@@ -144,7 +146,7 @@ std::vector<Texel> reduce(const std::vector<Texel>& src, int sw, int sh, int dw,
       const AxisTaps& ay = ty[size_t(y)];
       for (int j = 0; j < ay.count; ++j)
         for (int i = 0; i < ax.count; ++i) {
-          const Texel& s = src[size_t(ay.first + j) * size_t(sw) + size_t(ax.first + i)];
+          const Texel s = src(size_t(ay.first + j) * size_t(sw) + size_t(ax.first + i));
           const double w = ax.w[i] * ay.w[j];
           const double wa = w * s.c[3];
           for (int ch = 0; ch < 3; ++ch) {
@@ -186,13 +188,17 @@ struct TextureBuilder {
     texels.assign(total, 0u);
     store(level0, levels[0], texels);
     // Each level is reduced from the previous one unquantised, so 8-bit rounding does not
-    // compound down the chain.
-    std::vector<Texel> cur(level0.size());
-    for (size_t i = 0; i < level0.size(); ++i) cur[i] = decode(level0[i], enc);
+    // compound down the chain. Level 0 is decoded as it is read, not kept in double (32
+    // bytes a texel, 8 times the texture's own level 0): the largest decoded level held is
+    // level 1 (budget_check.cpp counts it).
+    std::vector<Texel> cur;
     for (size_t k = 1; k < levels.size(); ++k) {
       const MipLevel& s = levels[k - 1];
       const MipLevel& d = levels[k];
-      cur = reduce(cur, s.width, s.height, d.width, d.height);
+      if (k == 1)
+        cur = reduce([&](size_t i) { return decode(level0[i], enc); }, s.width, s.height, d.width, d.height);
+      else
+        cur = reduce([&](size_t i) { return cur[i]; }, s.width, s.height, d.width, d.height);
       std::vector<uint32_t> packed(cur.size());
       for (size_t i = 0; i < cur.size(); ++i) packed[i] = encode(cur[i], enc);
       store(packed, d, texels);

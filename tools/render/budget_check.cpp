@@ -68,9 +68,12 @@ MemoryPart mesh_part(const io::SceneObject& so, const Mesh& m, size_t i) {
 }
 
 // A texture read from an image file: float RGBA as read, the file's own pixels while they
-// are converted, and the mipmapped 8-bit texture the shader samples.
+// are converted, the mip chain's working set (level 0 packed, 4 bytes a texel, and level 1
+// in double, 32 bytes a texel of a quarter as many: raster/texture.cpp), and the mipmapped
+// 8-bit texture the shader samples.
 uint64_t image_texture_bytes(uint64_t texels, uint64_t file_bytes_per_texel) {
-  return sat_add(sat_mul(texels, 4 * sizeof(float) + file_bytes_per_texel), mipmapped_rgba8(texels));
+  constexpr uint64_t kBuildBytes = 4 + 32 / 4;
+  return sat_add(sat_mul(texels, 4 * sizeof(float) + file_bytes_per_texel + kBuildBytes), mipmapped_rgba8(texels));
 }
 
 // The material's normal map, sized from its header like a colour map, plus the four

@@ -261,9 +261,13 @@ TEST_F(RenderCommand, AFailedWriteStopsTheSequenceWithExitCode2) {
 // The quality flags reach the image: a preset, then a knob on top of it, change the pixels, and the
 // same flags give the same bytes.
 TEST_F(RenderCommand, QualityFlagsChangeTheImage) {
-  ASSERT_EQ(pelt({"-o", (dir.path() / "q/plain.png").string(), "--frame", "3"}).code, 0);
-  ASSERT_EQ(pelt({"-o", (dir.path() / "q/ss.png").string(), "--frame", "3", "--spp", "4"}).code, 0);
-  ASSERT_EQ(pelt({"-o", (dir.path() / "q/ss2.png").string(), "--frame", "3", "--quality", "default", "--spp", "4"}).code, 0);
+  const Result plain_run = pelt({"-o", (dir.path() / "q/plain.png").string(), "--frame", "3"});
+  ASSERT_EQ(plain_run.code, 0) << plain_run.err;
+  const Result ss_run = pelt({"-o", (dir.path() / "q/ss.png").string(), "--frame", "3", "--spp", "4"});
+  ASSERT_EQ(ss_run.code, 0) << ss_run.err;
+  const Result ss2_run =
+      pelt({"-o", (dir.path() / "q/ss2.png").string(), "--frame", "3", "--quality", "default", "--spp", "4"});
+  ASSERT_EQ(ss2_run.code, 0) << ss2_run.err;
   const std::string plain = read_text(dir.path() / "q/plain.png");
   const std::string ss = read_text(dir.path() / "q/ss.png");
   EXPECT_FALSE(plain.empty());

@@ -184,8 +184,9 @@ TEST(MemoryEstimate, ColourMapSizedFromItsHeader) {
   const MemoryEstimate e = estimate_memory(s, meshes, 0, 0, 1, 1);
   ASSERT_EQ(e.parts.size(), 4u);
   EXPECT_EQ(e.parts[1].field, "objects[0].material.color_map");
-  // Float RGBA as read, the file's 3 bytes a texel, the mipmapped 8-bit texture.
-  EXPECT_EQ(e.parts[1].bytes, 2048u * (16 + 3) + mipmapped(2048));
+  // Float RGBA as read, the file's 3 bytes a texel, the mip chain's working set (4 + 32 / 4),
+  // the mipmapped 8-bit texture.
+  EXPECT_EQ(e.parts[1].bytes, 2048u * (16 + 3 + 12) + mipmapped(2048));
   EXPECT_NE(e.parts[1].what.find("64 x 32"), std::string::npos) << e.parts[1].what;
 }
 

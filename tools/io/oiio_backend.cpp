@@ -25,7 +25,7 @@ OIIO::TypeDesc oiio_type(StoredType t) {
 
 class OiioReader final : public ImageReader {
  public:
-  OiioReader(std::unique_ptr<OIIO::ImageInput> in) : in_(std::move(in)) {
+  explicit OiioReader(std::unique_ptr<OIIO::ImageInput> in) : in_(std::move(in)) {
     const OIIO::ImageSpec& spec = in_->spec();
     info_.width = spec.width;
     info_.height = spec.height;

@@ -56,6 +56,7 @@ struct Renderer::Impl {
 Renderer::Renderer(int threads) : impl_(std::make_unique<Impl>(threads)) {}
 Renderer::~Renderer() = default;
 int Renderer::threads() const { return impl_->pool.threads(); }
+void Renderer::parallel_for(size_t count, ItemFn fn) { impl_->pool.parallel_for(count, fn); }
 size_t Renderer::worker_scratch_bytes() { return sizeof(TileScratch); }
 
 void Renderer::Impl::transform(std::span<const DrawCall> draws, const Viewport& vp) {

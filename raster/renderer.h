@@ -15,6 +15,7 @@
 
 #include <glm/vec4.hpp>
 
+#include "raster/parallel.h"
 #include "raster/pipeline.h"
 
 namespace pelt::raster {
@@ -78,6 +79,9 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   int threads() const;
+  // The renderer's threads for other independent work of its caller (set-up passes): calls
+  // fn(item, slot) for item in [0, count) as ThreadPool::parallel_for does.
+  void parallel_for(size_t count, ItemFn fn);
   // Bytes each worker keeps for the tile it works on (its planes and shading batch).
   static size_t worker_scratch_bytes();
 

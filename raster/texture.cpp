@@ -54,23 +54,11 @@ Texel decode(uint32_t t, TexelEncoding enc) {
 
 uint8_t srgb_byte_reference(double x) { return to_byte(srgb_encode(std::clamp(x, 0.0, 1.0))); }
 
-namespace {
-
-// threshold[b]: the smallest double x with srgb_byte_reference(x) > b. The byte is a
-// non-decreasing function of x and non-negative doubles are ordered like their bit patterns,
-// so each boundary is a bisection on the bits. bucket[k]: the byte of the first double of
-// bucket k (the doubles sharing their top bits, exponent and 5 mantissa bits); from there a
-// byte rises by at most a few steps within the bucket, found against the thresholds. The
-// same byte as the reference without its pow, which took most of a colour map's mip chain.
-constexpr int kSrgbBucketShift = 47;
-struct SrgbTables {
-  std::array<double, 255> threshold;
-  std::vector<uint8_t> bucket;
-};
-
-const SrgbTables& srgb_tables() {
-  static const SrgbTables tables = [] {
-    SrgbTables t;
+// Each boundary is a bisection on the bits: the byte is a non-decreasing function of x, and
+// non-negative doubles are ordered like their bit patterns.
+const SrgbBoundaries& srgb_boundaries() {
+  static const SrgbBoundaries tables = [] {
+    SrgbBoundaries t;
     const uint64_t one = std::bit_cast<uint64_t>(1.0);
     for (int b = 0; b < 255; ++b) {
       uint64_t lo = 0, hi = one;  // byte(lo) <= b < byte(hi)
@@ -80,31 +68,25 @@ const SrgbTables& srgb_tables() {
       }
       t.threshold[size_t(b)] = std::bit_cast<double>(hi);
     }
-    t.bucket.resize(size_t(one >> kSrgbBucketShift) + 1);
     for (size_t k = 0; k < t.bucket.size(); ++k)
-      t.bucket[k] = srgb_byte_reference(std::bit_cast<double>(uint64_t(k) << kSrgbBucketShift));
+      t.bucket[k] = srgb_byte_reference(
+          std::bit_cast<double>((SrgbBoundaries::kFirstBucket + k) << SrgbBoundaries::kBucketShift));
     return t;
   }();
   return tables;
 }
 
-}  // namespace
+uint8_t srgb_byte(double x) { return srgb_byte(srgb_boundaries(), x); }
 
-uint8_t srgb_byte(double x) {
-  if (!(x > 0.0)) return 0;  // also NaN, which std::clamp would pass through
-  if (x >= 1.0) return 255;
-  const SrgbTables& t = srgb_tables();
-  unsigned b = t.bucket[std::bit_cast<uint64_t>(x) >> kSrgbBucketShift];
-  while (b < 255 && x >= t.threshold[b]) ++b;
-  return uint8_t(b);
-}
+double srgb_byte_threshold(int b) { return srgb_boundaries().threshold[size_t(std::clamp(b, 0, 254))]; }
 
 namespace {
 
 uint32_t encode(const Texel& t, TexelEncoding enc) {
+  const SrgbBoundaries& srgb = srgb_boundaries();
   uint32_t packed = 0;
   for (int ch = 0; ch < 3; ++ch)
-    packed |= uint32_t{enc == TexelEncoding::Srgb ? srgb_byte(t.c[ch]) : to_byte(t.c[ch])} << (8 * ch);
+    packed |= uint32_t{enc == TexelEncoding::Srgb ? srgb_byte(srgb, t.c[ch]) : to_byte(t.c[ch])} << (8 * ch);
   return packed | (uint32_t{to_byte(t.c[3])} << 24);
 }
 

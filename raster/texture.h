@@ -33,6 +33,8 @@
 // no source texel is dropped and every source texel has the same total weight.
 #pragma once
 
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -234,11 +236,37 @@ inline int nearest_mip_level(double lambda) {
 // The 256 sRGB bytes decoded to linear (inverse transfer function in double, rounded once).
 const float* srgb8_to_linear_table();
 
-// The sRGB byte of linear x, as sRGB textures store their texels and mip levels:
-// round-half-up(255 s), s = 1.055 x^(1/2.4) - 0.055 (12.92 x below 0.0031308) in double, x
-// clamped to [0, 1]. srgb_byte_reference evaluates that with std::pow; srgb_byte gives the
-// same byte for every x by a search among the 255 boundaries, found once from the reference.
+// The sRGB byte of linear x, as sRGB textures store their texels and mip levels and tools/io
+// encodes images: round-half-up(255 s), s = 1.055 x^(1/2.4) - 0.055 (12.92 x below
+// 0.0031308) in double, x clamped to [0, 1]. srgb_byte_reference evaluates that with std::pow;
+// srgb_byte gives the same byte for every x by a search among the 255 boundaries, found once
+// from the reference.
 uint8_t srgb_byte(double x);
 uint8_t srgb_byte_reference(double x);
+// The smallest x whose srgb_byte is greater than b (b in 0..254): the boundaries srgb_byte
+// searches.
+double srgb_byte_threshold(int b);
+
+// srgb_byte's tables, for loops over whole images that inline the search. bucket[k]: the byte
+// of the first double of bucket k, the doubles in [2^-14, 1) sharing their exponent and top 7
+// mantissa bits; within a bucket the byte rises by at most a step or two, found against the
+// thresholds. Below 2^-14 every byte is 0 (the first boundary is 0.5 / (255 * 12.92), about
+// 1.5e-4).
+struct SrgbBoundaries {
+  static constexpr int kBucketShift = 45;
+  static constexpr double kFloor = 0x1p-14;
+  static constexpr uint64_t kFirstBucket = std::bit_cast<uint64_t>(kFloor) >> kBucketShift;
+  std::array<double, 255> threshold;  // threshold[b]: the smallest x with byte > b
+  std::array<uint8_t, (std::bit_cast<uint64_t>(1.0) >> kBucketShift) - kFirstBucket> bucket;
+};
+const SrgbBoundaries& srgb_boundaries();
+
+inline uint8_t srgb_byte(const SrgbBoundaries& t, double x) {
+  if (!(x >= SrgbBoundaries::kFloor)) return 0;  // also NaN
+  if (x >= 1.0) return 255;
+  unsigned b = t.bucket[(std::bit_cast<uint64_t>(x) >> SrgbBoundaries::kBucketShift) - SrgbBoundaries::kFirstBucket];
+  while (b < 255 && x >= t.threshold[b]) ++b;
+  return uint8_t(b);
+}
 
 }  // namespace pelt::raster

@@ -61,14 +61,14 @@ void write_frame(const std::filesystem::path& path, const render::FrameImage& im
                  const io::ImageWriteOptions& options) {
   switch (aov) {
     case render::Aov::depth:
-      io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::f32, img.depth.data());
+      io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::f32, img.depth.data(), options);
       break;
     case render::Aov::id:
       if (render::output_kind(path) == render::OutputKind::exr) {
         std::vector<float> f(img.id.begin(), img.id.end());
-        io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::f32, f.data());
+        io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::f32, f.data(), options);
       } else {
-        io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::u32, img.id.data());
+        io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::u32, img.id.data(), options);
       }
       break;
     default:

@@ -38,7 +38,7 @@ AnimatedGifWriter::AnimatedGifWriter(const std::filesystem::path& path, int widt
 
 AnimatedGifWriter::~AnimatedGifWriter() {
   if (!impl_ || impl_->committed) return;
-  if (impl_->out) impl_->out.reset();  // closes the temporary before it is removed
+  impl_->out.reset();  // closes the temporary before it is removed
   std::error_code ec;
   std::filesystem::remove(impl_->tmp, ec);
 }

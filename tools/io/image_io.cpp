@@ -126,6 +126,9 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
 
 namespace {
 
+// Bytes a channel of `type` takes in memory (the backend reports u8, u16 or f32 for files).
+int bytes_of(StoredType type) { return type == StoredType::u8 ? 1 : type == StoredType::u16 ? 2 : 4; }
+
 // Opens an image for reading its header; the caller reads pixels or only the header.
 std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path) {
   const std::string file = path.string();
@@ -150,8 +153,7 @@ uint32_t big_endian16(const uint8_t* p) { return (uint32_t{p[0]} << 8) | uint32_
 ImageHeader read_image_header(const std::filesystem::path& path) {
   const auto in = open_image(path);
   const ImageFileInfo& info = in->info();
-  const int bytes = info.type == StoredType::u8 ? 1 : info.type == StoredType::u16 ? 2 : 4;
-  return ImageHeader{info.width, info.height, info.channels, bytes};
+  return ImageHeader{info.width, info.height, info.channels, bytes_of(info.type)};
 }
 
 std::optional<EncodedImageSize> encoded_image_size(const uint8_t* bytes, size_t size) {
@@ -203,12 +205,11 @@ ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encod
                      std::to_string(spec.width) + " x " + std::to_string(spec.height) + " texels, a side " +
                          over_budget(std::to_string(budget.max_texture_side), kMaxTextureSideFlag));
   const int channels = std::min(spec.channels, 4);
-  const StoredType read_type = spec.type == StoredType::u8 || spec.type == StoredType::u16 ? spec.type : StoredType::f32;
-  const int bits = read_type == StoredType::u8 ? 8 : read_type == StoredType::u16 ? 16 : 32;
-  std::vector<uint8_t> buffer(static_cast<size_t>(spec.width) * spec.height * channels * (bits / 8));
-  if (const std::string error = in->read(channels, read_type, buffer.data()); !error.empty())
+  const int bytes = bytes_of(spec.type);
+  std::vector<uint8_t> buffer(static_cast<size_t>(spec.width) * spec.height * channels * bytes);
+  if (const std::string error = in->read(channels, spec.type, buffer.data()); !error.empty())
     throw InputError(file, "", "reading the pixels failed: " + error);
-  ImageRGBA img = pixels_to_rgba(buffer.data(), spec.width, spec.height, channels, bits, encoding);
+  ImageRGBA img = pixels_to_rgba(buffer.data(), spec.width, spec.height, channels, 8 * bytes, encoding);
   for (float v : img.rgba)
     if (!std::isfinite(v)) throw InputError(file, "", "the image holds non-finite values");
   return img;

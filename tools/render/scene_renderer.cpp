@@ -3,7 +3,6 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "raster/parallel.h"
 #include "shading/normal_blur.h"
 #include "tools/render/budget_check.h"
 #include "tools/io/image_io.h"
@@ -78,7 +77,9 @@ SkinLayer layer_of(Aov aov) {
 // The colour map of an object: the material's `color_map`, else the one the mesh file
 // names (glTF baseColorTexture, OBJ map_Kd), else none.
 void load_color_map(const io::SceneObject& so, const io::LoadedMesh& loaded, const io::Budget& budget,
-                    raster::Texture& out) {
+                    raster::Texture& out, FrameStats& stats) {
+  if (so.material.color_map.empty() && loaded.color_map.path.empty() && loaded.color_map.pixels.empty()) return;
+  StageTimer t(stats, "textures");
   io::ImageRGBA img;
   std::string source;
   if (!so.material.color_map.empty()) {
@@ -87,11 +88,9 @@ void load_color_map(const io::SceneObject& so, const io::LoadedMesh& loaded, con
   } else if (!loaded.color_map.path.empty()) {
     img = io::read_image_rgba(loaded.color_map.path, io::ColorEncoding::srgb, budget);
     source = loaded.color_map.path.string();
-  } else if (!loaded.color_map.pixels.empty()) {
+  } else {
     img = loaded.color_map.pixels;
     source = so.mesh;
-  } else {
-    return;
   }
   if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(),
                                                   raster::TexelEncoding::Srgb, out))
@@ -204,15 +203,11 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     // Internally v = 0 is the top row of an image (glTF); OBJ files count v from the bottom.
     if (!so.mesh_path.empty() && so.mesh_path.extension() == ".obj")
       for (glm::vec2& uv : obj->mesh.uvs) uv.y = 1.0f - uv.y;
-    const io::TextureRef& mesh_map = meshes[i].loaded.color_map;
-    std::optional<StageTimer> maps_timer;
-    if (!so.material.color_map.empty() || !mesh_map.path.empty() || !mesh_map.pixels.empty() ||
-        !so.material.normal_map.empty())
-      maps_timer.emplace(setup_stats_, "textures");
-    load_color_map(so, meshes[i].loaded, settings.budget, obj->color_map);
+    load_color_map(so, meshes[i].loaded, settings.budget, obj->color_map, setup_stats_);
     if (!obj->color_map.empty()) obj->material.color_map = &obj->color_map;
 
     if (!so.material.normal_map.empty()) {
+      StageTimer t(setup_stats_, "textures");
       const std::string field = "objects[" + std::to_string(i) + "].material.normal_map";
       if (obj->mesh.uvs.size() != obj->mesh.vertex_count())
         throw io::InputError(scene.file.string(), field,
@@ -224,7 +219,6 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
         throw io::InputError(so.material.normal_map.string(), e->field, e->reason);
       obj->material.normal_map = &obj->normal_map;
     }
-    maps_timer.reset();
     shading::BlurredNormals blurred;
     const bool blur = obj->material.kind == MaterialKind::skin &&
                       obj->material.skin.multiple_scattering == shading::MultipleScattering::normal_blur;
@@ -233,9 +227,8 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       const shading::NormalBlurInput in{&m.positions[0].x, &m.normals[0].x, m.vertex_count(),
                                         m.indices.data(), m.indices.size()};
       // A search per vertex (0.5 s on the head scan on one core): spread over the render's threads.
-      raster::ThreadPool pool(settings.threads);
-      const shading::ParallelFor parallel = [&pool](size_t count, const std::function<void(size_t)>& fn) {
-        pool.parallel_for(count, [&fn](size_t k, int) { fn(k); });
+      const shading::ParallelFor parallel = [this](size_t count, const std::function<void(size_t)>& fn) {
+        renderer_.parallel_for(count, [&fn](size_t k, int) { fn(k); });
       };
       if (auto e = shading::blur_normals(in, obj->material.skin.normal_blur_radius, blurred, parallel))
         throw io::InputError(scene.file.string(), "objects[" + std::to_string(i) + "].material.skin." + e->field,

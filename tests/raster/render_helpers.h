@@ -8,9 +8,8 @@
 #include <string>
 #include <vector>
 
-#include <hwy/targets.h>
-
 #include "raster/renderer.h"
+#include "tests/hwy_targets.h"
 
 namespace pelt::raster::test {
 
@@ -35,13 +34,6 @@ inline Image render(std::span<const DrawCall> draws, int w, int h, int threads =
   return img;
 }
 
-// Runs fn(target name) with dispatch restricted to each target this CPU supports.
-inline void for_each_target(const std::function<void(const std::string&)>& fn) {
-  for (int64_t t : hwy::SupportedAndGeneratedTargets()) {
-    hwy::SetSupportedTargetsForTest(t);
-    fn(hwy::TargetName(t));
-  }
-  hwy::SetSupportedTargetsForTest(0);
-}
+using pelt::test::for_each_target;
 
 }  // namespace pelt::raster::test

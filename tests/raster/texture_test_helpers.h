@@ -14,6 +14,7 @@
 #include <hwy/targets.h>
 
 #include "raster/texture.h"
+#include "tests/hwy_targets.h"
 
 namespace pelt::raster::test {
 
@@ -21,16 +22,7 @@ inline constexpr Filter kAllFilters[] = {Filter::Nearest, Filter::Bilinear, Filt
 
 inline bool mipmapped(Filter f) { return f == Filter::Trilinear || f == Filter::BilinearMip; }
 
-// Runs fn(target name) with dispatch restricted to each compiled target this CPU supports.
-inline void for_each_target(const std::function<void(const std::string&)>& fn) {
-  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
-  ASSERT_FALSE(targets.empty());
-  for (int64_t t : targets) {
-    hwy::SetSupportedTargetsForTest(t);
-    fn(hwy::TargetName(t));
-  }
-  hwy::SetSupportedTargetsForTest(0);
-}
+using pelt::test::for_each_target;
 
 inline uint32_t pack(uint8_t r, uint8_t g, uint8_t b, uint8_t a) {
   return uint32_t{r} | (uint32_t{g} << 8) | (uint32_t{b} << 16) | (uint32_t{a} << 24);

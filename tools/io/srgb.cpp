@@ -41,15 +41,15 @@ uint8_t linear_to_srgb8_fast(float x) { return raster::srgb_byte(x); }
 void encode_srgb8_rows(const float* src, size_t src_row_stride, uint8_t* dst,
                        size_t dst_row_stride, int width, int height, int channels) {
   const bool has_alpha = channels == 2 || channels == 4;
-  const int colour = has_alpha ? channels - 1 : channels;
-  const raster::SrgbBoundaries& srgb = raster::srgb_boundaries();
+  const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
   for (int y = 0; y < height; ++y) {
     const float* s = src + static_cast<size_t>(y) * src_row_stride;
     uint8_t* d = dst + static_cast<size_t>(y) * dst_row_stride;
-    for (int x = 0; x < width; ++x, s += channels, d += channels) {
-      for (int c = 0; c < colour; ++c) d[c] = raster::srgb_byte(srgb, s[c]);
-      if (has_alpha) d[colour] = linear_to_unorm8(s[colour]);
-    }
+    // The whole row through the sRGB curve, then the alpha channel again, linearly.
+    encode_srgb8_span(s, d, row);
+    if (has_alpha)
+      for (size_t a = static_cast<size_t>(channels) - 1; a < row; a += static_cast<size_t>(channels))
+        d[a] = linear_to_unorm8(s[a]);
   }
 }
 

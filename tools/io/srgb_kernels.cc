@@ -56,6 +56,13 @@ void EncodeSrgb8Span(const float* HWY_RESTRICT src, uint8_t* HWY_RESTRICT dst, s
   size_t i = 0;
   for (; i + N <= n; i += N) {
     const auto x = hn::LoadU(df, src + i);
+    // Vectors of only 0s and 1s and what clamps to them (a frame's background, its alpha,
+    // saturated colour) skip the gathers: most of a rendered frame's vectors.
+    const auto high = hn::Ge(x, one);
+    if (hn::AllTrue(df, hn::Or(hn::Lt(x, floor), high))) {
+      hn::StoreU(hn::DemoteTo(d8, hn::IfThenElseZero(hn::RebindMask(di, high), hn::Set(di, 255))), d8, dst + i);
+      continue;
+    }
     // Lanes outside [kFloor, 1) (negative, NaN, tiny, >= 1) read bucket 0 or the last and
     // are replaced below.
     const auto k = hn::Min(hn::Max(hn::Sub(hn::BitCast(di, hn::ShiftRight<16>(hn::BitCast(du, x))), first),
@@ -64,7 +71,7 @@ void EncodeSrgb8Span(const float* HWY_RESTRICT src, uint8_t* HWY_RESTRICT dst, s
     const auto b0 = hn::GatherIndex(di, t.bucket.data(), k);
     const auto above = hn::Ge(x, hn::GatherIndex(df, t.threshold.data(), b0));
     auto b = hn::Sub(b0, hn::VecFromMask(di, hn::RebindMask(di, above)));  // + 1 where above
-    b = hn::IfThenElse(hn::RebindMask(di, hn::Ge(x, one)), hn::Set(di, 255), b);
+    b = hn::IfThenElse(hn::RebindMask(di, high), hn::Set(di, 255), b);
     b = hn::IfThenElseZero(hn::RebindMask(di, hn::Ge(x, floor)), b);  // also NaN
     hn::StoreU(hn::DemoteTo(d8, b), d8, dst + i);
   }

@@ -5,6 +5,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -114,14 +115,32 @@ std::vector<AxisTaps> box_taps(int src, int dst) {
   return taps;
 }
 
+// fn(y0, y1) over rows [0, rows) in items of about kItemTexels texels, as items of `parallel`
+// when given (and there is more than one), else in order on this thread.
+void for_row_items(int rows, size_t row_texels, const ParallelFor& parallel, const std::function<void(int, int)>& fn) {
+  constexpr size_t kItemTexels = 16384;
+  const int per = int(std::max<size_t>(1, kItemTexels / std::max<size_t>(1, row_texels)));
+  const size_t items = size_t((rows + per - 1) / per);
+  const std::function<void(size_t)> item = [&](size_t k) {
+    const int y0 = int(k) * per;
+    fn(y0, std::min(rows, y0 + per));
+  };
+  if (parallel && items > 1) {
+    parallel(items, item);
+  } else {
+    for (size_t k = 0; k < items; ++k) item(k);
+  }
+}
+
 // One level of the chain from the previous one, as straight decoded texels; src(i) gives the
 // previous level's texel i. Colour is averaged weighted by alpha; where the whole footprint
 // is transparent, plainly.
 template <class Source>
-std::vector<Texel> reduce(const Source& src, int sw, int sh, int dw, int dh) {
+std::vector<Texel> reduce(const Source& src, int sw, int sh, int dw, int dh, const ParallelFor& parallel) {
   const std::vector<AxisTaps> tx = box_taps(sw, dw), ty = box_taps(sh, dh);
   std::vector<Texel> dst(size_t(dw) * size_t(dh));
-  for (int y = 0; y < dh; ++y)
+  for_row_items(dh, size_t(dw), parallel, [&](int y_begin, int y_end) {
+  for (int y = y_begin; y < y_end; ++y)
     for (int x = 0; x < dw; ++x) {
       double pm[3] = {}, plain[3] = {}, alpha = 0.0;
       const AxisTaps& ax = tx[size_t(x)];
@@ -141,6 +160,7 @@ std::vector<Texel> reduce(const Source& src, int sw, int sh, int dw, int dh) {
       for (int ch = 0; ch < 3; ++ch) d.c[ch] = alpha > 0.0 ? pm[ch] / alpha : plain[ch];
       d.c[3] = alpha;
     }
+  });
   return dst;
 }
 
@@ -159,7 +179,7 @@ std::optional<TextureError> check_size(int width, int height) {
 // Why a class builder and not a constructor: errors are returned as values naming the field.
 struct TextureBuilder {
   static void build(int width, int height, std::vector<uint32_t> level0, TexelEncoding enc,
-                    std::vector<uint32_t>& texels, std::vector<MipLevel>& levels) {
+                    std::vector<uint32_t>& texels, std::vector<MipLevel>& levels, const ParallelFor& parallel) {
     levels.clear();
     size_t total = 0;
     for (int w = width, h = height;; w = std::max(1, w / 2), h = std::max(1, h / 2)) {
@@ -178,12 +198,16 @@ struct TextureBuilder {
       const MipLevel& s = levels[k - 1];
       const MipLevel& d = levels[k];
       if (k == 1)
-        cur = reduce([&](size_t i) { return decode(level0[i], enc); }, s.width, s.height, d.width, d.height);
+        cur = reduce([&](size_t i) { return decode(level0[i], enc); }, s.width, s.height, d.width, d.height, parallel);
       else
-        cur = reduce([&](size_t i) { return cur[i]; }, s.width, s.height, d.width, d.height);
-      std::vector<uint32_t> packed(cur.size());
-      for (size_t i = 0; i < cur.size(); ++i) packed[i] = encode(cur[i], enc);
-      store(packed, d, texels);
+        cur = reduce([&](size_t i) { return cur[i]; }, s.width, s.height, d.width, d.height, parallel);
+      for_row_items(d.height, size_t(d.width), parallel, [&](int y_begin, int y_end) {
+        for (int y = y_begin; y < y_end; ++y) {
+          uint32_t* row = texels.data() + d.offset + size_t(y) * size_t(d.stride);
+          const Texel* from = cur.data() + size_t(y) * size_t(d.width);
+          for (int x = 0; x < d.width; ++x) row[x] = encode(from[x], enc);
+        }
+      });
     }
     fill_transparent(texels, levels);
     for (const MipLevel& L : levels)
@@ -222,7 +246,7 @@ struct TextureBuilder {
 };
 
 std::optional<TextureError> Texture::from_rgba8(int width, int height, const uint8_t* rgba,
-                                                TexelEncoding encoding, Texture& out) {
+                                                TexelEncoding encoding, Texture& out, const ParallelFor& parallel) {
   if (auto e = check_size(width, height)) return e;
   if (rgba == nullptr) return TextureError{"rgba", "is null"};
   std::vector<uint32_t> level0(size_t(width) * size_t(height));
@@ -232,11 +256,12 @@ std::optional<TextureError> Texture::from_rgba8(int width, int height, const uin
   }
   out.encoding_ = encoding;
   out.format_ = TexelFormat::Rgba8;
-  TextureBuilder::build(width, height, std::move(level0), encoding, out.texels_, out.levels_);
+  TextureBuilder::build(width, height, std::move(level0), encoding, out.texels_, out.levels_, parallel);
   return std::nullopt;
 }
 
-std::optional<TextureError> Texture::from_la8(int width, int height, const uint8_t* la, Texture& out) {
+std::optional<TextureError> Texture::from_la8(int width, int height, const uint8_t* la, Texture& out,
+                                              const ParallelFor& parallel) {
   if (auto e = check_size(width, height)) return e;
   if (la == nullptr) return TextureError{"la", "is null"};
   std::vector<uint32_t> level0(size_t(width) * size_t(height));
@@ -246,7 +271,7 @@ std::optional<TextureError> Texture::from_la8(int width, int height, const uint8
   }
   out.encoding_ = TexelEncoding::Linear;
   out.format_ = TexelFormat::La8;
-  TextureBuilder::build(width, height, std::move(level0), TexelEncoding::Linear, out.texels_, out.levels_);
+  TextureBuilder::build(width, height, std::move(level0), TexelEncoding::Linear, out.texels_, out.levels_, parallel);
   // Equal channels average to equal channels, so every level is still grey: repack each row
   // as (texel, right neighbour) pairs, the padding word as the row's first pair.
   auto la16 = [](uint32_t rgba) { return (rgba & 255u) | ((rgba >> 16) & 0xFF00u); };  // L | A << 8
@@ -264,30 +289,33 @@ std::optional<TextureError> Texture::from_la8(int width, int height, const uint8
 }
 
 std::optional<TextureError> Texture::from_linear_float(int width, int height, const float* rgba,
-                                                       TexelEncoding encoding, Texture& out) {
+                                                       TexelEncoding encoding, Texture& out,
+                                                       const ParallelFor& parallel) {
   if (auto e = check_size(width, height)) return e;
   if (rgba == nullptr) return TextureError{"rgba", "is null"};
   const size_t n = size_t(width) * size_t(height);
-  std::vector<uint32_t> level0(n);
-  for (size_t i = 0; i < n; ++i) {
-    Texel t{};
-    for (int ch = 0; ch < 4; ++ch) {
-      const float x = rgba[i * 4 + size_t(ch)];
-      if (!(x >= 0.0f && x <= 1.0f)) {
-        static const char* const kChannel = "rgba";
-        return TextureError{"rgba[" + std::to_string(i * 4 + size_t(ch)) + "]",
-                            "texel (" + std::to_string(i % size_t(width)) + ", " +
-                                std::to_string(i / size_t(width)) + ") channel " + kChannel[ch] +
-                                " = " + std::to_string(x) +
-                                " is outside [0, 1] (textures store 8 bits per channel)"};
-      }
-      t.c[ch] = x;
+  // Checked in order first, so the error names the first bad value whatever runs the packing.
+  for (size_t i = 0; i < 4 * n; ++i) {
+    const float x = rgba[i];
+    if (!(x >= 0.0f && x <= 1.0f)) {
+      static const char* const kChannel = "rgba";
+      return TextureError{"rgba[" + std::to_string(i) + "]",
+                          "texel (" + std::to_string(i / 4 % size_t(width)) + ", " +
+                              std::to_string(i / 4 / size_t(width)) + ") channel " + kChannel[i % 4] + " = " +
+                              std::to_string(x) + " is outside [0, 1] (textures store 8 bits per channel)"};
     }
-    level0[i] = encode(t, encoding);
   }
+  std::vector<uint32_t> level0(n);
+  for_row_items(height, size_t(width), parallel, [&](int y_begin, int y_end) {
+    for (size_t i = size_t(y_begin) * size_t(width); i < size_t(y_end) * size_t(width); ++i) {
+      Texel t{};
+      for (int ch = 0; ch < 4; ++ch) t.c[ch] = rgba[i * 4 + size_t(ch)];
+      level0[i] = encode(t, encoding);
+    }
+  });
   out.encoding_ = encoding;
   out.format_ = TexelFormat::Rgba8;
-  TextureBuilder::build(width, height, std::move(level0), encoding, out.texels_, out.levels_);
+  TextureBuilder::build(width, height, std::move(level0), encoding, out.texels_, out.levels_, parallel);
   return std::nullopt;
 }
 
@@ -295,15 +323,25 @@ namespace {
 
 // `count` layers of `layer_bytes` each from `bytes`, each built by make(layer bytes, texture);
 // a layer's error names the layer.
+// With `parallel`, each layer is an item (built on one thread); the first failing layer in
+// order names the error.
 template <class Make>
 std::optional<TextureError> build_layers(int width, int height, int count, const uint8_t* bytes, const char* field,
-                                         size_t layer_bytes, Make&& make, TextureArray& out) {
+                                         size_t layer_bytes, Make&& make, TextureArray& out,
+                                         const ParallelFor& parallel) {
   if (count < 1) return TextureError{"count", std::to_string(count) + " layers: need at least 1"};
   if (auto e = check_size(width, height)) return e;
   if (bytes == nullptr) return TextureError{field, "is null"};
   std::vector<Texture> layers(static_cast<size_t>(count));
-  for (int s = 0; s < count; ++s)
-    if (auto e = make(bytes + size_t(s) * layer_bytes, layers[size_t(s)])) {
+  std::vector<std::optional<TextureError>> errors(static_cast<size_t>(count));
+  const std::function<void(size_t)> item = [&](size_t s) { errors[s] = make(bytes + s * layer_bytes, layers[s]); };
+  if (parallel) {
+    parallel(size_t(count), item);
+  } else {
+    for (size_t s = 0; s < size_t(count); ++s) item(s);
+  }
+  for (size_t s = 0; s < size_t(count); ++s)
+    if (auto& e = errors[s]) {
       e->field = "layer " + std::to_string(s) + " " + e->field;
       return e;
     }
@@ -316,16 +354,17 @@ std::optional<TextureError> build_layers(int width, int height, int count, const
 std::optional<TextureError> TextureArray::from_rgba8_layers(int width, int height, int count,
                                                             const uint8_t* rgba,
                                                             TexelEncoding encoding,
-                                                            TextureArray& out) {
+                                                            TextureArray& out, const ParallelFor& parallel) {
   return build_layers(width, height, count, rgba, "rgba", size_t(width) * size_t(height) * 4,
                       [&](const uint8_t* layer, Texture& t) { return Texture::from_rgba8(width, height, layer, encoding, t); },
-                      out);
+                      out, parallel);
 }
 
 std::optional<TextureError> TextureArray::from_la8_layers(int width, int height, int count, const uint8_t* la,
-                                                          TextureArray& out) {
+                                                          TextureArray& out, const ParallelFor& parallel) {
   return build_layers(width, height, count, la, "la", size_t(width) * size_t(height) * 2,
-                      [&](const uint8_t* layer, Texture& t) { return Texture::from_la8(width, height, layer, t); }, out);
+                      [&](const uint8_t* layer, Texture& t) { return Texture::from_la8(width, height, layer, t); }, out,
+                      parallel);
 }
 
 const float* srgb8_to_linear_table() {

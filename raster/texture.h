@@ -38,6 +38,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -92,24 +93,34 @@ struct MipLevel {
 // texel indices within int32.
 inline constexpr int kMaxTextureSide = 16384;
 
+// Calls fn(i) once for every i in [0, count), in any order and possibly on several threads
+// at once (a renderer's pool: Renderer::parallel_for). Texture builds split rows and layers
+// into such items, each writing only its own texels, so every build gives the same bytes
+// with or without one.
+using ParallelFor = std::function<void(size_t count, const std::function<void(size_t)>& fn)>;
+
 class Texture {
  public:
   Texture() = default;
 
   // `rgba`: width * height * 4 bytes, R, G, B, A, straight alpha, row 0 = v = 0.
   // Builds the full mip chain and fills transparent texels (see above). Allocates: call when a texture is loaded or generated.
+  // With `parallel`, rows of level 0's packing and of each level's reduction run as its items.
   static std::optional<TextureError> from_rgba8(int width, int height, const uint8_t* rgba,
-                                                TexelEncoding encoding, Texture& out);
+                                                TexelEncoding encoding, Texture& out,
+                                                const ParallelFor& parallel = {});
   // `rgba`: width * height * 4 linear floats in [0, 1], straight alpha (e.g. io::ImageRGBA).
   // Stored with `encoding` (Srgb for colour maps keeps 8-bit precision in the darks; an
   // sRGB8 image read to linear floats and stored as Srgb gives back its bytes exactly).
   // Values outside [0, 1] or not finite are an error naming the texel and channel.
   static std::optional<TextureError> from_linear_float(int width, int height, const float* rgba,
-                                                       TexelEncoding encoding, Texture& out);
+                                                       TexelEncoding encoding, Texture& out,
+                                                       const ParallelFor& parallel = {});
   // `la`: width * height * 2 bytes, L, A (linear, straight alpha), row 0 = v = 0. The same
   // texture as from_rgba8 with R = G = B = L, in the La8 layout: its mip chain and fill are
   // built that way, so every level's bytes and every sample equal the RGBA8 texture's.
-  static std::optional<TextureError> from_la8(int width, int height, const uint8_t* la, Texture& out);
+  static std::optional<TextureError> from_la8(int width, int height, const uint8_t* la, Texture& out,
+                                              const ParallelFor& parallel = {});
 
   bool empty() const { return levels_.empty(); }
   int width() const { return empty() ? 0 : levels_[0].width; }
@@ -147,12 +158,13 @@ struct TextureArray {
 
   // `rgba`: `count` layers one after another, each width * height * 4 bytes as in
   // Texture::from_rgba8 (the layout of fur::LayerTextures).
+  // With `parallel`, the layers are built as its items.
   static std::optional<TextureError> from_rgba8_layers(int width, int height, int count,
                                                        const uint8_t* rgba, TexelEncoding encoding,
-                                                       TextureArray& out);
+                                                       TextureArray& out, const ParallelFor& parallel = {});
   // `la`: `count` layers of width * height * 2 bytes, as in Texture::from_la8.
   static std::optional<TextureError> from_la8_layers(int width, int height, int count, const uint8_t* la,
-                                                     TextureArray& out);
+                                                     TextureArray& out, const ParallelFor& parallel = {});
 };
 
 struct SamplerState {

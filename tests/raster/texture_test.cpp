@@ -5,9 +5,12 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <random>
+#include <string>
 #include <vector>
 
+#include "raster/parallel.h"
 #include "raster/texture.h"
 #include "tests/raster/texture_test_helpers.h"
 
@@ -492,6 +495,67 @@ TEST(TextureArray, LayersMatchSingleTextures) {
         for (int x = 0; x < one.level(k).width; ++x)
           ASSERT_EQ(arr.layers[size_t(s)].texel(k, x, y), one.texel(k, x, y));
   }
+}
+
+// The parallel builds split rows and layers into items: the bytes must not depend on how the
+// items run. Built serially, on a real pool of 2 and 3 threads, and with the items in reverse
+// order; an odd size makes odd-sized levels and a partial last item.
+TEST(Texture, ParallelBuildsGiveTheSerialBytes) {
+  ThreadPool two(2), three(3);
+  auto pool_of = [](ThreadPool& pool) -> ParallelFor {
+    return [&pool](size_t count, const std::function<void(size_t)>& fn) {
+      pool.parallel_for(count, [&fn](size_t k, int) { fn(k); });
+    };
+  };
+  const ParallelFor reverse = [](size_t count, const std::function<void(size_t)>& fn) {
+    for (size_t k = count; k-- > 0;) fn(k);
+  };
+  const ParallelFor runs[] = {pool_of(two), pool_of(three), reverse};
+  const int w = 301, h = 157, layers = 5;
+  std::mt19937 rng(21);
+  std::vector<float> f(size_t(w) * h * 4);
+  for (auto& x : f) x = float(rng() % 1001) / 1000.0f * (rng() % 4 == 0 ? 0.0f : 1.0f);  // a quarter transparent-ish
+  std::vector<uint8_t> rgba(size_t(w) * h * 4 * layers), la(size_t(w) * h * 2 * layers);
+  for (auto& b : rgba) b = uint8_t(rng());
+  for (auto& b : la) b = uint8_t(rng() % 3 == 0 ? 0 : rng());
+  auto same = [](const Texture& a, const Texture& b) {
+    if (a.levels() != b.levels() || a.bytes() != b.bytes()) return false;
+    return std::equal(a.data(), a.data() + a.bytes() / 4, b.data());
+  };
+  for (TexelEncoding enc : {TexelEncoding::Srgb, TexelEncoding::Linear}) {
+    Texture serial;
+    ASSERT_FALSE(Texture::from_linear_float(w, h, f.data(), enc, serial));
+    for (const ParallelFor& run : runs) {
+      Texture t;
+      ASSERT_FALSE(Texture::from_linear_float(w, h, f.data(), enc, t, run));
+      EXPECT_TRUE(same(serial, t)) << "from_linear_float, encoding " << int(enc);
+    }
+  }
+  TextureArray serial_rgba, serial_la;
+  ASSERT_FALSE(TextureArray::from_rgba8_layers(w, h, layers, rgba.data(), TexelEncoding::Srgb, serial_rgba));
+  ASSERT_FALSE(TextureArray::from_la8_layers(w, h, layers, la.data(), serial_la));
+  for (const ParallelFor& run : runs) {
+    TextureArray a, b;
+    ASSERT_FALSE(TextureArray::from_rgba8_layers(w, h, layers, rgba.data(), TexelEncoding::Srgb, a, run));
+    ASSERT_FALSE(TextureArray::from_la8_layers(w, h, layers, la.data(), b, run));
+    for (int s = 0; s < layers; ++s) {
+      EXPECT_TRUE(same(serial_rgba.layers[size_t(s)], a.layers[size_t(s)])) << "rgba layer " << s;
+      EXPECT_TRUE(same(serial_la.layers[size_t(s)], b.layers[size_t(s)])) << "la layer " << s;
+    }
+    Texture one;
+    ASSERT_FALSE(Texture::from_rgba8(w, h, rgba.data(), TexelEncoding::Linear, one, run));
+    Texture one_serial;
+    ASSERT_FALSE(Texture::from_rgba8(w, h, rgba.data(), TexelEncoding::Linear, one_serial));
+    EXPECT_TRUE(same(one_serial, one));
+  }
+  // The first bad value is named whatever runs the packing.
+  std::vector<float> bad = f;
+  bad[4 * (size_t(w) * 100 + 7) + 2] = 1.5f;
+  bad[4 * (size_t(w) * 120 + 3) + 1] = -1.0f;
+  Texture t;
+  const auto e = Texture::from_linear_float(w, h, bad.data(), TexelEncoding::Srgb, t, runs[0]);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "rgba[" + std::to_string(4 * (size_t(w) * 100 + 7) + 2) + "]");
 }
 
 }  // namespace

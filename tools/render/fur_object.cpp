@@ -98,10 +98,12 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
     // 0.63/255 of a channel) separates level 0 from its bytes; the levels above differ more
     // anyway (pelt's alpha-weighted mip chain, not glGenerateMipmap's plain average).
     const fur::ShellLuminance& lum = tex.shell_luminance;
-    throw_if(raster::TextureArray::from_la8_layers(lum.size, lum.size, lum.layers, lum.la.data(), shell_tex_), name);
+    throw_if(raster::TextureArray::from_la8_layers(lum.size, lum.size, lum.layers, lum.la.data(), shell_tex_,
+                                                   options.parallel),
+             name);
     shell_tint_ = lum.tint;
     throw_if(raster::Texture::from_rgba8(tex.fin.size, tex.fin.size, tex.fin.rgba.data(),
-                                         raster::TexelEncoding::Linear, fin_tex_),
+                                         raster::TexelEncoding::Linear, fin_tex_, options.parallel),
              name);
   }
   const size_t v = geo_.positions.size();

@@ -47,6 +47,8 @@ struct FurDrawOptions {
   // Per-vertex lighting that is grey everywhere is passed as FurGreyVaryings (the same image
   // from half the varyings); off: always FurVaryings (for tests and measurements).
   bool grey_varyings = true;
+  // Builds the strand textures' layers as its items (the render's threads); none: in order.
+  raster::ParallelFor parallel;
 };
 
 // What may change from frame to frame.

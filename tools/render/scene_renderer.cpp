@@ -77,7 +77,7 @@ SkinLayer layer_of(Aov aov) {
 // The colour map of an object: the material's `color_map`, else the one the mesh file
 // names (glTF baseColorTexture, OBJ map_Kd), else none.
 void load_color_map(const io::SceneObject& so, const io::LoadedMesh& loaded, const io::Budget& budget,
-                    raster::Texture& out, FrameStats& stats) {
+                    const raster::ParallelFor& parallel, raster::Texture& out, FrameStats& stats) {
   if (so.material.color_map.empty() && loaded.color_map.path.empty() && loaded.color_map.pixels.empty()) return;
   StageTimer t(stats, "textures");
   io::ImageRGBA img;
@@ -93,7 +93,7 @@ void load_color_map(const io::SceneObject& so, const io::LoadedMesh& loaded, con
     source = so.mesh;
   }
   if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(),
-                                                  raster::TexelEncoding::Srgb, out))
+                                                  raster::TexelEncoding::Srgb, out, parallel))
     throw io::InputError(source, e->field, e->reason);
 }
 
@@ -182,6 +182,11 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
   offsets_ = sample_offsets(quality_.spp);
   const io::Scene& scene = scene_;
   const RenderSettings& settings = settings_;
+  // Set-up work that splits into independent items (blurred normals, texture rows and strand
+  // layers) runs on the render's threads; each gives the same result on any count.
+  const raster::ParallelFor parallel = [this](size_t count, const std::function<void(size_t)>& fn) {
+    renderer_.parallel_for(count, [&fn](size_t k, int) { fn(k); });
+  };
   uint32_t id_base = 0;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const io::SceneObject& so = scene.objects[i];
@@ -203,7 +208,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     // Internally v = 0 is the top row of an image (glTF); OBJ files count v from the bottom.
     if (!so.mesh_path.empty() && so.mesh_path.extension() == ".obj")
       for (glm::vec2& uv : obj->mesh.uvs) uv.y = 1.0f - uv.y;
-    load_color_map(so, meshes[i].loaded, settings.budget, obj->color_map, setup_stats_);
+    load_color_map(so, meshes[i].loaded, settings.budget, parallel, obj->color_map, setup_stats_);
     if (!obj->color_map.empty()) obj->material.color_map = &obj->color_map;
 
     if (!so.material.normal_map.empty()) {
@@ -215,7 +220,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       const io::ImageRGBA img =
           io::read_image_rgba(so.material.normal_map, io::ColorEncoding::linear, settings.budget);
       if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(),
-                                                      raster::TexelEncoding::Linear, obj->normal_map))
+                                                      raster::TexelEncoding::Linear, obj->normal_map, parallel))
         throw io::InputError(so.material.normal_map.string(), e->field, e->reason);
       obj->material.normal_map = &obj->normal_map;
     }
@@ -227,9 +232,6 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       const shading::NormalBlurInput in{&m.positions[0].x, &m.normals[0].x, m.vertex_count(),
                                         m.indices.data(), m.indices.size()};
       // A search per vertex (0.5 s on the head scan on one core): spread over the render's threads.
-      const shading::ParallelFor parallel = [this](size_t count, const std::function<void(size_t)>& fn) {
-        renderer_.parallel_for(count, [&fn](size_t k, int) { fn(k); });
-      };
       if (auto e = shading::blur_normals(in, obj->material.skin.normal_blur_radius, blurred, parallel))
         throw io::InputError(scene.file.string(), "objects[" + std::to_string(i) + "].material.skin." + e->field,
                              e->reason);
@@ -273,6 +275,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       fo.filter = quality_.filter;
       fo.double_precision = quality_.precision == io::Precision::double_precision;
       fo.grey_varyings = settings.fur_grey_varyings;
+      fo.parallel = parallel;
       obj->fur = std::make_unique<FurObject>(obj->mesh, *so.fur, fo, name, setup_stats_);
     }
     objects_.push_back(std::move(obj));

@@ -69,7 +69,7 @@ float strand_alpha(const ShellStrand& strand, float h) {
   return 1.0f - 0.8f * (h / strand.length);
 }
 
-std::optional<ParamError> generate_strand_textures(const FurParams& params, StrandTextures& out) {
+std::optional<ParamError> generate_strand_textures(const FurParams& params, StrandTextures& out, ShellForms forms) {
   if (auto e = validate(params)) return e;
   const int N = params.texture_size, S = params.shells;
   const size_t area = size_t(N) * size_t(N);
@@ -98,7 +98,8 @@ std::optional<ParamError> generate_strand_textures(const FurParams& params, Stra
   LayerTextures& sh = out.shells;
   sh.size = N;
   sh.layers = S;
-  sh.rgba.assign(area * size_t(S) * 4, 0);
+  const bool rgba = forms == ShellForms::RgbaAndLuminance;
+  sh.rgba.assign(rgba ? area * size_t(S) * 4 : 0, 0);
   ShellLuminance& lum = out.shell_luminance;
   lum.size = N;
   lum.layers = S;
@@ -112,11 +113,11 @@ std::optional<ParamError> generate_strand_textures(const FurParams& params, Stra
   for (int s = 0; s < S; ++s) {
     const float h = float(s) / float(S - 1);
     const glm::vec3 base = layer_colour(params, h);
-    uint8_t* layer = sh.rgba.data() + size_t(s) * area * 4;
+    uint8_t* layer = rgba ? sh.rgba.data() + size_t(s) * area * 4 : nullptr;
     uint8_t* la = lum.la.data() + size_t(s) * area * 2;
     lum.tint[size_t(s)] = base * kMaxStrandBrightness;
     for (size_t t = 0; t < area; ++t) {
-      put(layer + 4 * t, base, 0.0f);
+      if (rgba) put(layer + 4 * t, base, 0.0f);
       la[2 * t] = no_strand;
     }
     for (const ShellStrand& st : out.strands) {
@@ -126,7 +127,7 @@ std::optional<ParamError> generate_strand_textures(const FurParams& params, Stra
       int x, y;
       strand_texel(st, s, S, N, x, y);
       const size_t t = size_t(y) * N + size_t(x);
-      put_max(layer + 4 * t, base * st.brightness, a);
+      if (rgba) put_max(layer + 4 * t, base * st.brightness, a);
       put_max_la(la + 2 * t, st.brightness / kMaxStrandBrightness, a);
     }
   }
@@ -158,14 +159,15 @@ std::optional<ParamError> generate_strand_textures(const FurParams& params, Stra
   return std::nullopt;
 }
 
-StrandTextures match_llvmpipe_textures() {
+StrandTextures match_llvmpipe_textures(ShellForms forms) {
   // The harness's loops and float expressions, kept in its order of random draws.
   constexpr int W = 256, H = 256, L = 16;
   const float fur[3] = {0.80f, 0.58f, 0.36f};
   StrandTextures out;
   out.shells.size = W;
   out.shells.layers = L;
-  out.shells.rgba.assign(size_t(W) * H * L * 4, 0);
+  const bool rgba = forms == ShellForms::RgbaAndLuminance;
+  out.shells.rgba.assign(rgba ? size_t(W) * H * L * 4 : 0, 0);
   // The same shells as luminance and alpha (ShellLuminance): the harness's texel colour is
   // its layer's colour times the strand's brightness, so L = brightness / kMaxStrandBrightness
   // and tint = layer colour * kMaxStrandBrightness give it back within L's rounding.
@@ -188,12 +190,15 @@ StrandTextures match_llvmpipe_textures() {
       for (int s = 0; s < L; ++s) {
         const float f = float(s) / (L - 1);
         const float shade = layer_shade(f) * (strand ? bright : 1.0f);
-        uint8_t* p = &out.shells.rgba[((size_t(s) * H + y) * W + x) * 4];
-        for (int c = 0; c < 3; ++c) p[c] = to8(fur[c] * shade);
-        p[3] = strand ? to8(1.0f - 0.8f * f) : 0;
+        const uint8_t alpha = strand ? to8(1.0f - 0.8f * f) : 0;
+        if (rgba) {
+          uint8_t* p = &out.shells.rgba[((size_t(s) * H + y) * W + x) * 4];
+          for (int c = 0; c < 3; ++c) p[c] = to8(fur[c] * shade);
+          p[3] = alpha;
+        }
         uint8_t* q = &lum.la[((size_t(s) * H + y) * W + x) * 2];
         q[0] = luminance;
-        q[1] = p[3];
+        q[1] = alpha;
       }
     }
   }

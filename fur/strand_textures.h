@@ -74,7 +74,7 @@ struct ShellLuminance {
 };
 
 struct StrandTextures {
-  LayerTextures shells;  // params.shells layers of texture_size^2
+  LayerTextures shells;  // params.shells layers of texture_size^2; rgba empty unless grown (ShellForms)
   ShellLuminance shell_luminance;  // the same shells as L, A and a tint per layer
   LayerTextures fin;     // 1 layer of texture_size^2: strands seen from the side,
                          // u along the edge (repeat), v = row from root (0) to tip (1)
@@ -91,12 +91,17 @@ inline constexpr float kFinDepthTexels = 4.0f;
 // density/100 * size * kFinDepthTexels) strands, each a line from a random root column
 // leaning by up to 0.1 * size over the fin height, length as for shells, alpha 1 - 0.8 v /
 // length. Returns the first bad params field. Allocates: call once per fur block.
-std::optional<ParamError> generate_strand_textures(const FurParams& params, StrandTextures& out);
+// Which forms of the shells to grow. The renderer samples only the luminance form; the RGBA
+// form (4 bytes a texel: 16 layers of 256^2 are 4 MiB, of 1024^2 64 MiB) is for tests and
+// tools that read the shells' colours directly. Every other output is the same either way.
+enum class ShellForms : uint8_t { RgbaAndLuminance, LuminanceOnly };
+std::optional<ParamError> generate_strand_textures(const FurParams& params, StrandTextures& out,
+                                                   ShellForms forms = ShellForms::RgbaAndLuminance);
 
 // The llvmpipe harness's textures, byte for byte (its README: 16 layers of 256^2 from
 // mt19937 seed 2008, one 256^2 fin texture from seed 7600, colour (0.80,0.58,0.36)), and its
 // shells' luminance form, whose colour is the harness's within L's rounding. `strands` is
 // left empty (its strands are vertical columns).
-StrandTextures match_llvmpipe_textures();
+StrandTextures match_llvmpipe_textures(ShellForms forms = ShellForms::RgbaAndLuminance);
 
 }  // namespace pelt::fur

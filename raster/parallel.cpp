@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <thread>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -17,6 +19,24 @@ ScopedFlushToZero::ScopedFlushToZero() : saved_(_mm_getcsr()) {
   _mm_setcsr(saved_ | 0x8040u);
 }
 ScopedFlushToZero::~ScopedFlushToZero() { _mm_setcsr(saved_); }
+
+void start_worker_threads(int threads) {
+  if (threads <= 1) return;
+  // An arena kept for the process holds TBB's workers; a job of `threads` items that each wait
+  // (briefly, bounded) for the others makes TBB start them now rather than at first use.
+  // More threads than cores get no more workers from TBB; one deadline for the whole job
+  // bounds the wait however the items are scheduled.
+  const int n = std::min(threads, std::max(1, int(std::thread::hardware_concurrency())));
+  static tbb::task_arena keep(n);
+  std::atomic<int> started{0};
+  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(50);
+  keep.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, 1), [&](const tbb::blocked_range<int>&) {
+      started.fetch_add(1);
+      while (started.load() < n && std::chrono::steady_clock::now() < until) std::this_thread::yield();
+    });
+  });
+}
 
 struct ThreadPool::Arena {
   explicit Arena(int n) : arena(n) {}

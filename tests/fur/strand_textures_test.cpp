@@ -117,6 +117,35 @@ TEST(StrandTextures, SameSeedSameTexturesOtherSeedDifferent) {
   EXPECT_NE(a.fin.rgba, c.fin.rgba);
 }
 
+// The renderer grows only the luminance form: everything else must be what the full
+// generation gives, for pelt's own fur and for the harness's.
+TEST(StrandTextures, LuminanceOnlyLeavesOutJustTheRgbaShells) {
+  FurParams p;
+  p.texture_size = 64;
+  p.shells = 6;
+  p.seed = 77;
+  const StrandTextures full = grow(p);
+  StrandTextures lum;
+  ASSERT_FALSE(generate_strand_textures(p, lum, ShellForms::LuminanceOnly).has_value());
+  EXPECT_TRUE(lum.shells.rgba.empty());
+  EXPECT_EQ(lum.shells.size, full.shells.size);
+  EXPECT_EQ(lum.shells.layers, full.shells.layers);
+  EXPECT_EQ(lum.shell_luminance.la, full.shell_luminance.la);
+  EXPECT_EQ(lum.shell_luminance.tint, full.shell_luminance.tint);
+  EXPECT_EQ(lum.fin.rgba, full.fin.rgba);
+  ASSERT_EQ(lum.strands.size(), full.strands.size());
+  for (size_t k = 0; k < lum.strands.size(); ++k) {
+    EXPECT_EQ(lum.strands[k].root_x, full.strands[k].root_x);
+    EXPECT_EQ(lum.strands[k].root_y, full.strands[k].root_y);
+    EXPECT_EQ(lum.strands[k].brightness, full.strands[k].brightness);
+  }
+  const StrandTextures harness = match_llvmpipe_textures(), harness_lum = match_llvmpipe_textures(ShellForms::LuminanceOnly);
+  EXPECT_TRUE(harness_lum.shells.rgba.empty());
+  EXPECT_EQ(harness_lum.shell_luminance.la, harness.shell_luminance.la);
+  EXPECT_EQ(harness_lum.shell_luminance.tint, harness.shell_luminance.tint);
+  EXPECT_EQ(harness_lum.fin.rgba, harness.fin.rgba);
+}
+
 TEST(StrandTextures, AlphaFallsFromRootToTipAlongEachStrand) {
   FurParams p;
   p.texture_size = 256;

@@ -1,11 +1,14 @@
 // The image is bit-identical for any thread count (and with threads = 0, inline).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstring>
 #include <random>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "raster/parallel.h"
 #include "tests/raster/render_helpers.h"
 #include "tests/raster/test_shaders.h"
 
@@ -94,6 +97,23 @@ TEST(Determinism, PackedAndPerTriangleOpaqueShadingAgree) {
     EXPECT_EQ(0, std::memcmp(a.color.data(), b.color.data(), a.color.size() * 4)) << target;
     EXPECT_EQ(a.stats.pixels_shaded, b.stats.pixels_shaded) << target;
   });
+}
+
+// start_worker_threads only starts threads early: any width, called again, returns (its wait
+// is bounded) and leaves pools computing every item exactly once, in their own slots.
+TEST(Determinism, StartingWorkerThreadsEarlyLeavesPoolsAsTheyWere) {
+  for (int threads : {0, 1, 2, 64, 2}) start_worker_threads(threads);
+  for (int threads : {1, 2, 3}) {
+    ThreadPool pool(threads);
+    std::vector<std::atomic<int>> hits(1000);
+    std::atomic<bool> slot_ok{true};
+    pool.parallel_for(hits.size(), [&](size_t i, int slot) {
+      hits[i].fetch_add(1);
+      if (slot < 0 || slot >= pool.slots()) slot_ok = false;
+    });
+    for (size_t i = 0; i < hits.size(); ++i) ASSERT_EQ(hits[i].load(), 1) << threads << " threads, item " << i;
+    EXPECT_TRUE(slot_ok.load()) << threads << " threads";
+  }
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "raster/parallel.h"
 #include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/quality_options.h"
@@ -162,14 +163,15 @@ int run_render(const RenderOptions& o) {
     return 0;
   }
 
-  // OpenImageIO's module loads on a thread of its own while the scene is set up and the first
-  // frame renders, rather than before everything (tools/io/image_backend.h).
-  io::preload_image_backend();
-
   render::RenderSettings rs;
   rs.width = o.width;
   rs.height = o.height;
   rs.threads = o.threads > 0 ? o.threads : int(std::thread::hardware_concurrency());
+  // OpenImageIO's module loads on a thread of its own while the scene is set up and the first
+  // frame renders, rather than before everything (tools/io/image_backend.h); the render's
+  // worker threads start first, as no thread can start during the load (raster/parallel.h).
+  raster::start_worker_threads(rs.threads);
+  io::preload_image_backend();
   rs.quality = quality;
   rs.budget = o.budget;
   rs.aov = aov;

@@ -67,12 +67,14 @@ MemoryPart mesh_part(const io::SceneObject& so, const Mesh& m, size_t i) {
   return p;
 }
 
+// A mip chain's working set while it is built: level 0 packed, 4 bytes a texel, and level 1
+// in double, 32 bytes a texel of a quarter as many (raster/texture.cpp).
+constexpr uint64_t kBuildBytes = 4 + 32 / 4;
+
 // A texture read from an image file: float RGBA as read, the file's own pixels while they
-// are converted, the mip chain's working set (level 0 packed, 4 bytes a texel, and level 1
-// in double, 32 bytes a texel of a quarter as many: raster/texture.cpp), and the mipmapped
-// 8-bit texture the shader samples.
+// are converted, the mip chain's working set, and the mipmapped 8-bit texture the shader
+// samples.
 uint64_t image_texture_bytes(uint64_t texels, uint64_t file_bytes_per_texel) {
-  constexpr uint64_t kBuildBytes = 4 + 32 / 4;
   return sat_add(sat_mul(texels, 4 * sizeof(float) + file_bytes_per_texel + kBuildBytes), mipmapped_rgba8(texels));
 }
 
@@ -118,7 +120,7 @@ MemoryPart color_map_part(const io::SceneObject& so, const io::LoadedMesh& loade
   return p;
 }
 
-void add_fur_parts(const io::Scene& scene, const Mesh& m, size_t i, std::vector<MemoryPart>& parts) {
+void add_fur_parts(const io::Scene& scene, const Mesh& m, size_t i, int threads, std::vector<MemoryPart>& parts) {
   const fur::FurParams& fp = *scene.objects[i].fur;
   std::string shells_field;
   const int shells = effective_shells(scene, i, shells_field);
@@ -139,15 +141,20 @@ void add_fur_parts(const io::Scene& scene, const Mesh& m, size_t i, std::vector<
   geo.bytes = g;
   parts.push_back(std::move(geo));
 
-  // Strand textures: every shell layer and the fin texture are texture_size^2 RGBA8,
-  // generated unmipped and then copied into mipmapped textures.
+  // Strand textures: each shell layer generated unmipped as luminance and alpha (2 bytes a
+  // texel), the fin as RGBA8 (4), each then copied into a mipmapped texture of 4 bytes a texel
+  // (raster/texture.h); the layers are built on up to `threads` threads at once, each holding
+  // a mip chain's working set (image_texture_bytes' kBuildBytes).
   const uint64_t layer_texels = uint64_t(fp.texture_size) * uint64_t(fp.texture_size);
-  const uint64_t layers = uint64_t(std::max(shells, 0)) + 1;
+  const uint64_t shell_layers = uint64_t(std::max(shells, 0)), layers = shell_layers + 1;
   MemoryPart tex;
   tex.field = object_field(i) + ".fur.texture_size";
   tex.what = "fur strand textures, " + std::to_string(layers) + " layers of " + std::to_string(fp.texture_size) +
              "^2 texels with mips";
-  tex.bytes = sat_mul(layers, sat_add(mipmapped_rgba8(layer_texels), sat_mul(layer_texels, 4)));
+  const uint64_t builds = std::min<uint64_t>(layers, uint64_t(std::max(threads, 1)));
+  tex.bytes = sat_add(sat_add(sat_mul(layers, mipmapped_rgba8(layer_texels)),
+                              sat_mul(layer_texels, sat_add(sat_mul(shell_layers, 2), 4))),
+                      sat_mul(builds, sat_mul(layer_texels, kBuildBytes)));
   parts.push_back(std::move(tex));
 }
 
@@ -223,7 +230,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
     if (MemoryPart cm = color_map_part(so, meshes[i].loaded, i); !cm.field.empty()) e.parts.push_back(std::move(cm));
     if (MemoryPart nm = normal_map_part(so, meshes[i].loaded.mesh, i); !nm.field.empty())
       e.parts.push_back(std::move(nm));
-    if (so.fur) add_fur_parts(scene, m, i, e.parts);
+    if (so.fur) add_fur_parts(scene, m, i, threads, e.parts);
   }
   const int w = effective_side(width, scene.image.width), h = effective_side(height, scene.image.height);
   e.parts.push_back({"image.width",

@@ -89,8 +89,8 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
     StageTimer t(setup, "fur_textures");
     fur::StrandTextures tex;
     if (match_llvmpipe_) {
-      tex = fur::match_llvmpipe_textures();
-    } else if (auto e = fur::generate_strand_textures(params, tex)) {
+      tex = fur::match_llvmpipe_textures(fur::ShellForms::LuminanceOnly);
+    } else if (auto e = fur::generate_strand_textures(params, tex, fur::ShellForms::LuminanceOnly)) {
       throw io::InputError(name, "fur." + e->field, e->reason);
     }
     // Brightness and alpha with a tint per layer: the sampler's La8 path. The harness's shells

@@ -140,8 +140,10 @@ TEST(MemoryEstimate, PartsFollowTheCounts) {
   // Mesh: positions and normals, uvs, 8 varyings a vertex; three indices a triangle.
   const Mesh& box = meshes[1].loaded.mesh;
   EXPECT_EQ(e.parts[1].bytes, box.positions.size() * (24 + 8 + 32) + box.triangle_count() * 12);
-  // Strand textures: 16 shells and the fin texture, mipmapped plus the unmipped source.
-  EXPECT_EQ(e.parts[3].bytes, 17 * (mipmapped(256 * 256) + 256 * 256 * 4));
+  // Strand textures: 16 shells and the fin texture mipmapped, the unmipped sources (2 bytes a
+  // shell texel, 4 a fin texel), and two layers' mip working sets at once (2 threads).
+  const uint64_t texels = 256 * 256;
+  EXPECT_EQ(e.parts[3].bytes, 17 * mipmapped(texels) + texels * (16 * 2 + 4) + 2 * texels * 12);
   EXPECT_EQ(e.parts[4].bytes, image_bytes(100, 50, 1));
   const MemoryEstimate four = estimate_memory(s, meshes, 0, 0, 4, 1);
   EXPECT_EQ(four.parts[5].bytes, 2 * e.parts[5].bytes);
@@ -155,7 +157,7 @@ TEST(MemoryEstimate, PartsFollowTheCounts) {
   const io::Scene s32 = dir.scene(two_objects(32, 256));
   const MemoryEstimate e32 = estimate_memory(s32, meshes, 0, 0, 2, 1);
   EXPECT_GT(e32.parts[2].bytes, e.parts[2].bytes * 19 / 10);
-  EXPECT_EQ(e32.parts[3].bytes, 33 * (mipmapped(256 * 256) + 256 * 256 * 4));
+  EXPECT_EQ(e32.parts[3].bytes, 33 * mipmapped(texels) + texels * (32 * 2 + 4) + 2 * texels * 12);
   EXPECT_EQ(e32.parts[1].bytes, e.parts[1].bytes);
 }
 
@@ -216,16 +218,16 @@ TEST(MemoryBudget, EstimateAtTheLimitAcceptedOneLessRefusedNamingTheLargestPart)
                           "fur strand textures, 17 layers of 256^2"});
 }
 
-// 64 shells of 4096^2 strand textures are over 10 GiB: refused by the default budget from
+// 96 shells of 4096^2 strand textures are over 11 GiB: refused by the default budget from
 // counts alone (building them would allocate it all first).
 TEST(MemoryBudget, HeavyFurRefusedByTheDefaultBudget) {
   SceneDir dir;
-  const io::Scene s = dir.scene(two_objects(64, 4096));
+  const io::Scene s = dir.scene(two_objects(96, 4096));
   const auto meshes = io::load_scene_meshes(s);
   EXPECT_NO_THROW(check_scene_budget(s, 0, 0, 1, io::Budget{}));  // each request alone is allowed
   const io::InputError err = refusal([&] { check_memory_budget(s, meshes, 0, 0, 1, io::Budget{}); });
   EXPECT_EQ(err.field, "objects[1].fur.texture_size");
-  expect_reason_has(err, {"8589934592 bytes (8.0 GiB)", "--max-memory", "65 layers of 4096^2"});
+  expect_reason_has(err, {"8589934592 bytes (8.0 GiB)", "--max-memory", "97 layers of 4096^2"});
 }
 
 TEST(MemoryBudget, SppFromTheSceneQualityOrGiven) {

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
-#include <queue>
 #include <unordered_map>
 #include <utility>
 
@@ -32,6 +31,79 @@ double dist(const float* a, const float* b) {
   const double dx = double(a[0]) - b[0], dy = double(a[1]) - b[1], dz = double(a[2]) - b[2];
   return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
+
+// The vertices whose distance is still tentative, as a 4-ary min-heap ordered by (distance,
+// vertex): the order std::priority_queue of (distance, vertex) pairs gave, so vertices settle
+// in the same sequence and the sums below are the same bits. Each vertex holds one entry,
+// moved up when a shorter path is found (`slot` knows where), instead of a stale entry per
+// improvement; the heap's sifting was most of the blur's time.
+class TentativeHeap {
+ public:
+  explicit TentativeHeap(size_t vertices) : slot_(vertices, kAbsent) {}
+  bool empty() const { return entries_.empty(); }
+  bool contains(uint32_t v) const { return slot_[v] != kAbsent; }
+  void push(double d, uint32_t v) {
+    slot_[v] = uint32_t(entries_.size());
+    entries_.push_back({d, v});
+    up(entries_.size() - 1);
+  }
+  void decrease(double d, uint32_t v) {
+    entries_[slot_[v]].d = d;
+    up(slot_[v]);
+  }
+  // Removes and returns the nearest vertex and its distance.
+  std::pair<double, uint32_t> pop() {
+    const Entry top = entries_[0];
+    slot_[top.v] = kAbsent;
+    const Entry last = entries_.back();
+    entries_.pop_back();
+    if (!entries_.empty()) {
+      entries_[0] = last;
+      slot_[last.v] = 0;
+      down(0);
+    }
+    return {top.d, top.v};
+  }
+
+ private:
+  struct Entry {
+    double d;
+    uint32_t v;
+  };
+  static constexpr uint32_t kAbsent = UINT32_MAX;
+  static bool before(const Entry& a, const Entry& b) { return a.d < b.d || (a.d == b.d && a.v < b.v); }
+  void place(size_t i, const Entry& e) {
+    entries_[i] = e;
+    slot_[e.v] = uint32_t(i);
+  }
+  void up(size_t i) {
+    const Entry e = entries_[i];
+    while (i > 0) {
+      const size_t parent = (i - 1) / 4;
+      if (!before(e, entries_[parent])) break;
+      place(i, entries_[parent]);
+      i = parent;
+    }
+    place(i, e);
+  }
+  void down(size_t i) {
+    const Entry e = entries_[i];
+    const size_t n = entries_.size();
+    for (;;) {
+      const size_t first = 4 * i + 1;
+      if (first >= n) break;
+      size_t best = first;
+      for (size_t c = first + 1; c < std::min(first + 4, n); ++c)
+        if (before(entries_[c], entries_[best])) best = c;
+      if (!before(entries_[best], e)) break;
+      place(i, entries_[best]);
+      i = best;
+    }
+    place(i, e);
+  }
+  std::vector<Entry> entries_;
+  std::vector<uint32_t> slot_;
+};
 
 }  // namespace
 
@@ -118,18 +190,15 @@ std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sig
     auto item = [&](size_t k) {
       std::vector<double> best(W, INFINITY);
       std::vector<uint32_t> touched;
-      using Item = std::pair<double, uint32_t>;
-      std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+      TentativeHeap queue(W);
       const size_t end = std::min(W, (k + 1) * kItemVertices);
       for (size_t s = k * kItemVertices; s < end; ++s) {
         double acc[3][3] = {};
         best[s] = 0.0;
         touched.push_back(uint32_t(s));
-        queue.emplace(0.0, uint32_t(s));
+        queue.push(0.0, uint32_t(s));
         while (!queue.empty()) {
-          const auto [d, v] = queue.top();
-          queue.pop();
-          if (d > best[v]) continue;  // stale entry
+          const auto [d, v] = queue.pop();
           for (int c = 0; c < 3; ++c) {
             const double sg = sigma[c];
             if (sg <= 0.0 || d > 3.0 * sg) continue;
@@ -140,9 +209,15 @@ std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sig
             const uint32_t u = edges[e].second;
             const double nd = d + elen[e];
             if (nd <= cutoff && nd < best[u]) {
-              if (best[u] == INFINITY) touched.push_back(u);
+              // Settled vertices never improve (their distance is at most d); a tentative
+              // one moves up, a new one enters.
+              if (queue.contains(u)) {
+                queue.decrease(nd, u);
+              } else {
+                touched.push_back(u);
+                queue.push(nd, u);
+              }
               best[u] = nd;
-              queue.emplace(nd, u);
             }
           }
         }

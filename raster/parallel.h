@@ -50,11 +50,12 @@ class ThreadPool {
   std::unique_ptr<Arena> arena_;
 };
 
-// Starts the process's worker threads for pools of `threads` now, and keeps them until exit.
-// Why: glibc creates a thread only outside another thread's dlopen (its TLS lock), and
-// `pelt render` loads OpenImageIO's module on a thread of its own while the scene is set up;
-// a pool whose workers were first needed during that load stalled until it ended (200-300
-// ms of a one-frame render's 0.4 s). Call before starting such a load.
+// Starts the process's worker threads for pools of `threads` now, and keeps them until exit
+// (the first call's width holds; call once). Why: glibc creates a thread only outside another
+// thread's dlopen (its TLS lock), and `pelt render` loads OpenImageIO's module on a thread of
+// its own while the scene is set up; a pool whose workers were first needed during that load
+// stalled until it ended (200-375 ms of a one-frame render's 0.4 s). Call before starting
+// such a load.
 void start_worker_threads(int threads);
 
 // Sets FTZ/DAZ on the calling thread for its lifetime in scope and restores it after.

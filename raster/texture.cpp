@@ -140,26 +140,26 @@ std::vector<Texel> reduce(const Source& src, int sw, int sh, int dw, int dh, con
   const std::vector<AxisTaps> tx = box_taps(sw, dw), ty = box_taps(sh, dh);
   std::vector<Texel> dst(size_t(dw) * size_t(dh));
   for_row_items(dh, size_t(dw), parallel, [&](int y_begin, int y_end) {
-  for (int y = y_begin; y < y_end; ++y)
-    for (int x = 0; x < dw; ++x) {
-      double pm[3] = {}, plain[3] = {}, alpha = 0.0;
-      const AxisTaps& ax = tx[size_t(x)];
-      const AxisTaps& ay = ty[size_t(y)];
-      for (int j = 0; j < ay.count; ++j)
-        for (int i = 0; i < ax.count; ++i) {
-          const Texel s = src(size_t(ay.first + j) * size_t(sw) + size_t(ax.first + i));
-          const double w = ax.w[i] * ay.w[j];
-          const double wa = w * s.c[3];
-          for (int ch = 0; ch < 3; ++ch) {
-            pm[ch] += wa * s.c[ch];
-            plain[ch] += w * s.c[ch];
+    for (int y = y_begin; y < y_end; ++y)
+      for (int x = 0; x < dw; ++x) {
+        double pm[3] = {}, plain[3] = {}, alpha = 0.0;
+        const AxisTaps& ax = tx[size_t(x)];
+        const AxisTaps& ay = ty[size_t(y)];
+        for (int j = 0; j < ay.count; ++j)
+          for (int i = 0; i < ax.count; ++i) {
+            const Texel s = src(size_t(ay.first + j) * size_t(sw) + size_t(ax.first + i));
+            const double w = ax.w[i] * ay.w[j];
+            const double wa = w * s.c[3];
+            for (int ch = 0; ch < 3; ++ch) {
+              pm[ch] += wa * s.c[ch];
+              plain[ch] += w * s.c[ch];
+            }
+            alpha += wa;
           }
-          alpha += wa;
-        }
-      Texel& d = dst[size_t(y) * size_t(dw) + size_t(x)];
-      for (int ch = 0; ch < 3; ++ch) d.c[ch] = alpha > 0.0 ? pm[ch] / alpha : plain[ch];
-      d.c[3] = alpha;
-    }
+        Texel& d = dst[size_t(y) * size_t(dw) + size_t(x)];
+        for (int ch = 0; ch < 3; ++ch) d.c[ch] = alpha > 0.0 ? pm[ch] / alpha : plain[ch];
+        d.c[3] = alpha;
+      }
   });
   return dst;
 }
@@ -321,9 +321,8 @@ std::optional<TextureError> Texture::from_linear_float(int width, int height, co
 
 namespace {
 
-// `count` layers of `layer_bytes` each from `bytes`, each built by make(layer bytes, texture);
-// a layer's error names the layer.
-// With `parallel`, each layer is an item (built on one thread); the first failing layer in
+// `count` layers of `layer_bytes` each from `bytes`, each built by make(layer bytes, texture),
+// as items of `parallel` when given (each layer on one thread); the first failing layer in
 // order names the error.
 template <class Make>
 std::optional<TextureError> build_layers(int width, int height, int count, const uint8_t* bytes, const char* field,

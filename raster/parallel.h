@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <type_traits>
 #include <utility>
@@ -25,6 +26,13 @@ class ItemFn {
   void* obj_;
   void (*call_)(void*, size_t, int);
 };
+
+// Calls fn(i) once for every i in [0, count), in any order and possibly on several threads
+// at once: how set-up passes outside the renderer (texture builds) borrow its threads
+// (Renderer::parallel_for adapts). Callers split their work into items that each write only
+// their own outputs, so the result is the same with or without one. (shading::ParallelFor is
+// the same type, declared there because shading does not include the rasterizer.)
+using ParallelFor = std::function<void(size_t count, const std::function<void(size_t)>& fn)>;
 
 class ThreadPool {
  public:

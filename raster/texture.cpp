@@ -307,7 +307,20 @@ std::optional<TextureError> Texture::from_linear_float(int width, int height, co
   }
   std::vector<uint32_t> level0(n);
   for_row_items(height, size_t(width), parallel, [&](int y_begin, int y_end) {
-    for (size_t i = size_t(y_begin) * size_t(width); i < size_t(y_end) * size_t(width); ++i) {
+    const size_t first = size_t(y_begin) * size_t(width), last = size_t(y_end) * size_t(width);
+    if (encoding == TexelEncoding::Srgb) {
+      // Colour through the SIMD search (srgb_bytes: srgb_byte bit for bit), alpha linearly,
+      // as encode() packs a texel.
+      std::vector<uint8_t> bytes(4 * (last - first));
+      srgb_bytes(rgba + 4 * first, bytes.data(), bytes.size());
+      for (size_t i = first; i < last; ++i) {
+        const uint8_t* b = bytes.data() + 4 * (i - first);
+        level0[i] = uint32_t{b[0]} | (uint32_t{b[1]} << 8) | (uint32_t{b[2]} << 16) |
+                    (uint32_t{to_byte(rgba[4 * i + 3])} << 24);
+      }
+      return;
+    }
+    for (size_t i = first; i < last; ++i) {
       Texel t{};
       for (int ch = 0; ch < 4; ++ch) t.c[ch] = rgba[i * 4 + size_t(ch)];
       level0[i] = encode(t, encoding);

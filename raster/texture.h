@@ -38,10 +38,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "raster/parallel.h"
 
 namespace pelt::raster {
 
@@ -93,19 +94,14 @@ struct MipLevel {
 // texel indices within int32.
 inline constexpr int kMaxTextureSide = 16384;
 
-// Calls fn(i) once for every i in [0, count), in any order and possibly on several threads
-// at once (a renderer's pool: Renderer::parallel_for). Texture builds split rows and layers
-// into such items, each writing only its own texels, so every build gives the same bytes
-// with or without one.
-using ParallelFor = std::function<void(size_t count, const std::function<void(size_t)>& fn)>;
-
 class Texture {
  public:
   Texture() = default;
 
   // `rgba`: width * height * 4 bytes, R, G, B, A, straight alpha, row 0 = v = 0.
   // Builds the full mip chain and fills transparent texels (see above). Allocates: call when a texture is loaded or generated.
-  // With `parallel`, rows of level 0's packing and of each level's reduction run as its items.
+  // With `parallel` (raster/parallel.h), rows of level 0's packing and of each level's
+  // reduction run as its items, each writing only its own texels: the same bytes either way.
   static std::optional<TextureError> from_rgba8(int width, int height, const uint8_t* rgba,
                                                 TexelEncoding encoding, Texture& out,
                                                 const ParallelFor& parallel = {});
@@ -258,6 +254,14 @@ uint8_t srgb_byte_reference(double x);
 // The smallest x whose srgb_byte is greater than b (b in 0..254): the boundaries srgb_byte
 // searches.
 double srgb_byte_threshold(int b);
+
+// srgb_byte of n floats into n bytes, bit for bit, with SIMD (raster/srgb_kernels.cc; the
+// tests compare it with srgb_byte on every target): colour maps' level 0 and the 8-bit
+// resolve of image writes. A 1024x768 RGBA frame, three quarters background, in 3.3 ms
+// instead of the scalar search's 7.1; random colours in 5.8 instead of 17.5.
+void srgb_bytes(const float* src, uint8_t* dst, size_t n);
+// The smallest float whose srgb_byte is greater than b (b in 0..254).
+float srgb_float_threshold(int b);
 
 // srgb_byte's tables, for loops over whole images that inline the search. bucket[k]: the byte
 // of the first double of bucket k, the doubles in [2^-14, 1) sharing their exponent and top 7

@@ -15,7 +15,7 @@ struct AnimatedGifWriter::Impl {
   std::filesystem::path path, tmp;
   int width = 0, height = 0;
   std::unique_ptr<GifFrames> out;
-  std::vector<uint8_t> bytes;
+  std::vector<uint8_t> rgba, bytes;  // a frame's RGBA and RGB sRGB bytes
   bool committed = false;
 };
 
@@ -33,6 +33,7 @@ AnimatedGifWriter::AnimatedGifWriter(const std::filesystem::path& path, int widt
   std::string error;
   m.out = image_backend_for(file).gif(file, width, height, fps, error);
   if (!m.out) throw InputError(file, "", error);
+  m.rgba.resize(static_cast<size_t>(width) * height * 4);
   m.bytes.resize(static_cast<size_t>(width) * height * 3);
 }
 
@@ -47,8 +48,10 @@ void AnimatedGifWriter::add_frame(const float* rgba) {
   Impl& m = *impl_;
   const std::string file = m.path.string();
   if (m.committed) throw InputError(file, "", "frame added after the GIF was finished");
+  // The SIMD resolve over all four channels (alpha's bytes are dropped), then RGB.
+  encode_srgb8_span(rgba, m.rgba.data(), m.rgba.size());
   for (size_t p = 0, n = static_cast<size_t>(m.width) * m.height; p < n; ++p)
-    for (int c = 0; c < 3; ++c) m.bytes[p * 3 + c] = linear_to_srgb8_fast(rgba[p * 4 + c]);
+    for (int c = 0; c < 3; ++c) m.bytes[p * 3 + c] = m.rgba[p * 4 + c];
   if (const std::string error = m.out->append(m.tmp.string(), m.bytes.data()); !error.empty())
     throw InputError(file, "", "cannot write GIF frame " + std::to_string(frames_) + ": " + error);
   ++frames_;

@@ -29,14 +29,11 @@ uint8_t linear_to_unorm8(float x) {
 // in double, so images and textures share one table and one boundary search.
 float srgb8_to_linear(uint8_t b) { return raster::srgb8_to_linear_table()[b]; }
 
-float srgb8_threshold(int b) {
-  // The smallest float at or above the boundary (every float is a double).
-  const double t = raster::srgb_byte_threshold(b);
-  const float f = static_cast<float>(t);
-  return double(f) < t ? std::nextafter(f, 2.0f) : f;
-}
+float srgb8_threshold(int b) { return raster::srgb_float_threshold(b); }
 
 uint8_t linear_to_srgb8_fast(float x) { return raster::srgb_byte(x); }
+
+void encode_srgb8_span(const float* src, uint8_t* dst, size_t n) { raster::srgb_bytes(src, dst, n); }
 
 void encode_srgb8_rows(const float* src, size_t src_row_stride, uint8_t* dst,
                        size_t dst_row_stride, int width, int height, int channels) {

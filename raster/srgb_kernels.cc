@@ -1,6 +1,6 @@
-// linear_to_srgb8 over whole spans with Highway, compiled for every target and dispatched once
+// srgb_byte over whole spans of floats with Highway, compiled for every target and dispatched once
 // per call. Per vector: the float's bucket (its exponent and top 7 mantissa bits, as
-// raster::SrgbBoundaries buckets doubles) gives the byte at the bucket's start through one
+// SrgbBoundaries buckets doubles) gives the byte at the bucket's start through one
 // gather; a bucket spans less than one byte step (checked when the tables are built), so one
 // gathered threshold and one compare finish the byte. Vectors of only 0s and 1s (or what
 // clamps to them) skip both gathers: without that the kernel was slower than the scalar
@@ -8,50 +8,50 @@
 // scalar table search, which the tests compare it with on every target.
 
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "tools/io/srgb_kernels.cc"
+#define HWY_TARGET_INCLUDE "raster/srgb_kernels.cc"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
 #include <array>
 #include <bit>
 #include <cstddef>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
 
 #include "raster/texture.h"
-#include "tools/io/srgb.h"
 
-#ifndef PELT_IO_SRGB_TABLES_ONCE
-#define PELT_IO_SRGB_TABLES_ONCE
-namespace pelt::io::detail {
+#ifndef PELT_RASTER_SRGB_TABLES_ONCE
+#define PELT_RASTER_SRGB_TABLES_ONCE
+namespace pelt::raster::detail {
 
-// The float view of raster::SrgbBoundaries: the bucket bytes widened for a 32-bit gather,
-// and threshold[b] = srgb8_threshold(b) with threshold[255] = +inf.
+// The float view of SrgbBoundaries: the bucket bytes widened for a 32-bit gather, and
+// threshold[b] = srgb_float_threshold(b) with threshold[255] = +inf.
 struct SrgbSpanTables {
-  static constexpr uint32_t kFirstBucket = std::bit_cast<uint32_t>(float(raster::SrgbBoundaries::kFloor)) >> 16;
+  static constexpr uint32_t kFirstBucket = std::bit_cast<uint32_t>(float(SrgbBoundaries::kFloor)) >> 16;
   static constexpr int32_t kBuckets = int32_t((std::bit_cast<uint32_t>(1.0f) >> 16) - kFirstBucket);
   std::array<int32_t, size_t(kBuckets)> bucket;
   std::array<float, 256> threshold;
 };
 const SrgbSpanTables& srgb_span_tables();
 
-}  // namespace pelt::io::detail
+}  // namespace pelt::raster::detail
 #endif
 
 HWY_BEFORE_NAMESPACE();
-namespace pelt::io {
+namespace pelt::raster {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-void EncodeSrgb8Span(const float* HWY_RESTRICT src, uint8_t* HWY_RESTRICT dst, size_t n) {
+void SrgbBytes(const float* HWY_RESTRICT src, uint8_t* HWY_RESTRICT dst, size_t n) {
   const hn::ScalableTag<float> df;
   const hn::RebindToSigned<decltype(df)> di;
   const hn::RebindToUnsigned<decltype(df)> du;
   const hn::Rebind<uint8_t, decltype(df)> d8;
   const size_t N = hn::Lanes(df);
   const detail::SrgbSpanTables& t = detail::srgb_span_tables();
-  const auto floor = hn::Set(df, float(raster::SrgbBoundaries::kFloor));
+  const auto floor = hn::Set(df, float(SrgbBoundaries::kFloor));
   const auto one = hn::Set(df, 1.0f);
   const auto first = hn::Set(di, int32_t(detail::SrgbSpanTables::kFirstBucket));
   const auto last = hn::Set(di, detail::SrgbSpanTables::kBuckets - 1);
@@ -77,28 +77,28 @@ void EncodeSrgb8Span(const float* HWY_RESTRICT src, uint8_t* HWY_RESTRICT dst, s
     b = hn::IfThenElseZero(hn::RebindMask(di, hn::Ge(x, floor)), b);  // also NaN
     hn::StoreU(hn::DemoteTo(d8, b), d8, dst + i);
   }
-  for (; i < n; ++i) dst[i] = linear_to_srgb8_fast(src[i]);
+  for (; i < n; ++i) dst[i] = srgb_byte(src[i]);
 }
 
 }  // namespace HWY_NAMESPACE
-}  // namespace pelt::io
+}  // namespace pelt::raster
 HWY_AFTER_NAMESPACE();
 
 #if HWY_ONCE
-namespace pelt::io {
+namespace pelt::raster {
 namespace detail {
 
 const SrgbSpanTables& srgb_span_tables() {
   static const SrgbSpanTables tables = [] {
     SrgbSpanTables t{};
-    for (int b = 0; b < 255; ++b) t.threshold[size_t(b)] = srgb8_threshold(b);
+    for (int b = 0; b < 255; ++b) t.threshold[size_t(b)] = srgb_float_threshold(b);
     t.threshold[255] = std::numeric_limits<float>::infinity();
     for (int32_t k = 0; k < SrgbSpanTables::kBuckets; ++k) {
       const uint32_t first_bits = (SrgbSpanTables::kFirstBucket + uint32_t(k)) << 16;
       const float lo = std::bit_cast<float>(first_bits), hi = std::bit_cast<float>(first_bits | 0xFFFFu);
-      const uint8_t b = linear_to_srgb8_fast(lo);
+      const uint8_t b = srgb_byte(lo);
       // The kernel's single compare needs every bucket to hold at most one byte boundary.
-      if (linear_to_srgb8_fast(hi) > b + 1)
+      if (srgb_byte(hi) > b + 1)
         throw std::logic_error("srgb_span_tables: bucket " + std::to_string(k) + " spans two sRGB byte steps");
       t.bucket[size_t(k)] = b;
     }
@@ -109,11 +109,16 @@ const SrgbSpanTables& srgb_span_tables() {
 
 }  // namespace detail
 
-HWY_EXPORT(EncodeSrgb8Span);
+HWY_EXPORT(SrgbBytes);
 
-void encode_srgb8_span(const float* src, uint8_t* dst, size_t n) {
-  HWY_DYNAMIC_DISPATCH(EncodeSrgb8Span)(src, dst, n);
+void srgb_bytes(const float* src, uint8_t* dst, size_t n) { HWY_DYNAMIC_DISPATCH(SrgbBytes)(src, dst, n); }
+
+float srgb_float_threshold(int b) {
+  // The smallest float at or above the boundary (every float is a double).
+  const double t = srgb_byte_threshold(b);
+  const float f = static_cast<float>(t);
+  return double(f) < t ? std::nextafter(f, 2.0f) : f;
 }
 
-}  // namespace pelt::io
+}  // namespace pelt::raster
 #endif  // HWY_ONCE

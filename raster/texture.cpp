@@ -437,17 +437,15 @@ void ref_bilinear(const Texture& tex, int k, const SamplerState& s, float u, flo
 double ref_lod(const Texture& tex, const float* u, const float* v, float bias) {
   // Mean of the 12 horizontal and 12 vertical neighbour differences of the block; each row's
   // (column's) three differences telescope to last - first. The sums run in the kernel's
-  // order: with extreme inputs (1e38 next to 1) they cancel catastrophically even in double,
-  // and the order is then part of the definition.
-  double d[2][2] = {};  // [x or y][u or v]
-  for (int r = 0; r < 4; ++r) {
-    d[0][0] += double(u[4 * r + 3]) - double(u[4 * r]);
-    d[0][1] += double(v[4 * r + 3]) - double(v[4 * r]);
-  }
-  for (int c = 0; c < 4; ++c) {
-    d[1][0] += double(u[12 + c]) - double(u[c]);
-    d[1][1] += double(v[12 + c]) - double(v[c]);
-  }
+  // order, in pairs: with extreme inputs (1e38 next to 1) they cancel catastrophically even in
+  // double, and the order is then part of the definition.
+  auto pairs = [](double a, double b, double c, double e) { return (a + b) + (c + e); };
+  auto row = [](const float* p, int r) { return double(p[4 * r + 3]) - double(p[4 * r]); };
+  auto column = [](const float* p, int c) { return double(p[12 + c]) - double(p[c]); };
+  const double d[2][2] = {  // [x or y][u or v]
+      {pairs(row(u, 0), row(u, 1), row(u, 2), row(u, 3)), pairs(row(v, 0), row(v, 1), row(v, 2), row(v, 3))},
+      {pairs(column(u, 0), column(u, 1), column(u, 2), column(u, 3)),
+       pairs(column(v, 0), column(v, 1), column(v, 2), column(v, 3))}};
   const double W = tex.width(), H = tex.height();
   const double lx = std::hypot(d[0][0] * W / 12, d[0][1] * H / 12);
   const double ly = std::hypot(d[1][0] * W / 12, d[1][1] * H / 12);

@@ -211,23 +211,33 @@ void sample_reference(const Texture& tex, const SamplerState& state, const float
 // The LOD of the 4x4 block at u[0..16), v[0..16) as defined above, before the bias and clamp
 // (may be -inf for a zero derivative). For tests and for shaders that want to skip work.
 double block_lod(const float* u, const float* v, int width, int height);
+// The level of detail sample() takes for each of `blocks` 4x4 blocks (u, v: 16 floats a
+// block): 0.5 * log2(block_lod_length2) + lod_bias clamped to [0, levels - 1], with NaN, 0 and
+// -inf giving 0 and +inf giving levels - 1; by the sampler's SIMD kernel (block_lod_length2
+// bit for bit, Highway's log, which differs from std::log2 by an ulp or two; exact integers
+// where the length is a power of 4). Throws std::invalid_argument for a null pointer or a size
+// below 1. For tests against block_lod, and for shaders that want to skip work.
+void block_lods(const float* u, const float* v, size_t blocks, int width, int height, float lod_bias, int levels,
+                double* out);
 // Its argument: block_lod = 0.5 * log2(block_lod_length2), the larger squared length of the
-// two block derivatives in texels. Inline, so the sampler can skip the logarithm where the
-// LOD clamps to level 0 anyway (magnification: length2 <= 1).
+// two block derivatives in texels. Each row's three differences telescope to its last minus
+// its first value (and each column's to its bottom minus its top), exact in double; the four
+// of them are summed in pairs, (0 + 1) + (2 + 3), the order in which the SIMD kernel sums them
+// (with extreme inputs, 1e38 next to 1, the sums cancel even in double, so the order is part
+// of the definition). The sampler evaluates this bit for bit, four doubles at a time.
 inline double block_lod_length2(const float* u, const float* v, int width, int height) {
-  double ux = 0, vx = 0, uy = 0, vy = 0;
-  for (int r = 0; r < 4; ++r) {
-    ux += double(u[4 * r + 3]) - double(u[4 * r]);
-    vx += double(v[4 * r + 3]) - double(v[4 * r]);
+  double d[4][4];  // du/dx, dv/dx per row; du/dy, dv/dy per column
+  for (int k = 0; k < 4; ++k) {
+    d[0][k] = double(u[4 * k + 3]) - double(u[4 * k]);
+    d[1][k] = double(v[4 * k + 3]) - double(v[4 * k]);
+    d[2][k] = double(u[12 + k]) - double(u[k]);
+    d[3][k] = double(v[12 + k]) - double(v[k]);
   }
-  for (int c = 0; c < 4; ++c) {
-    uy += double(u[12 + c]) - double(u[c]);
-    vy += double(v[12 + c]) - double(v[c]);
-  }
-  ux *= width / 12.0;
-  uy *= width / 12.0;
-  vx *= height / 12.0;
-  vy *= height / 12.0;
+  const double sx = width / 12.0, sy = height / 12.0;
+  const double ux = ((d[0][0] + d[0][1]) + (d[0][2] + d[0][3])) * sx;
+  const double vx = ((d[1][0] + d[1][1]) + (d[1][2] + d[1][3])) * sy;
+  const double uy = ((d[2][0] + d[2][1]) + (d[2][2] + d[2][3])) * sx;
+  const double vy = ((d[3][0] + d[3][1]) + (d[3][2] + d[3][3])) * sy;
   const double lx = ux * ux + vx * vx, ly = uy * uy + vy * vy;
   return lx < ly ? ly : lx;  // std::max, NaN in lx included
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "raster/config.h"
+#include "shading/fur_vertex_lit.h"
 #include "tools/render/texture_sampling.h"
 #include "tools/render/varyings.h"
 
@@ -25,34 +26,6 @@ void FurShader::set_view(const std::vector<shading::Light>& lights, const glm::v
   eye_[1] = eye.y;
   eye_[2] = eye.z;
 }
-
-namespace {
-
-// min(1, c) as std::min(1.0f, c) computes it, but by value: through std::min's reference GCC
-// sees a load from one of two addresses and does not vectorize.
-inline float clamp1(float c) { return c < 1.0f ? c : 1.0f; }
-
-// One channel of one block: o = min(1, tint * x) * d + s. Restrict parameters (which GCC
-// honours, unlike restrict locals) let the loop vectorize without alias checks.
-inline void light_block(float tint, const float* __restrict x, const float* __restrict d, const float* __restrict s,
-                        float* __restrict o) {
-  for (size_t l = 0; l < raster::kBlockLanes; ++l) o[l] = clamp1(x[l] * tint) * d[l] + s[l];
-}
-
-// colour = min(1, tint * texel) * diffuse + specular per channel. The loop is bound by its
-// loads and stores (a few multiply-adds a lane). A luminance shell's three texel channels are
-// one array, as are the grey light's three values (FurGreyVaryings).
-void light_vertex_lit(const raster::FragmentBatch& b, const float* const texel[3],
-                      const float (*tint)[raster::kMaxBatchBlocks], const float* const diffuse[3],
-                      const float* const specular[3]) {
-  for (uint32_t blk = 0; blk < b.blocks; ++blk) {
-    const size_t first = size_t{blk} * raster::kBlockLanes;
-    for (int c = 0; c < 3; ++c)
-      light_block(tint[c][blk], texel[c] + first, diffuse[c] + first, specular[c] + first, b.out[c] + first);
-  }
-}
-
-}  // namespace
 
 void FurShader::shade(const raster::FragmentBatch& b) const {
   Scratch& s = tls_scratch;
@@ -104,14 +77,18 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   // Colour = min(1, tint * texel): the layer's tint for the luminance shells, 1 for the fins'
   // RGBA texture.
   if (vertex_lit) {
-    const float* const texel[3] = {texel_out[0], texel_out[1], texel_out[2]};
-    const float* d[3];
-    const float* sp[3];
+    // colour = min(1, tint * texel) * diffuse + specular per channel; a luminance shell's three
+    // texel channels are one array, as are a grey light's three values (FurGreyVaryings).
+    shading::FurVertexLitSoA lit;
+    lit.blocks = b.blocks;
     for (int c = 0; c < 3; ++c) {
-      d[c] = b.varying[grey_ ? FurGreyVaryings::kDiffuse : FurVaryings::kDiffuse + c];
-      sp[c] = b.varying[grey_ ? FurGreyVaryings::kSpecular : FurVaryings::kSpecular + c];
+      lit.texel[c] = texel_out[c];
+      lit.tint[c] = s.tint[c];
+      lit.diffuse[c] = b.varying[grey_ ? FurGreyVaryings::kDiffuse : FurVaryings::kDiffuse + c];
+      lit.specular[c] = b.varying[grey_ ? FurGreyVaryings::kSpecular : FurVaryings::kSpecular + c];
+      lit.out[c] = b.out[c];
     }
-    light_vertex_lit(b, texel, s.tint, d, sp);
+    shading::shade_fur_vertex_lit(lit);
     return;
   }
   if (!s_.fins)

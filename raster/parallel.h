@@ -34,6 +34,16 @@ class ItemFn {
 // the same type, declared there because shading does not include the rasterizer.)
 using ParallelFor = std::function<void(size_t count, const std::function<void(size_t)>& fn)>;
 
+// fn(i) for every i in [0, count): as the items of `parallel` when there is one and more than
+// one item, else in order on this thread.
+inline void for_each_item(const ParallelFor& parallel, size_t count, const std::function<void(size_t)>& fn) {
+  if (parallel && count > 1) {
+    parallel(count, fn);
+    return;
+  }
+  for (size_t i = 0; i < count; ++i) fn(i);
+}
+
 class ThreadPool {
  public:
   // threads >= 1: an arena of that many workers (the calling thread is one of them).

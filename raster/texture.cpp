@@ -115,21 +115,15 @@ std::vector<AxisTaps> box_taps(int src, int dst) {
   return taps;
 }
 
-// fn(y0, y1) over rows [0, rows) in items of about kItemTexels texels, as items of `parallel`
-// when given (and there is more than one), else in order on this thread.
+// fn(y0, y1) over rows [0, rows) in items of about kItemTexels texels (for_each_item).
 void for_row_items(int rows, size_t row_texels, const ParallelFor& parallel, const std::function<void(int, int)>& fn) {
   constexpr size_t kItemTexels = 16384;
   const int per = int(std::max<size_t>(1, kItemTexels / std::max<size_t>(1, row_texels)));
   const size_t items = size_t((rows + per - 1) / per);
-  const std::function<void(size_t)> item = [&](size_t k) {
+  for_each_item(parallel, items, [&](size_t k) {
     const int y0 = int(k) * per;
     fn(y0, std::min(rows, y0 + per));
-  };
-  if (parallel && items > 1) {
-    parallel(items, item);
-  } else {
-    for (size_t k = 0; k < items; ++k) item(k);
-  }
+  });
 }
 
 // One level of the chain from the previous one, as straight decoded texels; src(i) gives the
@@ -346,12 +340,7 @@ std::optional<TextureError> build_layers(int width, int height, int count, const
   if (bytes == nullptr) return TextureError{field, "is null"};
   std::vector<Texture> layers(static_cast<size_t>(count));
   std::vector<std::optional<TextureError>> errors(static_cast<size_t>(count));
-  const std::function<void(size_t)> item = [&](size_t s) { errors[s] = make(bytes + s * layer_bytes, layers[s]); };
-  if (parallel) {
-    parallel(size_t(count), item);
-  } else {
-    for (size_t s = 0; s < size_t(count); ++s) item(s);
-  }
+  for_each_item(parallel, size_t(count), [&](size_t s) { errors[s] = make(bytes + s * layer_bytes, layers[s]); });
   for (size_t s = 0; s < size_t(count); ++s)
     if (auto& e = errors[s]) {
       e->field = "layer " + std::to_string(s) + " " + e->field;

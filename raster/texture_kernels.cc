@@ -389,10 +389,14 @@ HWY_INLINE void SampleBlock(const LevelView (&level)[2], const float (&weight)[2
   }
 }
 
-template <bool kSrgb, Filter kFilter, bool kLa = false>
-void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRICT u,
-             const float* HWY_RESTRICT v, size_t lanes, float* const out[4], const uint16_t* block_mask) {
+// Nearest: level 0's texel under each lane, one gather per vector; a vector without a wanted
+// lane is not sampled and reads 0.
+template <bool kSrgb, bool kLa>
+void SampleNearest(const Texture& tex, const SamplerState& s, const float* HWY_RESTRICT u,
+                   const float* HWY_RESTRICT v, size_t lanes, float* const out[4], const uint16_t* block_mask) {
   const DF df;
+  const DI di;
+  const DU du;
   const size_t N = hn::Lanes(df);
   const uint32_t group_bits = GroupBits();
   const bool rep_u = s.wrap_u == Wrap::Repeat, rep_v = s.wrap_v == Wrap::Repeat;
@@ -400,44 +404,72 @@ void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRIC
   const VF colour_scale = hn::Set(df, kSrgb ? 1.0f : 1.0f / 255.0f);
   const VF alpha_scale = hn::Set(df, 1.0f / 255.0f);
   const LevelView base = View(tex, 0);
-  const double top = tex.levels() - 1;
+  for (size_t b = 0; b < lanes; b += kBlockLanes) {
+    const uint32_t wanted = block_mask ? block_mask[b / kBlockLanes] : 0xFFFFu;
+    for (size_t i = b; i < b + kBlockLanes; i += N) {
+      if (((wanted >> (i - b)) & group_bits) == 0) {
+        for (int ch = 0; ch < 4; ++ch) hn::StoreU(hn::Zero(df), df, out[ch] + i);
+        continue;
+      }
+      const auto keep = BitsToMask(wanted, (i - b) / N);
+      const VI xi = AxisNearest(hn::LoadU(df, u + i), base.w, rep_u);
+      const VI yi = AxisNearest(hn::LoadU(df, v + i), base.h, rep_v);
+      hn::Vec<DU> word = hn::GatherIndex(du, base.texels, hn::Add(hn::Mul(yi, hn::Set(di, base.stride)), xi));
+      if constexpr (kLa) {
+        // The texel's (L, A) as the RGBA8 word Decode reads.
+        const hn::Vec<DU> l = hn::And(word, hn::Set(du, 0xFF));
+        word = hn::Or(hn::Or(l, hn::ShiftLeft<8>(l)),
+                      hn::Or(hn::ShiftLeft<16>(l), hn::ShiftLeft<16>(hn::And(word, hn::Set(du, 0xFF00)))));
+      }
+      const Decoded d = Decode<kSrgb>(word, srgb);
+      for (int ch = 0; ch < 3; ++ch) hn::StoreU(hn::IfThenElseZero(keep, hn::Mul(d.c[ch], colour_scale)), df, out[ch] + i);
+      hn::StoreU(hn::IfThenElseZero(keep, hn::Mul(d.a, alpha_scale)), df, out[3] + i);
+    }
+  }
+}
 
-  // Trilinear and BilinearMip: the levels of up to kChunkBlocks blocks are chosen first, in a
-  // loop of their own, so the vector loop below makes no calls and its gathers overlap from
-  // block to block.
-  constexpr bool kMipmapped = kFilter == Filter::Trilinear || kFilter == Filter::BilinearMip;
-  constexpr size_t kGroups = kBlockLanes / hn::MaxLanes(DF());  // vectors of lanes a block
-  int32_t level[kChunkBlocks];
-  float weight[kChunkBlocks];
-  HWY_ALIGN double clamped[kChunkBlocks];
-  for (size_t first = 0; first < lanes; first += kChunkBlocks * kBlockLanes) {
-    const size_t blocks = std::min(kChunkBlocks, (lanes - first) / kBlockLanes);
-    if constexpr (kMipmapped) {
-      // A block outside the mask: level 0, weight 0.
-      ChunkLods(u + first, v + first, blocks, block_mask ? block_mask + first / kBlockLanes : nullptr, base.w, base.h,
-                double(s.lod_bias), top, clamped);
-      for (size_t k = 0; k < blocks; ++k) {
-        if constexpr (kFilter == Filter::Trilinear) {
-          level[k] = int32_t(clamped[k]);
-          weight[k] = float(clamped[k] - level[k]);
-        } else {
-          level[k] = nearest_mip_level(clamped[k]);
-          weight[k] = 0.0f;
+// Bilinear, BilinearMip and Trilinear: per chunk of blocks, their levels first (ChunkLods, so
+// the loop that samples makes no calls), then each block (SampleBlock).
+template <bool kSrgb, Filter kFilter, bool kLa = false>
+void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRICT u,
+             const float* HWY_RESTRICT v, size_t lanes, float* const out[4], const uint16_t* block_mask) {
+  if constexpr (kFilter == Filter::Nearest) {
+    return SampleNearest<kSrgb, kLa>(tex, s, u, v, lanes, out, block_mask);
+  } else {
+    const bool rep_u = s.wrap_u == Wrap::Repeat, rep_v = s.wrap_v == Wrap::Repeat;
+    const float* srgb = srgb8_to_linear_table();
+    const LevelView base = View(tex, 0);
+    constexpr bool kMipmapped = kFilter == Filter::Trilinear || kFilter == Filter::BilinearMip;
+    constexpr size_t kGroups = kBlockLanes / hn::MaxLanes(DF());  // vectors of lanes a block
+    int32_t level[kChunkBlocks];
+    float weight[kChunkBlocks];
+    HWY_ALIGN double clamped[kChunkBlocks];
+    for (size_t first = 0; first < lanes; first += kChunkBlocks * kBlockLanes) {
+      const size_t blocks = std::min(kChunkBlocks, (lanes - first) / kBlockLanes);
+      if constexpr (kMipmapped) {
+        // A block outside the mask: level 0, weight 0.
+        ChunkLods(u + first, v + first, blocks, block_mask ? block_mask + first / kBlockLanes : nullptr, base.w,
+                  base.h, double(s.lod_bias), double(tex.levels() - 1), clamped);
+        for (size_t k = 0; k < blocks; ++k) {
+          if constexpr (kFilter == Filter::Trilinear) {
+            level[k] = int32_t(clamped[k]);
+            weight[k] = float(clamped[k] - level[k]);
+          } else {
+            level[k] = nearest_mip_level(clamped[k]);
+            weight[k] = 0.0f;
+          }
         }
       }
-    }
-    for (size_t k = 0; k < blocks; ++k) {
-      const size_t b = first + k * kBlockLanes;
-      LevelView L0 = base, L1 = base;
-      float t = 0.0f;
-      if constexpr (kMipmapped) {
-        L0 = View(tex, level[k]);
-        t = weight[k];
-        if (t > 0.0f) L1 = View(tex, std::min(level[k] + 1, tex.levels() - 1));
-      }
-      const uint32_t wanted = block_mask ? block_mask[b / kBlockLanes] : 0xFFFFu;
-      if constexpr (kFilter != Filter::Nearest) {
-        const LevelView levels[2] = {L0, L1};
+      for (size_t k = 0; k < blocks; ++k) {
+        const size_t b = first + k * kBlockLanes;
+        LevelView levels[2] = {base, base};
+        float t = 0.0f;
+        if constexpr (kMipmapped) {
+          levels[0] = View(tex, level[k]);
+          t = weight[k];
+          if (t > 0.0f) levels[1] = View(tex, std::min(level[k] + 1, tex.levels() - 1));
+        }
+        const uint32_t wanted = block_mask ? block_mask[b / kBlockLanes] : 0xFFFFu;
         if (t > 0.0f) {
           const float weights[2] = {1.0f - t, t};
           SampleBlock<kGroups, 2, kSrgb, kLa>(levels, weights, u, v, rep_u, rep_v, wanted, srgb, out, b);
@@ -445,29 +477,6 @@ void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRIC
           const float weights[2] = {1.0f, 0.0f};
           SampleBlock<kGroups, 1, kSrgb, kLa>(levels, weights, u, v, rep_u, rep_v, wanted, srgb, out, b);
         }
-        continue;
-      }
-      for (size_t i = b; i < b + kBlockLanes; i += N) {
-        // Lanes outside the mask read 0; a vector of them all is not sampled.
-        const uint32_t bits = (wanted >> (i - b)) & group_bits;
-        if (bits == 0) {
-          for (int ch = 0; ch < 4; ++ch) hn::StoreU(hn::Zero(df), df, out[ch] + i);
-          continue;
-        }
-        const auto keep = BitsToMask(wanted, (i - b) / N);
-        const VI xi = AxisNearest(hn::LoadU(df, u + i), base.w, rep_u);
-        const VI yi = AxisNearest(hn::LoadU(df, v + i), base.h, rep_v);
-        const VI idx = hn::Add(hn::Mul(yi, hn::Set(DI(), base.stride)), xi);
-        hn::Vec<DU> word = hn::GatherIndex(DU(), base.texels, idx);
-        if constexpr (kLa) {
-          // The texel's (L, A) as the RGBA8 word Decode reads.
-          const hn::Vec<DU> l = hn::And(word, hn::Set(DU(), 0xFF));
-          word = hn::Or(hn::Or(l, hn::ShiftLeft<8>(l)),
-                        hn::Or(hn::ShiftLeft<16>(l), hn::ShiftLeft<16>(hn::And(word, hn::Set(DU(), 0xFF00)))));
-        }
-        const Decoded d = Decode<kSrgb>(word, srgb);
-        for (int ch = 0; ch < 3; ++ch) hn::StoreU(hn::IfThenElseZero(keep, hn::Mul(d.c[ch], colour_scale)), df, out[ch] + i);
-        hn::StoreU(hn::IfThenElseZero(keep, hn::Mul(d.a, alpha_scale)), df, out[3] + i);
       }
     }
   }

@@ -11,8 +11,6 @@
 #include <string>
 #include <vector>
 
-#include <hwy/targets.h>
-
 #include "raster/texture.h"
 #include "tests/hwy_targets.h"
 

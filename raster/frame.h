@@ -129,6 +129,7 @@ struct alignas(64) TileScratch {
   alignas(64) float out[4][kBatchLanes];
 
   std::vector<TranslucentRef> translucent;
+  std::vector<TranslucentRef> translucent_scratch;  // the tile sort's second buffer
 
   // Pass 2: the visible triangles of each block, with their lanes.
   struct Visible {

@@ -20,6 +20,7 @@
 
 #include "raster/block_mask-inl.h"
 #include "raster/frame.h"
+#include "raster/translucent_sort.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace pelt::raster {
@@ -701,12 +702,8 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   FlushBatch(frame, s, false);
 
   // Pass 3: translucent fragments, back to front per tile when asked.
-  if (frame.options.sort == SortMode::Tile)
-    // Back to front; equal keys keep submission order, which setup ids follow (frame.h).
-    std::sort(s.translucent.begin(), s.translucent.end(), [](const TranslucentRef& a, const TranslucentRef& b) {
-      const float ka = a.sort_key, kb = b.sort_key;
-      return ka > kb || (ka == kb && a.id < b.id);
-    });
+  // Back to front; equal keys keep submission order, which setup ids follow (frame.h).
+  if (frame.options.sort == SortMode::Tile) sort_back_to_front(s.translucent, s.translucent_scratch);
   for (const TranslucentRef& ref : s.translucent) {
     const TriSetup& t = *ref.tri;
     const DrawCall& draw = frame.draws[t.draw];

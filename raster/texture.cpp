@@ -250,6 +250,7 @@ std::optional<TextureError> Texture::from_rgba8(int width, int height, const uin
   }
   out.encoding_ = encoding;
   out.format_ = TexelFormat::Rgba8;
+  out.la_.clear();
   TextureBuilder::build(width, height, std::move(level0), encoding, out.texels_, out.levels_, parallel);
   return std::nullopt;
 }
@@ -265,20 +266,15 @@ std::optional<TextureError> Texture::from_la8(int width, int height, const uint8
   }
   out.encoding_ = TexelEncoding::Linear;
   out.format_ = TexelFormat::La8;
-  TextureBuilder::build(width, height, std::move(level0), TexelEncoding::Linear, out.texels_, out.levels_, parallel);
-  // Equal channels average to equal channels, so every level is still grey: repack each row
-  // as (texel, right neighbour) pairs, the padding word as the row's first pair.
-  auto la16 = [](uint32_t rgba) { return (rgba & 255u) | ((rgba >> 16) & 0xFF00u); };  // L | A << 8
-  for (const MipLevel& L : out.levels_)
-    for (int y = 0; y < L.height; ++y) {
-      uint32_t* row = out.texels_.data() + L.offset + size_t(y) * size_t(L.stride);
-      const uint32_t first = la16(row[0]);
-      for (int x = 0; x < L.width; ++x) {
-        const uint32_t right = x + 1 < L.width ? la16(row[x + 1]) : first;
-        row[x] = la16(row[x]) | (right << 16);
-      }
-      row[L.width] = row[0];
-    }
+  std::vector<uint32_t> rgba;
+  TextureBuilder::build(width, height, std::move(level0), TexelEncoding::Linear, rgba, out.levels_, parallel);
+  // Equal channels average to equal channels, so every level is still grey: keep L and A of
+  // every texel, padding included. The spare texel after the last level keeps a 32-bit read at
+  // any texel inside the storage (the sampler never reads it).
+  out.texels_.clear();
+  out.la_.resize(rgba.size() + 1);
+  for (size_t i = 0; i < rgba.size(); ++i) out.la_[i] = uint16_t((rgba[i] & 255u) | ((rgba[i] >> 16) & 0xFF00u));
+  out.la_.back() = 0;
   return std::nullopt;
 }
 
@@ -322,6 +318,7 @@ std::optional<TextureError> Texture::from_linear_float(int width, int height, co
   });
   out.encoding_ = encoding;
   out.format_ = TexelFormat::Rgba8;
+  out.la_.clear();
   TextureBuilder::build(width, height, std::move(level0), encoding, out.texels_, out.levels_, parallel);
   return std::nullopt;
 }

@@ -2,7 +2,7 @@
 // once per sample() call. See raster/texture.h for the contract.
 //
 // Per vector of lanes: texel coordinates and wrapped integer indices per axis, one 32-bit
-// gather per texel (RGBA8) or texel pair (La8), bytes unpacked with shifts (sRGB colour
+// gather per texel (RGBA8) or pair of 2-byte texels (La8), bytes unpacked with shifts (sRGB colour
 // through a gather from the 256-float table), weighted straight (no division: the texture's
 // transparent texels carry their surroundings' colour, see texture.h) and scaled once at the
 // end. A 4x4 block's vectors are sampled together (SampleBlock), and its level pair is chosen
@@ -35,13 +35,26 @@ using VF = hn::Vec<DF>;
 using VI = hn::Vec<DI>;
 
 struct LevelView {
-  const uint32_t* texels;
+  const uint32_t* texels;  // Rgba8
+  const uint16_t* la;      // La8
   int32_t w, h, stride;
 };
 
 LevelView View(const Texture& tex, int k) {
   const MipLevel& L = tex.level(k);
-  return LevelView{tex.level_texels(k), L.width, L.height, L.stride};
+  return LevelView{tex.level_texels(k), tex.level_la(k), L.width, L.height, L.stride};
+}
+
+// The 32-bit word at texel index idx of every lane: the texel (Rgba8), or the 2-byte texel in
+// the low half and its right neighbour in the high half (La8: a gather at byte offset 2 idx;
+// indices stay below 2^29, kMaxTextureSide squared plus padding).
+template <bool kLa>
+HWY_INLINE hn::Vec<DU> FetchWord(const LevelView& L, VI idx) {
+  if constexpr (kLa) {
+    return hn::GatherOffset(DU(), reinterpret_cast<const uint32_t*>(L.la), hn::ShiftLeft<1>(idx));
+  } else {
+    return hn::GatherIndex(DU(), L.texels, idx);
+  }
 }
 
 struct Acc {
@@ -319,8 +332,8 @@ HWY_INLINE void ChunkLods(const float* HWY_RESTRICT u, const float* HWY_RESTRICT
 // reads 0 (a partly covered block's other half, about a tenth of a fur frame's vectors).
 //
 // RGBA8: one gather per texel, four per footprint, each texel decoded and weighted (Tap).
-// La8 (texture.h): each word holds a texel and its right neighbour as (L, A) pairs, so one
-// gather per row fetches a footprint's two texels; the weights and the order of the
+// La8 (texture.h): a 32-bit read at a texel holds it and its right neighbour as (L, A) pairs,
+// so one gather per row fetches a footprint's two texels (FetchWord); the weights and the order of the
 // multiply-adds are those of RGBA8, so a La8 texture samples bit for bit like the RGBA8
 // texture with R = G = B = L (acc.c[1], acc.c[2] stay unused).
 template <size_t kGroups, int kLevels, bool kSrgb, bool kLa>
@@ -345,8 +358,8 @@ HWY_INLINE void SampleBlock(const LevelView (&level)[2], const float (&weight)[2
     for (size_t g = 0; g < kGroups; ++g) {
       if (!want[g]) continue;
       if constexpr (kLa) {
-        word[k][g][0] = hn::GatherIndex(du, level[k].texels, f[k][g].top);
-        word[k][g][1] = hn::GatherIndex(du, level[k].texels, f[k][g].bottom);
+        word[k][g][0] = FetchWord<true>(level[k], f[k][g].top);
+        word[k][g][1] = FetchWord<true>(level[k], f[k][g].bottom);
       } else {
         FetchPair(level[k].texels, f[k][g].top, word[k][g][0], word[k][g][1]);
         FetchPair(level[k].texels, f[k][g].bottom, word[k][g][2], word[k][g][3]);
@@ -414,7 +427,7 @@ void SampleNearest(const Texture& tex, const SamplerState& s, const float* HWY_R
       const auto keep = BitsToMask(wanted, (i - b) / N);
       const VI xi = AxisNearest(hn::LoadU(df, u + i), base.w, rep_u);
       const VI yi = AxisNearest(hn::LoadU(df, v + i), base.h, rep_v);
-      hn::Vec<DU> word = hn::GatherIndex(du, base.texels, hn::Add(hn::Mul(yi, hn::Set(di, base.stride)), xi));
+      hn::Vec<DU> word = FetchWord<kLa>(base, hn::Add(hn::Mul(yi, hn::Set(di, base.stride)), xi));
       if constexpr (kLa) {
         // The texel's (L, A) as the RGBA8 word Decode reads.
         const hn::Vec<DU> l = hn::And(word, hn::Set(du, 0xFF));

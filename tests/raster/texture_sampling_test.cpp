@@ -190,6 +190,34 @@ TEST(TextureSampling, LargeTextureMatchesReference) {
   compare_all(tex, random_coords(32, 8), "1024x512 random");
 }
 
+// Blocks of 0.5 to 6 texels a pixel, axis-aligned and at 45 degrees, centred on a level's
+// edges: across the wrap in u and in v, on the last row and column (the padding texel) and
+// inside, so footprints that straddle the edges are compared with the reference.
+Coords edge_coords(int w, int h) {
+  Coords c;
+  const float du = 1.0f / float(w), dv = 1.0f / float(h);
+  for (float scale : {0.5f, 1.0f, 3.9f, 6.0f})
+    for (float angle : {0.0f, 0.7853982f})
+      for (float cu : {0.0f, 0.5f * du, 1.0f - 2.0f * du, 1.0f - 0.5f * du, 0.5f})
+        for (float cv : {0.0f, 0.5f * dv, 1.0f - 2.0f * dv, 1.0f - 0.5f * dv, 0.5f})
+          for (int l = 0; l < 16; ++l) {
+            const float x = float(l % 4) - 1.5f, y = float(l / 4) - 1.5f;
+            c.u.push_back(cu + scale * du * (std::cos(angle) * x - std::sin(angle) * y));
+            c.v.push_back(cv + scale * dv * (std::sin(angle) * x + std::cos(angle) * y));
+          }
+  return c;
+}
+
+TEST(TextureSampling, FootprintsOnLevelEdgesMatchReference) {
+  uint32_t seed = 500;
+  for (const Case& k : kCases) {
+    const Texture tex = random_texture(k.w, k.h, k.enc, seed++);
+    compare_all(tex, edge_coords(k.w, k.h), case_name(k) + " edges");
+    if (k.enc == TexelEncoding::Linear)
+      compare_all(random_la_texture(k.w, k.h, seed++).la, edge_coords(k.w, k.h), case_name(k) + " la8 edges");
+  }
+}
+
 // Luminance-alpha textures (the fur shells' format) against the reference, which reads their
 // texels expanded to RGBA8, on every target, filter and wrap.
 TEST(TextureSampling, LuminanceAlphaMatchesReferenceOnEveryTarget) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <random>
 #include <string>
@@ -497,24 +498,30 @@ TEST(Texture, NearestAndBilinearHitTexelCentres) {
   });
 }
 
-// A La8 texture is its RGBA8 twin (R = G = B = L) stored as (texel, right neighbour) pairs:
-// every level's texels are equal, and each word's high half is the next texel of its row,
-// the first texel after the last.
-TEST(Texture, LuminanceAlphaLevelsEqualTheirRgbaTwinStoredInPairs) {
+// A La8 texture is its RGBA8 twin (R = G = B = L) stored as 2-byte texels, L low and A high:
+// every level's texels are equal, each row ends in the padding texel (a copy of its first),
+// the levels lie where the twin's do, and the storage is half the twin's plus the spare texel.
+TEST(Texture, LuminanceAlphaLevelsEqualTheirRgbaTwinAtTwoBytesATexel) {
   for (auto [w, h] : {std::pair{64, 64}, std::pair{37, 5}, std::pair{1, 1}, std::pair{1, 7}, std::pair{6, 1}}) {
     const LaPair t = random_la_texture(w, h, uint32_t(w * 100 + h));
     EXPECT_EQ(t.la.format(), TexelFormat::La8);
     EXPECT_EQ(t.rgba.format(), TexelFormat::Rgba8);
+    EXPECT_EQ(t.la.level_texels(0), nullptr);
+    EXPECT_EQ(t.rgba.level_la(0), nullptr);
+    EXPECT_EQ(t.la.bytes(), t.rgba.bytes() / 2 + 2);
     ASSERT_EQ(t.la.levels(), t.rgba.levels());
     for (int k = 0; k < t.la.levels(); ++k) {
       const MipLevel& L = t.la.level(k);
+      EXPECT_EQ(L.offset, t.rgba.level(k).offset);
+      EXPECT_EQ(L.stride, L.width + 1);
       for (int y = 0; y < L.height; ++y) {
-        const uint32_t* row = t.la.level_texels(k) + size_t(y) * size_t(L.stride);
+        const uint16_t* row = t.la.level_la(k) + size_t(y) * size_t(L.stride);
         for (int x = 0; x < L.width; ++x) {
           ASSERT_EQ(t.la.texel(k, x, y), t.rgba.texel(k, x, y)) << w << "x" << h << " level " << k << " texel " << x << "," << y;
-          ASSERT_EQ(row[x] >> 16, row[(x + 1) % L.width] & 0xFFFFu) << w << "x" << h << " level " << k;
+          const uint32_t rgba = t.rgba.texel(k, x, y);
+          ASSERT_EQ(row[x], (rgba & 255u) | ((rgba >> 16) & 0xFF00u)) << w << "x" << h << " level " << k;
         }
-        ASSERT_EQ(row[L.width], row[0]) << "padding word";
+        ASSERT_EQ(row[L.width], row[0]) << "padding texel";
       }
     }
   }
@@ -577,7 +584,7 @@ TEST(Texture, ParallelBuildsGiveTheSerialBytes) {
   for (auto& b : la) b = uint8_t(rng() % 3 == 0 ? 0 : rng());
   auto same = [](const Texture& a, const Texture& b) {
     if (a.levels() != b.levels() || a.bytes() != b.bytes()) return false;
-    return std::equal(a.data(), a.data() + a.bytes() / 4, b.data());
+    return std::memcmp(a.data(), b.data(), a.bytes()) == 0;
   };
   for (TexelEncoding enc : {TexelEncoding::Srgb, TexelEncoding::Linear}) {
     Texture serial;

@@ -136,9 +136,17 @@ std::optional<ParamError> generate_strand_textures(const FurParams& params, Stra
   fin.size = N;
   fin.layers = 1;
   fin.rgba.assign(area * 4, 0);
+  FinLuminance& fin_lum = out.fin_luminance;
+  fin_lum.size = N;
+  fin_lum.la.assign(area * 2, 0);
+  fin_lum.tint_root = params.root_color * kMaxStrandBrightness;
+  fin_lum.tint_slope = (params.tip_color - params.root_color) * kMaxStrandBrightness;
   for (int y = 0; y < N; ++y) {
     const glm::vec3 base = layer_colour(params, (float(y) + 0.5f) / float(N));
-    for (int x = 0; x < N; ++x) put(fin.rgba.data() + (size_t(y) * N + size_t(x)) * 4, base, 0.0f);
+    for (int x = 0; x < N; ++x) {
+      put(fin.rgba.data() + (size_t(y) * N + size_t(x)) * 4, base, 0.0f);
+      fin_lum.la[(size_t(y) * N + size_t(x)) * 2] = no_strand;
+    }
   }
   Uniform frnd(params.seed ^ 0x9E3779B9u);  // an independent stream for the fin
   const long fin_strands =
@@ -154,6 +162,8 @@ std::optional<ParamError> generate_strand_textures(const FurParams& params, Stra
       const int x = wrap(long(std::floor(x0 + lean * v)), N);
       put_max(fin.rgba.data() + (size_t(y) * N + size_t(x)) * 4,
               layer_colour(params, v) * bright, 1.0f - 0.8f * v / length);
+      put_max_la(fin_lum.la.data() + (size_t(y) * N + size_t(x)) * 2, bright / kMaxStrandBrightness,
+                 1.0f - 0.8f * v / length);
     }
   }
   return std::nullopt;
@@ -205,6 +215,12 @@ StrandTextures match_llvmpipe_textures(ShellForms forms) {
   out.fin.size = W;
   out.fin.layers = 1;
   out.fin.rgba.assign(size_t(W) * H * 4, 0);
+  // The fin's luminance form: its colour is fur * (0.45 + 0.55 v) * brightness.
+  FinLuminance& fin_lum = out.fin_luminance;
+  fin_lum.size = W;
+  fin_lum.la.assign(size_t(W) * H * 2, 0);
+  fin_lum.tint_root = glm::vec3(fur[0], fur[1], fur[2]) * (0.45f * kMaxStrandBrightness);
+  fin_lum.tint_slope = glm::vec3(fur[0], fur[1], fur[2]) * (0.55f * kMaxStrandBrightness);
   Uniform frng(7600);
   for (int x = 0; x < W; ++x) {
     const bool strand = frng() < 0.30;
@@ -216,6 +232,9 @@ StrandTextures match_llvmpipe_textures(ShellForms forms) {
       uint8_t* p = &out.fin.rgba[(size_t(y) * W + x) * 4];
       for (int c = 0; c < 3; ++c) p[c] = to8(fur[c] * shade);
       p[3] = (strand && v <= len) ? to8(1.0f - 0.8f * v) : 0;
+      uint8_t* q = &fin_lum.la[(size_t(y) * W + x) * 2];
+      q[0] = to8((strand ? bright : 1.0f) / kMaxStrandBrightness);
+      q[1] = p[3];
     }
   }
   return out;

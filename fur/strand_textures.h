@@ -73,11 +73,25 @@ struct ShellLuminance {
   std::vector<glm::vec3> tint;   // per layer
 };
 
+// The fin texture as luminance and alpha: its colour is the fur colour at the texel's height v
+// (a linear function of v, root to tip) times a strand brightness, so a texel needs only L =
+// brightness / kMaxStrandBrightness (1 / kMaxStrandBrightness where no strand is) and the
+// alpha, and the colour at fin height v is min(1, (tint_root + tint_slope v) L) per channel,
+// evaluated per fragment. Against `fin` (whose bytes hold the colour at the row's centre) it
+// differs by L's rounding and by the colour's change within a row (at most a 256th of the
+// root-to-tip difference at 256 rows). Sampled as raster::TexelFormat::La8.
+struct FinLuminance {
+  int size = 0;
+  std::vector<uint8_t> la;  // size * size * 2 bytes: L, A
+  glm::vec3 tint_root{0.0f}, tint_slope{0.0f};
+};
+
 struct StrandTextures {
   LayerTextures shells;  // params.shells layers of texture_size^2; rgba empty unless grown (ShellForms)
   ShellLuminance shell_luminance;  // the same shells as L, A and a tint per layer
   LayerTextures fin;     // 1 layer of texture_size^2: strands seen from the side,
                          // u along the edge (repeat), v = row from root (0) to tip (1)
+  FinLuminance fin_luminance;  // the same fin as L, A and a tint linear in v
   std::vector<ShellStrand> strands;  // in root-texel order (row-major)
 };
 

@@ -21,10 +21,26 @@ void FurVertexLitBatch(const FurVertexLitSoA& b) {
   const hn::ScalableTag<float> d;
   const size_t n = hn::Lanes(d);
   const auto one = hn::Set(d, 1.0f);
-  auto lit = [&](hn::Vec<decltype(d)> texel, float tint, hn::Vec<decltype(d)> diffuse, hn::Vec<decltype(d)> specular) {
-    const auto p = hn::Mul(texel, hn::Set(d, tint));
+  using V = hn::Vec<decltype(d)>;
+  auto lit_v = [&](V texel, V tint, V diffuse, V specular) {
+    const auto p = hn::Mul(texel, tint);
     return hn::Add(hn::Mul(hn::IfThenElse(hn::Lt(p, one), p, one), diffuse), specular);
   };
+  auto lit = [&](V texel, float tint, V diffuse, V specular) { return lit_v(texel, hn::Set(d, tint), diffuse, specular); };
+  if (b.height) {
+    // The fins: a tint per lane from the lane's height, root to tip.
+    const auto zero = hn::Zero(d);
+    for (size_t i = 0; i < b.blocks * 16; i += n) {
+      const auto x = hn::LoadU(d, b.height + i);
+      const auto h = hn::IfThenElse(hn::Gt(x, zero), hn::IfThenElse(hn::Lt(x, one), x, one), zero);
+      for (int c = 0; c < 3; ++c) {
+        const auto tint = hn::Add(hn::Mul(hn::Set(d, b.tint_slope[c]), h), hn::Set(d, b.tint_root[c]));
+        hn::StoreU(lit_v(hn::LoadU(d, b.texel[c] + i), tint, hn::LoadU(d, b.diffuse[c] + i), hn::LoadU(d, b.specular[c] + i)),
+                   d, b.out[c] + i);
+      }
+    }
+    return;
+  }
   // A luminance shell under a grey light (the renderer's usual case): one texel, diffuse and
   // specular array for all three channels, each loaded once per lane instead of three times.
   const bool shared = b.texel[0] == b.texel[1] && b.texel[0] == b.texel[2] && b.diffuse[0] == b.diffuse[1] &&
@@ -74,7 +90,7 @@ void check(const FurVertexLitSoA& b) {
   if (b.blocks == 0) return;
   for (int c = 0; c < 3; ++c) {
     require(b.texel[c], "texel", c);
-    require(b.tint[c], "tint", c);
+    if (!b.height) require(b.tint[c], "tint", c);
     require(b.diffuse[c], "diffuse", c);
     require(b.specular[c], "specular", c);
     require(b.out[c], "out", c);
@@ -94,7 +110,15 @@ void shade_fur_vertex_lit_reference(const FurVertexLitSoA& b) {
   for (size_t blk = 0; blk < b.blocks; ++blk)
     for (int c = 0; c < 3; ++c)
       for (size_t i = blk * 16; i < blk * 16 + 16; ++i) {
-        const float p = b.texel[c][i] * b.tint[c][blk];
+        float tint;
+        if (b.height) {
+          const float x = b.height[i];
+          const float h = x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f;
+          tint = b.tint_slope[c] * h + b.tint_root[c];
+        } else {
+          tint = b.tint[c][blk];
+        }
+        const float p = b.texel[c][i] * tint;
         const float clamped = p < 1.0f ? p : 1.0f;
         b.out[c][i] = clamped * b.diffuse[c][i] + b.specular[c][i];
       }

@@ -2,10 +2,13 @@
 // texel tinted and lit by the light the rasterizer interpolated from the fur vertices
 // (shading/fur_lighting.h evaluates that light per vertex). Per 4x4 block b of a batch, lane l
 // of it (i = 16 b + l) and channel c of 3:
-//   out[c][i] = min(1, tint[c][b] * texel[c][i]) * diffuse[c][i] + specular[c][i]
+//   out[c][i] = min(1, texel[c][i] * tint[c][b]) * diffuse[c][i] + specular[c][i]
 // with min(1, NaN) = 1 (a NaN product is not below 1), a product, then a sum (no fused
 // multiply-add), so the kernel and its scalar reference agree bit for bit on every input (a
 // NaN output is NaN in both; its sign and payload are not arithmetic's to define).
+// With `height` (the fins, whose colour runs from root to tip along the fin), the tint is per
+// lane instead: tint_root[c] + tint_slope[c] * h, h = height[i] clamped to [0, 1] (NaN: 0),
+// again a product, then a sum.
 // About 1.5 M lanes a furry-box frame.
 #pragma once
 
@@ -16,7 +19,9 @@ namespace pelt::shading {
 struct FurVertexLitSoA {
   size_t blocks = 0;                     // 16 lanes each
   const float* texel[3] = {};            // per lane; the three may be one array (luminance shells)
-  const float* tint[3] = {};             // per block
+  const float* tint[3] = {};             // per block; not read with `height`
+  const float* height = nullptr;         // per lane, or null (per-block tint)
+  float tint_root[3] = {}, tint_slope[3] = {};  // the per-lane tint's, with `height`
   const float* diffuse[3] = {};          // per lane; may be one array (a grey light)
   const float* specular[3] = {};         // per lane; may be one array
   float* out[3] = {};                    // per lane; must not overlap an input

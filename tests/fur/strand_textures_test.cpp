@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -39,9 +41,30 @@ TEST(StrandTextures, LayoutAndFormat) {
   EXPECT_EQ(t.fin.rgba.size(), 64u * 64 * 4);
 }
 
-// The luminance form of the shells holds the same strands (equal alpha bytes) and, as
-// min(1, tint * L), the RGBA colour within the rounding of L and of the RGBA bytes. Returns
-// the number of strand texels.
+// One luminance-alpha layer against its RGBA twin (n x n texels): equal alpha bytes, and
+// min(1, tint(y) L) per channel within the rounding of L, scaled by the tint (<= 1.25 * 0.5 /
+// 255), plus the RGBA byte's own. Returns the number of strand texels (alpha > 0), stopping
+// at the first colour that is not near.
+size_t expect_la_layer_matches_rgba(const uint8_t* la, const uint8_t* rgba, int n,
+                                    const std::function<glm::vec3(int)>& tint, const std::string& what) {
+  size_t strands = 0;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const size_t t = size_t(y) * size_t(n) + size_t(x);
+      EXPECT_EQ(la[2 * t + 1], rgba[4 * t + 3]) << what << " texel " << x << "," << y;
+      strands += la[2 * t + 1] > 0;
+      for (int c = 0; c < 3; ++c) {
+        const double colour = std::min(1.0, double(tint(y)[c]) * la[2 * t] / 255.0);
+        const bool near = std::abs(colour - rgba[4 * t + c] / 255.0) <= (1.25 * 0.5 + 0.5) / 255.0 + 1e-6;
+        EXPECT_TRUE(near) << what << " texel " << x << "," << y << " channel " << c << ": " << colour << " against "
+                          << rgba[4 * t + c] / 255.0;
+        if (!near) return strands;
+      }
+    }
+  return strands;
+}
+
+// The luminance form of the shells holds the same strands and colours (as min(1, tint L)).
 size_t expect_luminance_matches_rgba(const StrandTextures& t) {
   const ShellLuminance& lum = t.shell_luminance;
   const int n = t.shells.size, layers = t.shells.layers;
@@ -52,21 +75,8 @@ size_t expect_luminance_matches_rgba(const StrandTextures& t) {
   if (lum.la.size() != size_t(layers) * size_t(n) * size_t(n) * 2 || lum.tint.size() != size_t(layers)) return 0;
   size_t strands = 0;
   for (int s = 0; s < layers; ++s)
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        const uint8_t* rgba = t.shells.texel(s, x, y);
-        const uint8_t* la = lum.la.data() + ((size_t(s) * size_t(n) + size_t(y)) * size_t(n) + size_t(x)) * 2;
-        EXPECT_EQ(la[1], rgba[3]) << "layer " << s << " texel " << x << "," << y;
-        strands += la[1] > 0;
-        for (int c = 0; c < 3; ++c) {
-          const double colour = std::min(1.0, double(lum.tint[size_t(s)][c]) * la[0] / 255.0);
-          // L's rounding scaled by the tint (<= 1.25 * 0.5 / 255) plus the RGBA byte's.
-          const bool near = std::abs(colour - rgba[c] / 255.0) <= (1.25 * 0.5 + 0.5) / 255.0 + 1e-6;
-          EXPECT_TRUE(near) << "layer " << s << " texel " << x << "," << y << " channel " << c << ": " << colour
-                            << " against " << rgba[c] / 255.0;
-          if (!near) return strands;
-        }
-      }
+    strands += expect_la_layer_matches_rgba(lum.la.data() + size_t(s) * size_t(n) * size_t(n) * 2, t.shells.layer(s), n,
+                                            [&](int) { return lum.tint[size_t(s)]; }, "layer " + std::to_string(s));
   return strands;
 }
 
@@ -79,6 +89,33 @@ TEST(StrandTextures, LuminanceShellsMatchTheRgbaShells) {
     p.seed = 11;
     EXPECT_GT(expect_luminance_matches_rgba(grow(p)), 1000u);
   }
+}
+
+// The fin's luminance form holds the same strands and, as min(1, (tint_root + tint_slope v) L)
+// at the row's height v, the same colours.
+size_t expect_fin_luminance_matches_rgba(const StrandTextures& t) {
+  const FinLuminance& lum = t.fin_luminance;
+  const int n = t.fin.size;
+  EXPECT_EQ(lum.size, n);
+  EXPECT_EQ(lum.la.size(), size_t(n) * size_t(n) * 2);
+  if (lum.la.size() != size_t(n) * size_t(n) * 2) return 0;
+  return expect_la_layer_matches_rgba(
+      lum.la.data(), t.fin.layer(0), n,
+      [&](int y) { return lum.tint_root + lum.tint_slope * ((float(y) + 0.5f) / float(n)); }, "fin");
+}
+
+TEST(StrandTextures, LuminanceFinMatchesTheRgbaFin) {
+  for (glm::vec3 tip : {glm::vec3(0.8f, 0.58f, 0.36f), glm::vec3(0.95f, 0.9f, 0.1f)}) {
+    FurParams p;
+    p.shells = 6;
+    p.texture_size = 64;
+    p.root_color = glm::vec3(0.2f, 0.1f, 0.05f);
+    p.tip_color = tip;
+    p.seed = 12;
+    EXPECT_GT(expect_fin_luminance_matches_rgba(grow(p)), 100u);
+  }
+  // The harness's fin: fur colour times (0.45 + 0.55 v) times the brightness.
+  EXPECT_GT(expect_fin_luminance_matches_rgba(match_llvmpipe_textures()), 256u * 256 / 8);
 }
 
 // The harness's shells too: pelt samples their luminance form (--match-llvmpipe).
@@ -111,10 +148,12 @@ TEST(StrandTextures, SameSeedSameTexturesOtherSeedDifferent) {
   const StrandTextures a = grow(p), b = grow(p);
   EXPECT_EQ(a.shells.rgba, b.shells.rgba);
   EXPECT_EQ(a.fin.rgba, b.fin.rgba);
+  EXPECT_EQ(a.fin_luminance.la, b.fin_luminance.la);
   p.seed = 1235;
   const StrandTextures c = grow(p);
   EXPECT_NE(a.shells.rgba, c.shells.rgba);
   EXPECT_NE(a.fin.rgba, c.fin.rgba);
+  EXPECT_NE(a.fin_luminance.la, c.fin_luminance.la);
 }
 
 // The renderer grows only the luminance form: everything else must be what the full
@@ -133,6 +172,9 @@ TEST(StrandTextures, LuminanceOnlyLeavesOutJustTheRgbaShells) {
   EXPECT_EQ(lum.shell_luminance.la, full.shell_luminance.la);
   EXPECT_EQ(lum.shell_luminance.tint, full.shell_luminance.tint);
   EXPECT_EQ(lum.fin.rgba, full.fin.rgba);
+  EXPECT_EQ(lum.fin_luminance.la, full.fin_luminance.la);
+  EXPECT_EQ(lum.fin_luminance.tint_root, full.fin_luminance.tint_root);
+  EXPECT_EQ(lum.fin_luminance.tint_slope, full.fin_luminance.tint_slope);
   ASSERT_EQ(lum.strands.size(), full.strands.size());
   for (size_t k = 0; k < lum.strands.size(); ++k) {
     EXPECT_EQ(lum.strands[k].root_x, full.strands[k].root_x);
@@ -144,6 +186,7 @@ TEST(StrandTextures, LuminanceOnlyLeavesOutJustTheRgbaShells) {
   EXPECT_EQ(harness_lum.shell_luminance.la, harness.shell_luminance.la);
   EXPECT_EQ(harness_lum.shell_luminance.tint, harness.shell_luminance.tint);
   EXPECT_EQ(harness_lum.fin.rgba, harness.fin.rgba);
+  EXPECT_EQ(harness_lum.fin_luminance.la, harness.fin_luminance.la);
 }
 
 TEST(StrandTextures, AlphaFallsFromRootToTipAlongEachStrand) {

@@ -102,9 +102,12 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
                                                    options.parallel),
              name);
     shell_tint_ = lum.tint;
-    throw_if(raster::Texture::from_rgba8(tex.fin.size, tex.fin.size, tex.fin.rgba.data(),
-                                         raster::TexelEncoding::Linear, fin_tex_, options.parallel),
+    // The fin likewise, with a tint linear in the fin's height v (fur::FinLuminance).
+    const fur::FinLuminance& fin_lum = tex.fin_luminance;
+    throw_if(raster::Texture::from_la8(fin_lum.size, fin_lum.size, fin_lum.la.data(), fin_tex_, options.parallel),
              name);
+    fin_tint_root_ = fin_lum.tint_root;
+    fin_tint_slope_ = fin_lum.tint_slope;
   }
   const size_t v = geo_.positions.size();
   pose_ = geo_.positions;
@@ -395,6 +398,8 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
       su.shells = &shell_tex_;
       su.shell_tint = shell_tint_.data();
       su.fin = &fin_tex_;
+      su.fin_tint_root = fin_tint_root_;
+      su.fin_tint_slope = fin_tint_slope_;
       su.sampler = fur_sampler(fin, filter_);
       su.double_precision = double_precision_;
       su.base_faces = faces;

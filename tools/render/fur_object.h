@@ -103,7 +103,8 @@ class FurObject {
   fur::FurGeometry geo_;
   raster::TextureArray shell_tex_;
   std::vector<glm::vec3> shell_tint_;  // per layer: colour = min(1, tint * L) of the La8 shells
-  raster::Texture fin_tex_;
+  raster::Texture fin_tex_;            // La8: colour = min(1, (fin_tint_root_ + fin_tint_slope_ v) * L)
+  glm::vec3 fin_tint_root_{0.0f}, fin_tint_slope_{0.0f};
 
   std::vector<glm::vec3> gravity_pose_, wind_pose_, pose_, tangents_, forces_;
   std::optional<fur::WindField> wind_field_;

@@ -14,7 +14,7 @@ constexpr size_t kLanes = raster::kMaxBatchLanes;
 
 struct alignas(64) Scratch {
   alignas(64) float texel[4][kLanes];
-  alignas(64) float tint[3][raster::kMaxBatchBlocks];  // per block: its layer's tint, or 1 (fins)
+  alignas(64) float tint[3][raster::kMaxBatchBlocks];  // per block: its layer's tint (shells)
 };
 thread_local Scratch tls_scratch;
 
@@ -33,10 +33,10 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   const int uv_slot = s_.per_pixel_lighting ? FurPixelVaryings::kUv : FurVaryings::kUv;
   const float* u = b.varying[uv_slot];
   const float* v = b.varying[uv_slot + 1];
-  // With per-vertex lighting the alpha is sampled straight into the output, and a luminance
-  // shell's three colour channels (La8: all equal) into texel[0] alone.
+  // With per-vertex lighting the alpha is sampled straight into the output, and the three
+  // colour channels of the luminance shells and fin (La8: all equal) into texel[0] alone.
   const bool vertex_lit = !s_.per_pixel_lighting;
-  const bool one_channel = !s_.fins && vertex_lit;
+  const bool one_channel = vertex_lit;
   float* const alpha = vertex_lit ? b.out[3] : s.texel[3];
   float* const texel_out[4] = {s.texel[0], one_channel ? s.texel[0] : s.texel[1],
                                one_channel ? s.texel[0] : s.texel[2], alpha};
@@ -48,7 +48,6 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   // owns vertices s N .. s N + N - 1), so lane 0's layer is the block's.
   if (s_.fins) {
     sample_texture(*s_.fin, s_.sampler, u, v, n, texel_out, s_.double_precision, b.mask);
-    for (int c = 0; c < 3; ++c) std::fill(s.tint[c], s.tint[c] + b.blocks, 1.0f);
   } else {
     const uint32_t layers = static_cast<uint32_t>(s_.shells->layers.size());
     auto layer_of = [&](uint32_t block) {
@@ -74,13 +73,20 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
     for (size_t i = 0; i < n; ++i) alpha[i] *= weight_[quad_edge_[(b.primitive[i] + s_.primitive_offset) / 2]];
   }
 
-  // Colour = min(1, tint * texel): the layer's tint for the luminance shells, 1 for the fins'
-  // RGBA texture.
+  // Colour = min(1, tint * texel): per block the layer's tint for the luminance shells, per lane
+  // a tint from the fin's height v (root to tip) for the luminance fin.
   if (vertex_lit) {
     // colour = min(1, tint * texel) * diffuse + specular per channel; a luminance shell's three
     // texel channels are one array, as are a grey light's three values (FurGreyVaryings).
     shading::FurVertexLitSoA lit;
     lit.blocks = b.blocks;
+    if (s_.fins) {  // the fin's colour runs from root to tip: a tint per lane from its height v
+      lit.height = v;
+      for (int c = 0; c < 3; ++c) {
+        lit.tint_root[c] = s_.fin_tint_root[c];
+        lit.tint_slope[c] = s_.fin_tint_slope[c];
+      }
+    }
     for (int c = 0; c < 3; ++c) {
       lit.texel[c] = texel_out[c];
       lit.tint[c] = s.tint[c];
@@ -94,6 +100,12 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   if (!s_.fins)
     for (int c = 0; c < 3; ++c)
       for (size_t i = 0; i < n; ++i) s.texel[c][i] = std::min(1.0f, s.texel[c][i] * s.tint[c][i / raster::kBlockLanes]);
+  else
+    for (int c = 0; c < 3; ++c)  // the vertex-lit kernel's per-lane tint (fur_vertex_lit.h)
+      for (size_t i = 0; i < n; ++i) {
+        const float h = v[i] > 0.0f ? (v[i] < 1.0f ? v[i] : 1.0f) : 0.0f;
+        s.texel[c][i] = std::min(1.0f, s.texel[c][i] * (s_.fin_tint_slope[c] * h + s_.fin_tint_root[c]));
+      }
   using P = FurPixelVaryings;
   shading::FurSurfaceSoA surf{};
   surf.n = n;

@@ -22,7 +22,10 @@ struct FurShaderSetup {
   // Per layer (required for shells): the shells are luminance-alpha (fur::ShellLuminance,
   // raster::TexelFormat::La8), colour = min(1, tint * L).
   const glm::vec3* shell_tint = nullptr;
+  // Fins: luminance-alpha (fur::FinLuminance, raster::TexelFormat::La8), colour = min(1,
+  // (fin_tint_root + fin_tint_slope v) * L) at the fin's height v.
   const raster::Texture* fin = nullptr;
+  glm::vec3 fin_tint_root{0.0f}, fin_tint_slope{0.0f};
   raster::SamplerState sampler;
   uint32_t base_faces = 0;                   // shells: triangles per layer
   uint32_t primitive_offset = 0;             // first triangle of this draw in the object's list

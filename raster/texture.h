@@ -61,9 +61,9 @@ enum class TexelEncoding : uint8_t {
 //          bytes decode both, where RGBA8 needs two gathers and eight channels: the fur
 //          shells, whose colour is the layer's tint times a strand brightness, sample in about
 //          half the time. At 2 bytes a texel a frame's 16 shell layers also take half the
-//          cache of 32-bit (texel, neighbour) words, the previous layout: fur frames ran 3-6 %
-//          faster on the Zen 5 machine (README, measured figures), where 2x2 quads at 8 bytes a
-//          texel, half the gathered elements, ran 10 % slower.
+//          cache of 32-bit (texel, neighbour) words, the previous layout: fur frames ran 4-12 %
+//          faster on one thread of the Zen 5 machine (README, measured figures), where 2x2
+//          quads at 8 bytes a texel, half the gathered elements, ran about 10 % slower.
 enum class TexelFormat : uint8_t { Rgba8, La8 };
 
 enum class Filter : uint8_t {

@@ -2,8 +2,8 @@
 // once per sample() call. See raster/texture.h for the contract.
 //
 // Per vector of lanes: texel coordinates and wrapped integer indices per axis, one 32-bit
-// gather per texel (RGBA8) or pair of 2-byte texels (La8), bytes unpacked with shifts (sRGB colour
-// through a gather from the 256-float table), weighted straight (no division: the texture's
+// gather per texel (RGBA8) or pair of 2-byte texels (La8), bytes unpacked with shifts (sRGB
+// colour through a gather from the 256-float table), weighted straight (no division: the texture's
 // transparent texels carry their surroundings' colour, see texture.h) and scaled once at the
 // end. A 4x4 block's vectors are sampled together (SampleBlock), and its level pair is chosen
 // per block before the sampling (ClampedLambdas), so every gather of a vector reads one level
@@ -333,9 +333,9 @@ HWY_INLINE void ChunkLods(const float* HWY_RESTRICT u, const float* HWY_RESTRICT
 //
 // RGBA8: one gather per texel, four per footprint, each texel decoded and weighted (Tap).
 // La8 (texture.h): a 32-bit read at a texel holds it and its right neighbour as (L, A) pairs,
-// so one gather per row fetches a footprint's two texels (FetchWord); the weights and the order of the
-// multiply-adds are those of RGBA8, so a La8 texture samples bit for bit like the RGBA8
-// texture with R = G = B = L (acc.c[1], acc.c[2] stay unused).
+// so one gather per row fetches a footprint's two texels (FetchWord); the weights and the
+// order of the multiply-adds are those of RGBA8, so a La8 texture samples bit for bit like the
+// RGBA8 texture with R = G = B = L (acc.c[1], acc.c[2] stay unused).
 template <size_t kGroups, int kLevels, bool kSrgb, bool kLa>
 HWY_INLINE void SampleBlock(const LevelView (&level)[2], const float (&weight)[2], const float* HWY_RESTRICT u,
                             const float* HWY_RESTRICT v, bool rep_u, bool rep_v, uint32_t wanted, const float* srgb,

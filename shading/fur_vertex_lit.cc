@@ -110,14 +110,7 @@ void shade_fur_vertex_lit_reference(const FurVertexLitSoA& b) {
   for (size_t blk = 0; blk < b.blocks; ++blk)
     for (int c = 0; c < 3; ++c)
       for (size_t i = blk * 16; i < blk * 16 + 16; ++i) {
-        float tint;
-        if (b.height) {
-          const float x = b.height[i];
-          const float h = x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f;
-          tint = b.tint_slope[c] * h + b.tint_root[c];
-        } else {
-          tint = b.tint[c][blk];
-        }
+        const float tint = b.height ? height_tint(b.tint_root[c], b.tint_slope[c], b.height[i]) : b.tint[c][blk];
         const float p = b.texel[c][i] * tint;
         const float clamped = p < 1.0f ? p : 1.0f;
         b.out[c][i] = clamped * b.diffuse[c][i] + b.specular[c][i];

@@ -16,6 +16,13 @@
 
 namespace pelt::shading {
 
+// The per-lane tint of one channel: root + slope h, h = height clamped to [0, 1] (NaN: 0), a
+// product, then a sum. The reference uses it, and so does the fur shader's per-pixel path.
+inline float height_tint(float root, float slope, float height) {
+  const float h = height > 0.0f ? (height < 1.0f ? height : 1.0f) : 0.0f;
+  return slope * h + root;
+}
+
 struct FurVertexLitSoA {
   size_t blocks = 0;                     // 16 lanes each
   const float* texel[3] = {};            // per lane; the three may be one array (luminance shells)

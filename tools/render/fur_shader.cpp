@@ -101,11 +101,10 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
     for (int c = 0; c < 3; ++c)
       for (size_t i = 0; i < n; ++i) s.texel[c][i] = std::min(1.0f, s.texel[c][i] * s.tint[c][i / raster::kBlockLanes]);
   else
-    for (int c = 0; c < 3; ++c)  // the vertex-lit kernel's per-lane tint (fur_vertex_lit.h)
-      for (size_t i = 0; i < n; ++i) {
-        const float h = v[i] > 0.0f ? (v[i] < 1.0f ? v[i] : 1.0f) : 0.0f;
-        s.texel[c][i] = std::min(1.0f, s.texel[c][i] * (s_.fin_tint_slope[c] * h + s_.fin_tint_root[c]));
-      }
+    for (int c = 0; c < 3; ++c)  // the vertex-lit kernel's per-lane tint
+      for (size_t i = 0; i < n; ++i)
+        s.texel[c][i] =
+            std::min(1.0f, s.texel[c][i] * shading::height_tint(s_.fin_tint_root[c], s_.fin_tint_slope[c], v[i]));
   using P = FurPixelVaryings;
   shading::FurSurfaceSoA surf{};
   surf.n = n;

@@ -2,6 +2,7 @@
 // each: the same image from half the interpolation, and only when the light really is grey.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -23,7 +24,7 @@ struct Frame {
   int varyings = 0;
 };
 
-Frame render_fur(const std::string& ambient, bool grey_allowed) {
+Frame render_fur(const std::string& ambient, bool grey_allowed, FurLighting lighting = FurLighting::vertex) {
   std::string json = furry_box_scene(R"("fins": "all", "gravity": {}, "wind": {})", 3);
   const std::string tinted = R"("color": [0.3, 0.3, 0.35])";
   json.replace(json.find(tinted), tinted.size(), ambient);
@@ -31,6 +32,7 @@ Frame render_fur(const std::string& ambient, bool grey_allowed) {
   RenderSettings rs;
   rs.threads = 2;
   rs.fur_grey_varyings = grey_allowed;
+  rs.fur_lighting = lighting;
   SceneRenderer r(scene, rs);
   Frame f;
   FrameStats st;
@@ -46,6 +48,28 @@ TEST(FurVaryings, GreyLightTakesHalfTheVaryingsAndGivesTheSameImage) {
   EXPECT_EQ(rgb.varyings, 8);
   ASSERT_EQ(grey.image.color.size(), rgb.image.color.size());
   EXPECT_EQ(0, std::memcmp(grey.image.color.data(), rgb.image.color.data(), grey.image.color.size() * sizeof(float)));
+}
+
+// Kajiya-Kay per fragment (FurPixelVaryings) draws the same fur as per vertex, shells and fins
+// with their tints, up to the lighting's interpolation: every pixel finite, the same coverage
+// (alpha), and the mean colour within 2 % (measured: 0.3 %).
+TEST(FurVaryings, PerPixelLightingDrawsTheSameFur) {
+  const std::string white = R"("color": [0.3, 0.3, 0.3])";
+  const Frame vertex = render_fur(white, true), pixel = render_fur(white, true, FurLighting::pixel);
+  ASSERT_EQ(vertex.image.color.size(), pixel.image.color.size());
+  double mean_vertex[3] = {}, mean_pixel[3] = {};
+  for (size_t i = 0; i < pixel.image.color.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(pixel.image.color[i])) << i;
+    if (i % 4 == 3) {
+      ASSERT_EQ(pixel.image.color[i], vertex.image.color[i]) << "alpha of pixel " << i / 4;
+      continue;
+    }
+    mean_vertex[i % 4] += vertex.image.color[i];
+    mean_pixel[i % 4] += pixel.image.color[i];
+  }
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(mean_pixel[c] / mean_vertex[c], 1.0, 0.02) << "channel " << c;
+  }
 }
 
 TEST(FurVaryings, ColouredLightKeepsThreeChannels) {

@@ -16,7 +16,8 @@ void sort_back_to_front(std::vector<TranslucentRef>& refs, std::vector<Transluce
 // path for short lists).
 inline bool back_to_front_before(const TranslucentRef& a, const TranslucentRef& b) {
   const float ka = a.sort_key, kb = b.sort_key;
-  if (ka != ka || kb != kb) return (ka != ka && kb == kb) || ((ka != ka) == (kb != kb) && a.id < b.id);
+  const bool nan_a = ka != ka, nan_b = kb != kb;
+  if (nan_a || nan_b) return nan_a && (!nan_b || a.id < b.id);
   return ka > kb || (ka == kb && a.id < b.id);
 }
 

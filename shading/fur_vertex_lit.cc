@@ -17,52 +17,54 @@ HWY_BEFORE_NAMESPACE();
 namespace pelt::shading::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-void FurVertexLitBatch(const FurVertexLitSoA& b) {
+// The whole batch, vector by vector (16 lanes a block, a multiple of every width). kHeight: the
+// fins' per-lane tint from the lane's height, root to tip (else the block's tint). kShared: one
+// texel, diffuse and specular array for all three channels (a luminance shell or fin under a
+// grey light, the renderer's usual case), each loaded once per lane instead of three times.
+template <bool kHeight, bool kShared>
+HWY_INLINE void LitLanes(const FurVertexLitSoA& b) {
   const hn::ScalableTag<float> d;
-  const size_t n = hn::Lanes(d);
-  const auto one = hn::Set(d, 1.0f);
   using V = hn::Vec<decltype(d)>;
-  auto lit_v = [&](V texel, V tint, V diffuse, V specular) {
-    const auto p = hn::Mul(texel, tint);
-    return hn::Add(hn::Mul(hn::IfThenElse(hn::Lt(p, one), p, one), diffuse), specular);
-  };
-  auto lit = [&](V texel, float tint, V diffuse, V specular) { return lit_v(texel, hn::Set(d, tint), diffuse, specular); };
-  if (b.height) {
-    // The fins: a tint per lane from the lane's height, root to tip.
-    const auto zero = hn::Zero(d);
-    for (size_t i = 0; i < b.blocks * 16; i += n) {
-      const auto x = hn::LoadU(d, b.height + i);
-      const auto h = hn::IfThenElse(hn::Gt(x, zero), hn::IfThenElse(hn::Lt(x, one), x, one), zero);
-      for (int c = 0; c < 3; ++c) {
-        const auto tint = hn::Add(hn::Mul(hn::Set(d, b.tint_slope[c]), h), hn::Set(d, b.tint_root[c]));
-        hn::StoreU(lit_v(hn::LoadU(d, b.texel[c] + i), tint, hn::LoadU(d, b.diffuse[c] + i), hn::LoadU(d, b.specular[c] + i)),
-                   d, b.out[c] + i);
-      }
+  const size_t n = hn::Lanes(d);
+  const V one = hn::Set(d, 1.0f), zero = hn::Zero(d);
+  for (size_t i = 0; i < b.blocks * 16; i += n) {
+    V h = zero;
+    if constexpr (kHeight) {
+      const V x = hn::LoadU(d, b.height + i);
+      h = hn::IfThenElse(hn::Gt(x, zero), hn::IfThenElse(hn::Lt(x, one), x, one), zero);
     }
-    return;
+    V texel = zero, diffuse = zero, specular = zero;
+    if constexpr (kShared) {
+      texel = hn::LoadU(d, b.texel[0] + i);
+      diffuse = hn::LoadU(d, b.diffuse[0] + i);
+      specular = hn::LoadU(d, b.specular[0] + i);
+    }
+    for (int c = 0; c < 3; ++c) {
+      if constexpr (!kShared) {
+        texel = hn::LoadU(d, b.texel[c] + i);
+        diffuse = hn::LoadU(d, b.diffuse[c] + i);
+        specular = hn::LoadU(d, b.specular[c] + i);
+      }
+      V tint;
+      if constexpr (kHeight) {
+        tint = hn::Add(hn::Mul(hn::Set(d, b.tint_slope[c]), h), hn::Set(d, b.tint_root[c]));
+      } else {
+        tint = hn::Set(d, b.tint[c][i / 16]);
+      }
+      const V p = hn::Mul(texel, tint);
+      hn::StoreU(hn::Add(hn::Mul(hn::IfThenElse(hn::Lt(p, one), p, one), diffuse), specular), d, b.out[c] + i);
+    }
   }
-  // A luminance shell under a grey light (the renderer's usual case): one texel, diffuse and
-  // specular array for all three channels, each loaded once per lane instead of three times.
+}
+
+void FurVertexLitBatch(const FurVertexLitSoA& b) {
   const bool shared = b.texel[0] == b.texel[1] && b.texel[0] == b.texel[2] && b.diffuse[0] == b.diffuse[1] &&
                       b.diffuse[0] == b.diffuse[2] && b.specular[0] == b.specular[1] &&
                       b.specular[0] == b.specular[2];
-  if (shared) {
-    for (size_t blk = 0; blk < b.blocks; ++blk)
-      for (size_t i = blk * 16; i < blk * 16 + 16; i += n) {
-        const auto x = hn::LoadU(d, b.texel[0] + i), dl = hn::LoadU(d, b.diffuse[0] + i);
-        const auto sp = hn::LoadU(d, b.specular[0] + i);
-        for (int c = 0; c < 3; ++c) hn::StoreU(lit(x, b.tint[c][blk], dl, sp), d, b.out[c] + i);
-      }
-    return;
-  }
-  for (size_t blk = 0; blk < b.blocks; ++blk) {
-    for (int c = 0; c < 3; ++c) {
-      // A block's 16 lanes: whole vectors on every target (16 is a multiple of every width).
-      for (size_t i = blk * 16; i < blk * 16 + 16; i += n)
-        hn::StoreU(lit(hn::LoadU(d, b.texel[c] + i), b.tint[c][blk], hn::LoadU(d, b.diffuse[c] + i),
-                       hn::LoadU(d, b.specular[c] + i)),
-                   d, b.out[c] + i);
-    }
+  if (b.height) {
+    shared ? LitLanes<true, true>(b) : LitLanes<true, false>(b);
+  } else {
+    shared ? LitLanes<false, true>(b) : LitLanes<false, false>(b);
   }
 }
 

@@ -90,15 +90,11 @@ struct TranslucentRef {
 
 // True when triangles a and b (three vertex indices each) share an edge: two indices. Such
 // triangles interpolate one continuous field of varyings across that edge.
-inline int shared_vertices(const uint32_t* a, const uint32_t* b) {
+inline bool triangles_share_edge(const uint32_t* a, const uint32_t* b) {
   int shared = 0;
   for (int i = 0; i < 3; ++i) shared += int(a[i] == b[0]) + int(a[i] == b[1]) + int(a[i] == b[2]);
-  return shared;
+  return shared >= 2;
 }
-inline bool triangles_share_edge(const uint32_t* a, const uint32_t* b) { return shared_vertices(a, b) >= 2; }
-// One shared index is enough for the tile kernels' translucent packing: the two triangles'
-// varyings agree at that vertex, and a texture seam duplicates its vertices.
-inline bool triangles_share_vertex(const uint32_t* a, const uint32_t* b) { return shared_vertices(a, b) >= 1; }
 
 // Per-worker state, reused for every tile the worker takes. Tile planes are stored
 // block-major: block (bx, by) of the tile at [(by * 16 + bx) * 16], lane l = pixel

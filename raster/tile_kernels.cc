@@ -388,16 +388,15 @@ uint32_t OpenSlot(const FrameView& frame, TileScratch& s, uint32_t draw, int32_t
   return i;
 }
 
-// True when triangles a and b of `draw` share a vertex, so that a block holding lanes of both
-// differentiates to the derivative of one field, continuous where they meet. (Asking for a
-// shared edge packed 5 % fewer lanes on the fur scenes for no less error against the exact sort.)
-HWY_INLINE bool SharesVertex(const DrawCall& draw, const TriSetup& a, const TriSetup& b) {
-  return triangles_share_vertex(draw.indices + 3 * size_t{a.primitive}, draw.indices + 3 * size_t{b.primitive});
+// True when triangles a and b of `draw` share an edge, so that a block holding lanes of both
+// still differentiates to the derivative of one continuous field.
+HWY_INLINE bool SharesEdge(const DrawCall& draw, const TriSetup& a, const TriSetup& b) {
+  return triangles_share_edge(draw.indices + 3 * size_t{a.primitive}, draw.indices + 3 * size_t{b.primitive});
 }
 
 // Appends the passed lanes `bits` of translucent triangle t in block `blk`. They join the
 // block's latest slot when none of its lanes is taken there and (for a shader with
-// derivatives) t shares a vertex with the slot's latest triangle: every pixel still blends
+// derivatives) t shares an edge with the slot's latest triangle: every pixel still blends
 // its fragments in order (earlier slots of the block come first, and the slot holds at
 // most one fragment per pixel), and a fur shell's or fin's quads fill a block together
 // instead of two or three slots holding a few lanes each.
@@ -406,7 +405,7 @@ void AppendTranslucent(const FrameView& frame, TileScratch& s, const TriSetup& t
   const uint32_t i = s.block_slot[blk];
   const bool latest = i < s.batch_blocks && s.batch_offset[i] == blk && s.batch_draw == t.draw;
   if (latest && !(s.batch_mask[i] & bits) &&
-      (!derivatives || SharesVertex(frame.draws[t.draw], *s.batch_tri[i], t))) {
+      (!derivatives || SharesEdge(frame.draws[t.draw], *s.batch_tri[i], t))) {
     Interpolate(frame, s, i, t, bits, false);
     s.batch_tri[i] = &t;
     return;
@@ -706,11 +705,7 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   // Pass 3: translucent fragments, back to front per tile when asked.
   // Back to front; equal keys keep submission order, which setup ids follow (frame.h).
   if (frame.options.sort == SortMode::Tile) sort_back_to_front(s.translucent, s.translucent_scratch);
-  // Sorted, the set-ups are read in an order unrelated to their addresses: fetched ahead.
-  const size_t translucent_count = s.translucent.size();
-  for (size_t k = 0; k < translucent_count; ++k) {
-    if (k + kPrefetchAhead < translucent_count) PrefetchSetup(s.translucent[k + kPrefetchAhead].tri);
-    const TranslucentRef& ref = s.translucent[k];
+  for (const TranslucentRef& ref : s.translucent) {
     const TriSetup& t = *ref.tri;
     const DrawCall& draw = frame.draws[t.draw];
     TileEdges te;

@@ -226,29 +226,44 @@ HWY_INLINE uint32_t AllGroups() { return (1u << (kBlockLanes / hn::Lanes(DF())))
 // lanes are computed (a group no triangle has filled yet takes all its lanes from this
 // one): several triangles of one draw share a slot, and a small triangle of a dense mesh
 // usually covers one group of a block, so this halves the work on AVX2.
-void Interpolate(const FrameView& frame, TileScratch& s, uint32_t i, const TriSetup& t,
-                 uint32_t bits, bool whole) {
+// A triangle's varyings as Interpolate reads them: vertex 0's values and the differences to
+// vertices 1 and 2. Made once per triangle and tile in the translucent pass, whose triangles
+// cover many blocks each; the loads of the indices and vertices and the differences were a
+// fifth of the interpolation's time when made per block.
+struct TriVaryings {
+  const float* a0;
+  uint32_t count;
+  float d1[kMaxVaryings], d2[kMaxVaryings];
+};
+
+HWY_INLINE void MakeTriVaryings(const FrameView& frame, const TriSetup& t, TriVaryings& tv) {
   const DrawCall& draw = frame.draws[t.draw];
-  const DF df;
-  const DU du;
-  const size_t n = hn::Lanes(df);
   const uint32_t vc = draw.varying_count;
-  const auto tiny = hn::Set(df, 1e-30f);
-  const auto bmin = hn::Set(df, -8.0f), bmax = hn::Set(df, 9.0f);
-  const int32_t ox = s.batch_x[i] - t.x0, oy = s.batch_y[i] - t.y0;
   const uint32_t* tri = draw.indices + 3 * size_t{t.primitive};
   const float* a0 = draw.varyings + size_t{tri[0]} * vc;
   const float* a1 = draw.varyings + size_t{tri[1]} * vc;
   const float* a2 = draw.varyings + size_t{tri[2]} * vc;
-  // Per-varying differences once per call, not once per vector group (the stores below may
-  // alias the vertex data as far as the compiler knows, so it would recompute them). Vertex 0's
-  // values are read where they are used: copied into an array like the differences, the copy
-  // became a call to memmove per block (about 1 % of a furry-box frame).
-  float d1[kMaxVaryings], d2[kMaxVaryings];
+  tv.a0 = a0;
+  tv.count = vc;
   for (uint32_t k = 0; k < vc; ++k) {
-    d1[k] = a1[k] - a0[k];
-    d2[k] = a2[k] - a0[k];
+    tv.d1[k] = a1[k] - a0[k];
+    tv.d2[k] = a2[k] - a0[k];
   }
+}
+
+void Interpolate(TileScratch& s, uint32_t i, const TriSetup& t, const TriVaryings& tv, uint32_t bits, bool whole) {
+  const DF df;
+  const DU du;
+  const size_t n = hn::Lanes(df);
+  const uint32_t vc = tv.count;
+  const auto tiny = hn::Set(df, 1e-30f);
+  const auto bmin = hn::Set(df, -8.0f), bmax = hn::Set(df, 9.0f);
+  const int32_t ox = s.batch_x[i] - t.x0, oy = s.batch_y[i] - t.y0;
+  // Vertex 0's values are read where they are used: copied into an array like the
+  // differences, the copy became a call to memmove per block (about 1 % of a furry-box frame).
+  const float* a0 = tv.a0;
+  const float* d1 = tv.d1;
+  const float* d2 = tv.d2;
   for (size_t g = 0; g * n < kBlockLanes; ++g) {
     const auto m = BitsToMask(bits, g);
     if (!whole && hn::AllFalse(df, m)) continue;
@@ -400,18 +415,18 @@ HWY_INLINE bool SharesEdge(const DrawCall& draw, const TriSetup& a, const TriSet
 // its fragments in order (earlier slots of the block come first, and the slot holds at
 // most one fragment per pixel), and a fur shell's or fin's quads fill a block together
 // instead of two or three slots holding a few lanes each.
-void AppendTranslucent(const FrameView& frame, TileScratch& s, const TriSetup& t, int32_t px, int32_t py,
-                       uint32_t blk, uint32_t bits, bool derivatives) {
+void AppendTranslucent(const FrameView& frame, TileScratch& s, const TriSetup& t, const TriVaryings& tv, int32_t px,
+                       int32_t py, uint32_t blk, uint32_t bits, bool derivatives) {
   const uint32_t i = s.block_slot[blk];
   const bool latest = i < s.batch_blocks && s.batch_offset[i] == blk && s.batch_draw == t.draw;
   if (latest && !(s.batch_mask[i] & bits) &&
       (!derivatives || SharesEdge(frame.draws[t.draw], *s.batch_tri[i], t))) {
-    Interpolate(frame, s, i, t, bits, false);
+    Interpolate(s, i, t, tv, bits, false);
     s.batch_tri[i] = &t;
     return;
   }
   const uint32_t slot = OpenSlot(frame, s, t.draw, px, py, blk, true);
-  Interpolate(frame, s, slot, t, bits, true);
+  Interpolate(s, slot, t, tv, bits, true);
   s.block_slot[blk] = static_cast<uint8_t>(slot);
   s.batch_tri[slot] = &t;
 }
@@ -697,7 +712,9 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
     const int32_t px = tx0 + int32_t(v.block % kBlocksPerTileSide) * kBlockSize;
     const int32_t py = ty0 + int32_t(v.block / kBlocksPerTileSide) * kBlockSize;
     const uint32_t slot = same_slot ? s.batch_blocks - 1 : OpenSlot(frame, s, v.draw, px, py, v.block, false);
-    Interpolate(frame, s, slot, *v.tri, v.bits, derivatives);
+    TriVaryings tv;
+    MakeTriVaryings(frame, *v.tri, tv);
+    Interpolate(s, slot, *v.tri, tv, v.bits, derivatives);
     s.pixels_shaded += std::popcount(v.bits);
   }
   FlushBatch(frame, s, false);
@@ -714,12 +731,18 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
       derivatives_draw = t.draw;
       derivatives = draw.shader->uses_derivatives();
     }
+    TriVaryings tv;  // made at the first block with a fragment
+    bool tv_made = false;
     DispatchDepth(draw.state, [&]<DepthFunc F, bool W>() {
       ForEachCoveredBlock(te, tx0, ty0, s.block_valid, [&](int32_t px, int32_t py, uint32_t blk, uint32_t bits) {
         const uint32_t passed = DepthTestBlock<F, W, false>(t, px, py, blk, bits, ref.id, s);
         if (passed) {
           s.fragments_blended += std::popcount(passed);
-          AppendTranslucent(frame, s, t, px, py, blk, passed, derivatives);
+          if (!tv_made) {
+            MakeTriVaryings(frame, t, tv);
+            tv_made = true;
+          }
+          AppendTranslucent(frame, s, t, tv, px, py, blk, passed, derivatives);
         }
       });
     });

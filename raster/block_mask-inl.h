@@ -26,8 +26,27 @@ HWY_INLINE uint32_t GroupBits() {
 HWY_INLINE hn::Mask<hn::ScalableTag<float>> BitsToMask(uint32_t bits, size_t g) {
   const hn::ScalableTag<float> df;
   const hn::RebindToSigned<decltype(df)> di;
+#if HWY_TARGET <= HWY_AVX3
+  // One vector is the block, and its mask register is the block mask itself: a move instead of a
+  // broadcast, an AND and a compare per use (Highway 1.0 has no call for it).
+  if constexpr (hn::MaxLanes(df) == size_t(kBlockLanes)) {
+    (void)g;
+    return hn::Mask<decltype(df)>{static_cast<__mmask16>(bits)};
+  }
+#endif
   const auto lane_bits = hn::LoadU(di, kLaneBit + g * hn::Lanes(di));
   return hn::RebindMask(df, hn::Ne(hn::And(hn::Set(di, static_cast<int32_t>(bits)), lane_bits), hn::Zero(di)));
+}
+
+// The lanes of mask m (a vector of at most 16 lanes) as bits, lane 0 in bit 0.
+template <class D, class M>
+HWY_INLINE uint32_t MaskToBits(D d, M m) {
+#if HWY_TARGET <= HWY_AVX3
+  if constexpr (hn::MaxLanes(d) == size_t(kBlockLanes)) return static_cast<uint32_t>(m.raw);  // a kmov
+#endif
+  uint8_t bytes[8] = {};
+  hn::StoreMaskBits(d, m, bytes);
+  return uint32_t{bytes[0]} | (uint32_t{bytes[1]} << 8);
 }
 
 }  // namespace pelt::raster::HWY_NAMESPACE

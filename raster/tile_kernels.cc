@@ -31,13 +31,6 @@ using DF = hn::ScalableTag<float>;
 using DI = hn::RebindToSigned<DF>;
 using DU = hn::RebindToUnsigned<DF>;
 
-template <class D, class M>
-HWY_INLINE uint32_t MaskToBits(D d, M m) {
-  uint8_t bytes[8] = {};
-  hn::StoreMaskBits(d, m, bytes);
-  return uint32_t{bytes[0]} | (uint32_t{bytes[1]} << 8);
-}
-
 // Plane value at lanes g of the block whose lane 0 is pixel (ox, oy) relative to the
 // triangle's reference pixel. Same expression as eval_plane in setup.h.
 HWY_INLINE hn::Vec<DF> EvalPlane(const Plane& p, int32_t ox, int32_t oy, size_t g) {

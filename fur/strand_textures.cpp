@@ -186,8 +186,11 @@ StrandTextures match_llvmpipe_textures(ShellForms forms) {
   lum.layers = L;
   lum.la.assign(size_t(W) * H * L * 2, 0);
   lum.tint.resize(L);
-  // The harness's layer shading, darker toward the root; f = s / (L - 1).
-  auto layer_shade = [](float f) { return 0.45f + 0.55f * f; };
+  // The harness's shading, darker toward the root, of its layers (f = s / (L - 1)) and of its fin
+  // (f = v); and a texel's luminance, the same in every layer.
+  constexpr float kShadeRoot = 0.45f, kShadeSlope = 0.55f;
+  auto layer_shade = [](float f) { return kShadeRoot + kShadeSlope * f; };
+  auto luminance_of = [](bool strand, float bright) { return to8((strand ? bright : 1.0f) / kMaxStrandBrightness); };
   for (int s = 0; s < L; ++s)
     lum.tint[size_t(s)] =
         glm::vec3(fur[0], fur[1], fur[2]) * (layer_shade(float(s) / (L - 1)) * kMaxStrandBrightness);
@@ -196,7 +199,7 @@ StrandTextures match_llvmpipe_textures(ShellForms forms) {
     for (int x = 0; x < W; ++x) {
       const bool strand = rng() < 0.30;
       const float bright = float(0.75 + 0.5 * rng());
-      const uint8_t luminance = to8((strand ? bright : 1.0f) / kMaxStrandBrightness);  // the same in every layer
+      const uint8_t luminance = luminance_of(strand, bright);
       for (int s = 0; s < L; ++s) {
         const float f = float(s) / (L - 1);
         const float shade = layer_shade(f) * (strand ? bright : 1.0f);
@@ -215,25 +218,26 @@ StrandTextures match_llvmpipe_textures(ShellForms forms) {
   out.fin.size = W;
   out.fin.layers = 1;
   out.fin.rgba.assign(size_t(W) * H * 4, 0);
-  // The fin's luminance form: its colour is fur * (0.45 + 0.55 v) * brightness.
+  // The fin's luminance form: its colour is fur * layer_shade(v) * brightness.
   FinLuminance& fin_lum = out.fin_luminance;
   fin_lum.size = W;
   fin_lum.la.assign(size_t(W) * H * 2, 0);
-  fin_lum.tint_root = glm::vec3(fur[0], fur[1], fur[2]) * (0.45f * kMaxStrandBrightness);
-  fin_lum.tint_slope = glm::vec3(fur[0], fur[1], fur[2]) * (0.55f * kMaxStrandBrightness);
+  fin_lum.tint_root = glm::vec3(fur[0], fur[1], fur[2]) * (kShadeRoot * kMaxStrandBrightness);
+  fin_lum.tint_slope = glm::vec3(fur[0], fur[1], fur[2]) * (kShadeSlope * kMaxStrandBrightness);
   Uniform frng(7600);
   for (int x = 0; x < W; ++x) {
     const bool strand = frng() < 0.30;
     const float bright = float(0.75 + 0.5 * frng());
     const float len = float(0.6 + 0.4 * frng());
+    const uint8_t luminance = luminance_of(strand, bright);  // the same down the column
     for (int y = 0; y < H; ++y) {
       const float v = (y + 0.5f) / H;
-      const float shade = (0.45f + 0.55f * v) * (strand ? bright : 1.0f);
+      const float shade = layer_shade(v) * (strand ? bright : 1.0f);
       uint8_t* p = &out.fin.rgba[(size_t(y) * W + x) * 4];
       for (int c = 0; c < 3; ++c) p[c] = to8(fur[c] * shade);
       p[3] = (strand && v <= len) ? to8(1.0f - 0.8f * v) : 0;
       uint8_t* q = &fin_lum.la[(size_t(y) * W + x) * 2];
-      q[0] = to8((strand ? bright : 1.0f) / kMaxStrandBrightness);
+      q[0] = luminance;
       q[1] = p[3];
     }
   }

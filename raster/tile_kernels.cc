@@ -213,12 +213,6 @@ HWY_INLINE void DispatchDepth(const PipelineState& st, Fn&& fn) {
 
 HWY_INLINE uint32_t AllGroups() { return (1u << (kBlockLanes / hn::Lanes(DF()))) - 1u; }
 
-// Interpolates triangle t's depth, primitive and varyings into the lanes `bits` of batch
-// slot i. `whole`: all 16 lanes, so lanes the triangle does not cover hold its planes
-// extrapolated (what derivatives need). Otherwise only the vector groups holding covered
-// lanes are computed (a group no triangle has filled yet takes all its lanes from this
-// one): several triangles of one draw share a slot, and a small triangle of a dense mesh
-// usually covers one group of a block, so this halves the work on AVX2.
 // A triangle's varyings as Interpolate reads them: vertex 0's values and the differences to
 // vertices 1 and 2. Made once per triangle and tile in the translucent pass, whose triangles
 // cover many blocks each; the loads of the indices and vertices and the differences were a
@@ -244,6 +238,12 @@ HWY_INLINE void MakeTriVaryings(const FrameView& frame, const TriSetup& t, TriVa
   }
 }
 
+// Interpolates triangle t's depth, primitive and varyings into the lanes `bits` of batch
+// slot i. `whole`: all 16 lanes, so lanes the triangle does not cover hold its planes
+// extrapolated (what derivatives need). Otherwise only the vector groups holding covered
+// lanes are computed (a group no triangle has filled yet takes all its lanes from this
+// one): several triangles of one draw share a slot, and a small triangle of a dense mesh
+// usually covers one group of a block, so this halves the work on AVX2.
 void Interpolate(TileScratch& s, uint32_t i, const TriSetup& t, const TriVaryings& tv, uint32_t bits, bool whole) {
   const DF df;
   const DU du;

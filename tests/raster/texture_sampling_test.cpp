@@ -258,15 +258,19 @@ TEST(TextureSampling, LuminanceAlphaSamplesBitForBitLikeItsRgbaTwin) {
 // the mask, both in the kernel and in the reference, and within the reference's tolerance; every
 // lane outside it reads +0. The
 // masks cover the shapes that let a vector be skipped on each width (one half, one row, one
-// lane) as well as empty, full and random blocks.
+// lane) as well as empty, full and random blocks. On 16-lane targets the power-of-two textures
+// with repeat go through the dense lanes (texture_kernels.cc): 150 blocks span three of its
+// chunks, and the non-square textures give levels whose width and height stop halving apart.
 TEST(TextureSampling, ABlockMaskSamplesItsLanesAndZeroesTheRest) {
   const uint16_t shapes[] = {0x0000, 0xFFFF, 0x00FF, 0xFF00, 0x000F, 0xF000, 0x0001, 0x8000, 0x0F0F, 0x1248};
   uint32_t seed = 500;
   const LaPair la = random_la_texture(64, 64, seed++);
+  const LaPair la_wide = random_la_texture(256, 16, seed++);
   const Texture textures[] = {random_texture(64, 64, TexelEncoding::Linear, seed++),
-                              random_texture(37, 20, TexelEncoding::Srgb, seed++), la.la};
+                              random_texture(37, 20, TexelEncoding::Srgb, seed++),
+                              random_texture(8, 128, TexelEncoding::Srgb, seed++), la.la, la_wide.la};
   for (const Texture& tex : textures)
-    for (const Coords& c : {random_coords(40, seed++), hard_coords(tex.width(), tex.height(), seed++)}) {
+    for (const Coords& c : {random_coords(150, seed++), hard_coords(tex.width(), tex.height(), seed++)}) {
       std::mt19937 rng(seed++);
       std::vector<uint16_t> mask(c.u.size() / 16);
       for (size_t b = 0; b < mask.size(); ++b)

@@ -389,14 +389,22 @@ HWY_INLINE void TapFootprint(const hn::Vec<DU> (&word)[kFootprintWords<kLa>], co
   }
 }
 
+// La8's luminance l into the three colour channels at lane i; a caller that wants one colour array
+// passes it three times (the fur shader), and it is stored once.
+HWY_INLINE void StoreLuminance(VF l, float* const out[4], size_t i) {
+  const DF df;
+  hn::StoreU(l, df, out[0] + i);
+  if (out[1] != out[0]) hn::StoreU(l, df, out[1] + i);
+  if (out[2] != out[0] && out[2] != out[1]) hn::StoreU(l, df, out[2] + i);
+}
+
 // The sample from acc, scaled, in the lanes `keep` (0 elsewhere), at out[ch] + i.
 template <bool kSrgb, bool kLa>
 HWY_INLINE void StoreSample(const Acc& acc, hn::Mask<DF> keep, float* const out[4], size_t i) {
   const DF df;
   const VF colour_scale = hn::Set(df, kSrgb ? 1.0f : 1.0f / 255.0f), alpha_scale = hn::Set(df, 1.0f / 255.0f);
   if constexpr (kLa) {
-    const VF l = hn::IfThenElseZero(keep, hn::Mul(acc.c[0], colour_scale));
-    for (int ch = 0; ch < 3; ++ch) hn::StoreU(l, df, out[ch] + i);
+    StoreLuminance(hn::IfThenElseZero(keep, hn::Mul(acc.c[0], colour_scale)), out, i);
   } else {
     for (int ch = 0; ch < 3; ++ch)
       hn::StoreU(hn::IfThenElseZero(keep, hn::Mul(acc.c[ch], colour_scale)), df, out[ch] + i);
@@ -599,8 +607,7 @@ HWY_NOINLINE void SampleDenseChunk(const LevelView& base, const DenseLevels& d, 
     const auto rank = hn::IndicesFromVec(df, hn::BitCast(di, hn::PopulationCount(hn::And(hn::Set(du, wanted), below))));
     auto expand = [&](const float* p) { return hn::IfThenElseZero(m, hn::TableLookupLanes(hn::LoadU(df, p + start[k]), rank)); };
     if constexpr (kLa) {
-      const VF l = expand(po[0]);
-      for (int ch = 0; ch < 3; ++ch) hn::StoreU(l, df, out[ch] + b);
+      StoreLuminance(expand(po[0]), out, b);
     } else {
       for (int ch = 0; ch < 3; ++ch) hn::StoreU(expand(po[ch]), df, out[ch] + b);
     }

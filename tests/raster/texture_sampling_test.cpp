@@ -254,6 +254,33 @@ TEST(TextureSampling, LuminanceAlphaSamplesBitForBitLikeItsRgbaTwin) {
   }
 }
 
+// A La8 texture's three colour channels are equal, so a caller may pass one array for all three
+// (the fur shader does): it then holds the luminance, bit for bit the separate arrays' red, with
+// and without a block mask (the per-block and the dense paths), on every target.
+TEST(TextureSampling, LuminanceIntoOneArrayForAllThreeChannels) {
+  uint32_t seed = 700;
+  const LaPair t = random_la_texture(64, 32, seed++);
+  const Coords c = random_coords(100, seed++);
+  std::mt19937 rng(seed++);
+  std::vector<uint16_t> mask(c.u.size() / 16);
+  for (uint16_t& m : mask) m = uint16_t(rng());
+  for_each_target([&](const std::string& target) {
+    for (Filter f : kAllFilters)
+      for (Wrap w : kWraps)
+        for (const uint16_t* m : {static_cast<const uint16_t*>(nullptr), static_cast<const uint16_t*>(mask.data())}) {
+          const SamplerState s{f, w, w, 0.5f};
+          const Samples separate = run_sample(t.la, s, c.u, c.v, m);
+          std::vector<float> colour(c.u.size(), -1.0f), alpha(c.u.size(), -1.0f);
+          float* const out[4] = {colour.data(), colour.data(), colour.data(), alpha.data()};
+          sample(t.la, s, c.u.data(), c.v.data(), c.u.size(), out, m);
+          EXPECT_EQ(0, std::memcmp(colour.data(), separate.c[0].data(), colour.size() * sizeof(float)))
+              << target << " filter " << int(f) << " wrap " << int(w) << " mask " << (m != nullptr);
+          EXPECT_EQ(0, std::memcmp(alpha.data(), separate.c[3].data(), alpha.size() * sizeof(float)))
+              << target << " filter " << int(f) << " wrap " << int(w) << " mask " << (m != nullptr);
+        }
+  });
+}
+
 // A block mask (a fur batch's covered lanes): the lanes inside it sample bit for bit as without
 // the mask, both in the kernel and in the reference, and within the reference's tolerance; every
 // lane outside it reads +0. The

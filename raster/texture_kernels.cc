@@ -80,6 +80,13 @@ HWY_INLINE VF TexelCoord(VF c, VF fsize, bool repeat) {
   return hn::Max(hn::Min(x, hn::Add(fsize, hn::Set(df, 1.0f))), hn::Set(df, -2.0f));
 }
 
+// floor(x) as a texel index, and the fraction of x above it (the weight of the next texel).
+HWY_INLINE VI FloorIndex(VF x, VF& frac) {
+  const VF xf = hn::Floor(x);
+  frac = hn::Sub(x, xf);
+  return hn::ConvertTo(DI(), xf);
+}
+
 // Repeat on a power-of-two axis (every level of a power-of-two texture): TexelCoord's x,
 // floor and fraction, with the wrap of x0 = -1 (and of x0 + 1 = size) as a mask instead of a
 // compare and a blend. Bit for bit the general path: x lies in [-0.5, size - 0.5] already,
@@ -88,13 +95,10 @@ HWY_INLINE bool IsPow2(int32_t size) { return (size & (size - 1)) == 0; }
 
 HWY_INLINE VI RepeatPow2(VF c, VF fsize, VF& frac) {
   const DF df;
-  const DI di;
   c = hn::Sub(c, hn::Floor(c));
   const VF half = hn::Set(df, 0.5f);
   const VF x = hn::Min(hn::Sub(hn::Mul(c, fsize), half), hn::Sub(fsize, half));
-  const VF xf = hn::Floor(x);
-  frac = hn::Sub(x, xf);
-  return hn::ConvertTo(di, xf);
+  return FloorIndex(x, frac);
 }
 
 // The axis functions below take the size per lane (isize, and fsize its float), as the dense
@@ -114,9 +118,7 @@ HWY_INLINE void AxisLinearLanes(VF c, VI isize, VF fsize, bool repeat, VI& i0, V
     return;
   }
   const VF x = TexelCoord(c, fsize, false);
-  const VF xf = hn::Floor(x);
-  frac = hn::Sub(x, xf);
-  i0 = hn::ConvertTo(di, xf);
+  i0 = FloorIndex(x, frac);
   i1 = hn::Add(i0, one);
   i0 = hn::Min(hn::Max(i0, hn::Zero(di)), last);
   i1 = hn::Min(hn::Max(i1, hn::Zero(di)), last);
@@ -131,9 +133,7 @@ HWY_INLINE void AxisLinear(VF c, int32_t size, bool repeat, VI& i0, VI& i1, VF& 
   const VF fsize = hn::Set(df, float(size));
   if (!repeat || IsPow2(size)) return AxisLinearLanes(c, isize, fsize, repeat, i0, i1, frac);
   const VF x = TexelCoord(c, fsize, true);
-  const VF xf = hn::Floor(x);
-  frac = hn::Sub(x, xf);
-  i0 = hn::ConvertTo(di, xf);
+  i0 = FloorIndex(x, frac);
   i1 = hn::Add(i0, hn::Set(di, 1));
   i0 = hn::IfThenElse(hn::Lt(i0, hn::Zero(di)), hn::Add(i0, isize), i0);
   i1 = hn::IfThenElse(hn::Gt(i1, hn::Set(di, size - 1)), hn::Sub(i1, isize), i1);
@@ -154,9 +154,7 @@ HWY_INLINE void AxisPairLanes(VF c, VI isize, VF fsize, bool repeat, VI& i0, VF&
     return;
   }
   const VF x = TexelCoord(c, fsize, false);
-  const VF xf = hn::Floor(x);
-  frac = hn::Sub(x, xf);
-  i0 = hn::ConvertTo(di, xf);
+  i0 = FloorIndex(x, frac);
   const auto edge = hn::Or(hn::Lt(i0, hn::Zero(di)), hn::Gt(i0, hn::Sub(isize, hn::Set(di, 2))));
   frac = hn::IfThenZeroElse(hn::RebindMask(df, edge), frac);
   i0 = hn::Min(hn::Max(i0, hn::Zero(di)), last);
@@ -170,9 +168,7 @@ HWY_INLINE void AxisPair(VF c, int32_t size, bool repeat, VI& i0, VF& frac) {
   const VF fsize = hn::Set(df, float(size));
   if (!repeat || IsPow2(size)) return AxisPairLanes(c, isize, fsize, repeat, i0, frac);
   const VF x = TexelCoord(c, fsize, true);
-  const VF xf = hn::Floor(x);
-  frac = hn::Sub(x, xf);
-  i0 = hn::ConvertTo(di, xf);
+  i0 = FloorIndex(x, frac);
   i0 = hn::IfThenElse(hn::Lt(i0, hn::Zero(di)), hn::Add(i0, isize), i0);
 }
 
@@ -649,6 +645,10 @@ void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRIC
     HWY_ALIGN double clamped[kChunkBlocks];
     DenseLevels dense_levels;
     const bool dense = block_mask != nullptr && MakeDenseLevels(tex, s, dense_levels);
+    if constexpr (!kMipmapped) {  // level 0 for every block, as the dense lanes read it
+      std::fill_n(level, kChunkBlocks, 0);
+      std::fill_n(weight, kChunkBlocks, 0.0f);
+    }
     for (size_t first = 0; first < lanes; first += kChunkBlocks * kBlockLanes) {
       const size_t blocks = std::min(kChunkBlocks, (lanes - first) / kBlockLanes);
       if constexpr (kMipmapped) {
@@ -667,7 +667,6 @@ void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRIC
       }
       if constexpr (hn::MaxLanes(DF()) == size_t(kBlockLanes)) {
         if (dense) {
-          if constexpr (!kMipmapped) std::fill_n(level, blocks, 0), std::fill_n(weight, blocks, 0.0f);
           constexpr int kLevels = kFilter == Filter::Trilinear ? 2 : 1;
           SampleDenseChunk<kLevels, kSrgb, kLa>(base, dense_levels, u, v, first, blocks, level, weight, block_mask,
                                                 srgb, out);

@@ -64,26 +64,6 @@ void coords(int size, float texels_per_pixel, std::vector<float>& u, std::vector
   }
 }
 
-void BM_Sample(benchmark::State& state, int64_t target, Filter filter, int size, Kind kind,
-               float texels_per_pixel) {
-  hwy::SetSupportedTargetsForTest(target);
-  const Texture& tex = texture(size, kind);
-  std::vector<float> u, v;
-  coords(size, texels_per_pixel, u, v);
-  auto o0 = hwy::AllocateAligned<float>(kLanes), o1 = hwy::AllocateAligned<float>(kLanes),
-       o2 = hwy::AllocateAligned<float>(kLanes), o3 = hwy::AllocateAligned<float>(kLanes);
-  float* const out[4] = {o0.get(), o1.get(), o2.get(), o3.get()};
-  const SamplerState s{filter, Wrap::Repeat, Wrap::Repeat, 0.0f};
-  for (auto _ : state) {
-    sample(tex, s, u.data(), v.data(), kLanes, out);
-    benchmark::DoNotOptimize(o3[kLanes - 1]);
-    benchmark::ClobberMemory();
-  }
-  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(kLanes));
-  state.counters["texture_KiB"] = double(tex.bytes()) / 1024.0;
-  hwy::SetSupportedTargetsForTest(0);
-}
-
 // Block masks like a fur batch's: 40 % of the blocks whole, the others cut by a random straight
 // edge (a triangle's side) keeping 1 to 15 lanes; about 70 % of the lanes in all, as on the furry
 // box. Through the sampler's dense lanes on 16-lane targets (raster/texture_kernels.cc).
@@ -106,26 +86,28 @@ std::vector<uint16_t> fur_like_masks(uint32_t seed) {
   return masks;
 }
 
-// BM_Sample with the fur-like block masks; items are the wanted lanes.
-void BM_SampleMasked(benchmark::State& state, int64_t target, Filter filter, Kind kind) {
+// `masked`: with fur_like_masks, counting the wanted lanes as the items.
+void BM_Sample(benchmark::State& state, int64_t target, Filter filter, int size, Kind kind,
+               float texels_per_pixel, bool masked) {
   hwy::SetSupportedTargetsForTest(target);
-  const Texture& tex = texture(256, kind);
+  const Texture& tex = texture(size, kind);
   std::vector<float> u, v;
-  coords(256, 4.0f, u, v);
-  const std::vector<uint16_t> masks = fur_like_masks(7);
-  int64_t wanted = 0;
-  for (uint16_t m : masks) wanted += std::popcount(unsigned{m});
+  coords(size, texels_per_pixel, u, v);
+  const std::vector<uint16_t> masks = masked ? fur_like_masks(7) : std::vector<uint16_t>{};
+  int64_t items = masked ? 0 : int64_t(kLanes);
+  for (uint16_t m : masks) items += std::popcount(unsigned{m});
   auto o0 = hwy::AllocateAligned<float>(kLanes), o1 = hwy::AllocateAligned<float>(kLanes),
        o2 = hwy::AllocateAligned<float>(kLanes), o3 = hwy::AllocateAligned<float>(kLanes);
   float* const out[4] = {o0.get(), o1.get(), o2.get(), o3.get()};
   const SamplerState s{filter, Wrap::Repeat, Wrap::Repeat, 0.0f};
   for (auto _ : state) {
-    sample(tex, s, u.data(), v.data(), kLanes, out, masks.data());
+    sample(tex, s, u.data(), v.data(), kLanes, out, masked ? masks.data() : nullptr);
     benchmark::DoNotOptimize(o3[kLanes - 1]);
     benchmark::ClobberMemory();
   }
-  state.SetItemsProcessed(int64_t(state.iterations()) * wanted);
-  state.counters["wanted_lanes_%"] = 100.0 * double(wanted) / double(kLanes);
+  state.SetItemsProcessed(int64_t(state.iterations()) * items);
+  state.counters["texture_KiB"] = double(tex.bytes()) / 1024.0;
+  if (masked) state.counters["wanted_lanes_%"] = 100.0 * double(items) / double(kLanes);
   hwy::SetSupportedTargetsForTest(0);
 }
 
@@ -148,14 +130,14 @@ void register_all() {
           const char* suffix = kind == Kind::srgb ? "_srgb" : kind == Kind::la8 ? "_la8" : "_rgba8";
           const std::string name = std::string("Sample/") + hwy::TargetName(target) + "/" + filter_name(f) +
                                    "/" + std::to_string(size) + suffix + "/texels_per_pixel:" + std::to_string(int(tpp));
-          benchmark::RegisterBenchmark(name.c_str(), BM_Sample, target, f, size, kind, tpp);
+          benchmark::RegisterBenchmark(name.c_str(), BM_Sample, target, f, size, kind, tpp, false);
         }
   for (int64_t target : hwy::SupportedAndGeneratedTargets())
     for (Filter f : {Filter::Bilinear, Filter::Trilinear})
       for (Kind kind : {Kind::rgba8, Kind::la8}) {
         const std::string name = std::string("SampleMasked/") + hwy::TargetName(target) + "/" + filter_name(f) +
                                  (kind == Kind::la8 ? "/256_la8" : "/256_rgba8") + "/texels_per_pixel:4";
-        benchmark::RegisterBenchmark(name.c_str(), BM_SampleMasked, target, f, kind);
+        benchmark::RegisterBenchmark(name.c_str(), BM_Sample, target, f, 256, kind, 4.0f, true);
       }
 }
 

@@ -121,37 +121,65 @@ HWY_INLINE void ForEachCoveredBlock(const TileEdges& te, int32_t tx0, int32_t ty
     return;
   }
 
-  constexpr int32_t kSub = 16;  // hierarchical level between the tile and the block
+  // Larger regions, per 16x16 sub-tile: its 4x4 blocks are classified at once, one block a
+  // lane (the lane layout of a block, kLaneX/kLaneY, scaled by the block size), by each
+  // edge's least and greatest value over the block's pixels: a block with a negative greatest
+  // value lies outside, one whose least values are all non-negative inside, and only the
+  // rest need their lanes tested (BlockCover). A fur shell's triangle spans tens of blocks,
+  // most of them wholly inside or outside it; testing the lanes of every block of a sub-tile
+  // the triangle crosses, as this loop did before, took about 13 % of a furry-box frame.
+  constexpr int32_t kSub = 4 * kBlockSize;  // blocks of a sub-tile: as many as a block's lanes
+  static_assert(kSub / kBlockSize * (kSub / kBlockSize) == kBlockLanes);
+  // Per edge: its offsets to each block of a sub-tile, and to the least and greatest pixel of
+  // a block from the block's first.
+  alignas(64) int32_t block_step[3][kBlockLanes];
+  int32_t lo_off[3], hi_off[3];
+  for (int k = 0; k < 3; ++k) {
+    const int32_t a = te.a[k], b = te.b[k];
+    for (size_t g = 0; g * n < kBlockLanes; ++g)
+      hn::Store(hn::Mul(hn::Set(di, kBlockSize),
+                        hn::Add(hn::Mul(hn::Set(di, a), hn::Load(di, kLaneX + g * n)),
+                                hn::Mul(hn::Set(di, b), hn::Load(di, kLaneY + g * n)))),
+                di, block_step[k] + g * n);
+    lo_off[k] = (std::min(a, 0) + std::min(b, 0)) * (kBlockSize - 1);
+    hi_off[k] = (std::max(a, 0) + std::max(b, 0)) * (kBlockSize - 1);
+  }
   const int32_t sy0 = ty0 + ((te.ry0 - ty0) & ~(kSub - 1));
   const int32_t sx0 = tx0 + ((te.rx0 - tx0) & ~(kSub - 1));
   for (int32_t sy = sy0; sy <= te.ry1; sy += kSub) {
-    const int32_t y0 = std::max(sy, te.ry0), y1 = std::min(sy + kSub - 1, te.ry1);
+    // The sub-tile's rows of blocks inside the region, as block bits (4 a row).
+    const int32_t r0 = (std::max(sy, te.ry0) - sy) / kBlockSize, r1 = (std::min(sy + kSub - 1, te.ry1) - sy) / kBlockSize;
+    const uint32_t rows = ((0xFFFFu << (4 * r0)) & (0xFFFFu >> (4 * (3 - r1))));
     for (int32_t sx = sx0; sx <= te.rx1; sx += kSub) {
-      const int32_t x0 = std::max(sx, te.rx0), x1 = std::min(sx + kSub - 1, te.rx1);
-      bool reject = false, full = true;
-      int32_t e_origin[3];
-      for (int k = 0; k < 3; ++k) {
-        const int32_t a = te.a[k], b = te.b[k];
-        e_origin[k] = te.e0[k] + a * (x0 - te.rx0) + b * (y0 - te.ry0);
-        const int32_t dx = x1 - x0, dy = y1 - y0;
-        const int32_t lo = e_origin[k] + (a < 0 ? a * dx : 0) + (b < 0 ? b * dy : 0);
-        const int32_t hi = e_origin[k] + (a > 0 ? a * dx : 0) + (b > 0 ? b * dy : 0);
-        reject |= hi < 0;
-        full &= lo >= 0;
+      const int32_t c0 = (std::max(sx, te.rx0) - sx) / kBlockSize, c1 = (std::min(sx + kSub - 1, te.rx1) - sx) / kBlockSize;
+      const uint32_t cols = ((0xFu << c0) & (0xFu >> (3 - c1))) * 0x1111u;
+      int32_t e_sub[3];
+      for (int k = 0; k < 3; ++k) e_sub[k] = te.e0[k] + te.a[k] * (sx - te.rx0) + te.b[k] * (sy - te.ry0);
+      uint32_t outside = 0, partial = 0;
+      for (size_t g = 0; g * n < kBlockLanes; ++g) {
+        auto extreme = [&](const int32_t (&off)[3]) {
+          auto v = hn::Add(hn::Set(di, e_sub[0] + off[0]), hn::Load(di, block_step[0] + g * n));
+          for (int k = 1; k < 3; ++k) v = hn::Or(v, hn::Add(hn::Set(di, e_sub[k] + off[k]), hn::Load(di, block_step[k] + g * n)));
+          return v;
+        };
+        const auto hi_or = extreme(hi_off), lo_or = extreme(lo_off);
+        // A value's sign bit is the OR's: some edge negative at every pixel of the block
+        // (outside), or at some pixel (not wholly inside).
+        outside |= MaskToBits(di, hn::Lt(hi_or, hn::Zero(di))) << (g * n);
+        partial |= MaskToBits(di, hn::Lt(lo_or, hn::Zero(di))) << (g * n);
       }
-      if (reject) continue;
-      for (int32_t py = y0; py <= y1; py += kBlockSize) {
-        for (int32_t px = x0; px <= x1; px += kBlockSize) {
-          const uint32_t blk = BlockIndex(px, py, tx0, ty0);
-          uint32_t bits = valid[blk];
-          if (!full) {
-            const int32_t dxp = px - x0, dyp = py - y0;
-            bits &= BlockCover(step, e_origin[0] + te.a[0] * dxp + te.b[0] * dyp,
-                               e_origin[1] + te.a[1] * dxp + te.b[1] * dyp,
-                               e_origin[2] + te.a[2] * dxp + te.b[2] * dyp);
-          }
-          if (bits) fn(px, py, blk, bits);
-        }
+      uint32_t left = rows & cols & ~outside;
+      const uint32_t first_blk = BlockIndex(sx, sy, tx0, ty0);
+      while (left) {
+        const int j = std::countr_zero(left);
+        left &= left - 1;
+        const int32_t bx = kLaneX[j], by = kLaneY[j];
+        const uint32_t blk = first_blk + uint32_t(by * kBlocksPerTileSide + bx);
+        uint32_t bits = valid[blk];
+        const int32_t px = sx + bx * kBlockSize, py = sy + by * kBlockSize;
+        if (partial & (1u << j))
+          bits &= BlockCover(step, e_sub[0] + block_step[0][j], e_sub[1] + block_step[1][j], e_sub[2] + block_step[2][j]);
+        if (bits) fn(px, py, blk, bits);
       }
     }
   }

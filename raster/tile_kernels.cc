@@ -130,17 +130,14 @@ HWY_INLINE void ForEachCoveredBlock(const TileEdges& te, int32_t tx0, int32_t ty
   // the triangle crosses, as this loop did before, took about 13 % of a furry-box frame.
   constexpr int32_t kSub = 4 * kBlockSize;  // blocks of a sub-tile: as many as a block's lanes
   static_assert(kSub / kBlockSize * (kSub / kBlockSize) == kBlockLanes);
-  // Per edge: its offsets to each block of a sub-tile, and to the least and greatest pixel of
-  // a block from the block's first.
+  // Per edge: its offsets to each block of a sub-tile (a lane's offset within a block, `step`,
+  // scaled by the block size), and the least and greatest of `step` (a block's pixels).
   alignas(64) int32_t block_step[3][kBlockLanes];
   int32_t lo_off[3], hi_off[3];
   for (int k = 0; k < 3; ++k) {
     const int32_t a = te.a[k], b = te.b[k];
     for (size_t g = 0; g * n < kBlockLanes; ++g)
-      hn::Store(hn::Mul(hn::Set(di, kBlockSize),
-                        hn::Add(hn::Mul(hn::Set(di, a), hn::Load(di, kLaneX + g * n)),
-                                hn::Mul(hn::Set(di, b), hn::Load(di, kLaneY + g * n)))),
-                di, block_step[k] + g * n);
+      hn::Store(hn::Mul(hn::Set(di, kBlockSize), hn::Load(di, step[k] + g * n)), di, block_step[k] + g * n);
     lo_off[k] = (std::min(a, 0) + std::min(b, 0)) * (kBlockSize - 1);
     hi_off[k] = (std::max(a, 0) + std::max(b, 0)) * (kBlockSize - 1);
   }
@@ -148,10 +145,12 @@ HWY_INLINE void ForEachCoveredBlock(const TileEdges& te, int32_t tx0, int32_t ty
   const int32_t sx0 = tx0 + ((te.rx0 - tx0) & ~(kSub - 1));
   for (int32_t sy = sy0; sy <= te.ry1; sy += kSub) {
     // The sub-tile's rows of blocks inside the region, as block bits (4 a row).
-    const int32_t r0 = (std::max(sy, te.ry0) - sy) / kBlockSize, r1 = (std::min(sy + kSub - 1, te.ry1) - sy) / kBlockSize;
-    const uint32_t rows = ((0xFFFFu << (4 * r0)) & (0xFFFFu >> (4 * (3 - r1))));
+    const int32_t r0 = (std::max(sy, te.ry0) - sy) / kBlockSize;
+    const int32_t r1 = (std::min(sy + kSub - 1, te.ry1) - sy) / kBlockSize;
+    const uint32_t rows = (0xFFFFu << (4 * r0)) & (0xFFFFu >> (4 * (3 - r1)));
     for (int32_t sx = sx0; sx <= te.rx1; sx += kSub) {
-      const int32_t c0 = (std::max(sx, te.rx0) - sx) / kBlockSize, c1 = (std::min(sx + kSub - 1, te.rx1) - sx) / kBlockSize;
+      const int32_t c0 = (std::max(sx, te.rx0) - sx) / kBlockSize;
+      const int32_t c1 = (std::min(sx + kSub - 1, te.rx1) - sx) / kBlockSize;
       const uint32_t cols = ((0xFu << c0) & (0xFu >> (3 - c1))) * 0x1111u;
       int32_t e_sub[3];
       for (int k = 0; k < 3; ++k) e_sub[k] = te.e0[k] + te.a[k] * (sx - te.rx0) + te.b[k] * (sy - te.ry0);
@@ -159,7 +158,8 @@ HWY_INLINE void ForEachCoveredBlock(const TileEdges& te, int32_t tx0, int32_t ty
       for (size_t g = 0; g * n < kBlockLanes; ++g) {
         auto extreme = [&](const int32_t (&off)[3]) {
           auto v = hn::Add(hn::Set(di, e_sub[0] + off[0]), hn::Load(di, block_step[0] + g * n));
-          for (int k = 1; k < 3; ++k) v = hn::Or(v, hn::Add(hn::Set(di, e_sub[k] + off[k]), hn::Load(di, block_step[k] + g * n)));
+          for (int k = 1; k < 3; ++k)
+            v = hn::Or(v, hn::Add(hn::Set(di, e_sub[k] + off[k]), hn::Load(di, block_step[k] + g * n)));
           return v;
         };
         const auto hi_or = extreme(hi_off), lo_or = extreme(lo_off);
@@ -178,7 +178,8 @@ HWY_INLINE void ForEachCoveredBlock(const TileEdges& te, int32_t tx0, int32_t ty
         uint32_t bits = valid[blk];
         const int32_t px = sx + bx * kBlockSize, py = sy + by * kBlockSize;
         if (partial & (1u << j))
-          bits &= BlockCover(step, e_sub[0] + block_step[0][j], e_sub[1] + block_step[1][j], e_sub[2] + block_step[2][j]);
+          bits &= BlockCover(step, e_sub[0] + block_step[0][j], e_sub[1] + block_step[1][j],
+                             e_sub[2] + block_step[2][j]);
         if (bits) fn(px, py, blk, bits);
       }
     }

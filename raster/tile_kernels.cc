@@ -128,8 +128,18 @@ HWY_INLINE void ForEachCoveredBlock(const TileEdges& te, int32_t tx0, int32_t ty
   // rest need their lanes tested (BlockCover). A fur shell's triangle spans tens of blocks,
   // most of them wholly inside or outside it; testing the lanes of every block of a sub-tile
   // the triangle crosses, as this loop did before, took about 13 % of a furry-box frame.
-  constexpr int32_t kSub = 4 * kBlockSize;  // blocks of a sub-tile: as many as a block's lanes
-  static_assert(kSub / kBlockSize * (kSub / kBlockSize) == kBlockLanes);
+  // A sub-tile is laid out in blocks as a block is in lanes: kSide a side, row-major, which
+  // the row and column masks below rely on.
+  constexpr int32_t kSide = kBlockSize;
+  constexpr int32_t kSub = kSide * kBlockSize;
+  static_assert([] {
+    for (int j = 0; j < kBlockLanes; ++j)
+      if (kLaneX[j] != j % kSide || kLaneY[j] != j / kSide) return false;
+    return true;
+  }());
+  constexpr uint32_t kRow = (1u << kSide) - 1;  // one row's blocks
+  constexpr uint32_t kAll = (1u << kBlockLanes) - 1;
+  constexpr uint32_t kColumn = kAll / kRow;  // one block of every row (0x1111)
   // Per edge: its offsets to each block of a sub-tile (a lane's offset within a block, `step`,
   // scaled by the block size), and the least and greatest of `step` (a block's pixels).
   alignas(64) int32_t block_step[3][kBlockLanes];
@@ -144,14 +154,14 @@ HWY_INLINE void ForEachCoveredBlock(const TileEdges& te, int32_t tx0, int32_t ty
   const int32_t sy0 = ty0 + ((te.ry0 - ty0) & ~(kSub - 1));
   const int32_t sx0 = tx0 + ((te.rx0 - tx0) & ~(kSub - 1));
   for (int32_t sy = sy0; sy <= te.ry1; sy += kSub) {
-    // The sub-tile's rows of blocks inside the region, as block bits (4 a row).
+    // The sub-tile's rows of blocks inside the region, as block bits.
     const int32_t r0 = (std::max(sy, te.ry0) - sy) / kBlockSize;
     const int32_t r1 = (std::min(sy + kSub - 1, te.ry1) - sy) / kBlockSize;
-    const uint32_t rows = (0xFFFFu << (4 * r0)) & (0xFFFFu >> (4 * (3 - r1)));
+    const uint32_t rows = (kAll << (kSide * r0)) & (kAll >> (kSide * (kSide - 1 - r1)));
     for (int32_t sx = sx0; sx <= te.rx1; sx += kSub) {
       const int32_t c0 = (std::max(sx, te.rx0) - sx) / kBlockSize;
       const int32_t c1 = (std::min(sx + kSub - 1, te.rx1) - sx) / kBlockSize;
-      const uint32_t cols = ((0xFu << c0) & (0xFu >> (3 - c1))) * 0x1111u;
+      const uint32_t cols = ((kRow << c0) & (kRow >> (kSide - 1 - c1))) * kColumn;
       int32_t e_sub[3];
       for (int k = 0; k < 3; ++k) e_sub[k] = te.e0[k] + te.a[k] * (sx - te.rx0) + te.b[k] * (sy - te.ry0);
       uint32_t outside = 0, partial = 0;

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -15,6 +14,7 @@
 #include "tools/cli/quality_options.h"
 #include "tools/io/builtin_meshes.h"
 #include "tools/io/input_error.h"
+#include "tools/io/output_file.h"
 #include "tools/render/scene_renderer.h"
 
 namespace pelt::cli {
@@ -203,14 +203,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
                     {"vertices", {{"base", c.base_vertices}, {"shell", c.shell_vertices}, {"fin", c.fin_vertices}, {"sum", c.total_vertices}}},
                     {"faces", {{"base", c.base_faces}, {"shell", c.shell_faces}, {"fin", c.fin_faces}, {"sum", c.total_faces}}}});
   }
-  const std::filesystem::path p(path);
-  const std::filesystem::path tmp = p.parent_path() / ("." + p.filename().string() + ".tmp");
-  {
-    std::ofstream f(tmp);
-    f << list.dump(2) << "\n";
-    if (!f) throw io::InputError(path, "--json", "write failed");
-  }
-  std::filesystem::rename(tmp, p);
+  io::write_text_atomic(path, list.dump(2) + "\n", "--json");
 }
 
 int run_fps(const Options& o) {
@@ -223,6 +216,7 @@ int run_fps(const Options& o) {
     if (!t) throw io::InputError("", "--scenes", "unknown scene `" + s + "` (box, teapot, teapot2)");
     tables.push_back(t);
   }
+  if (!o.json.empty()) io::prepare_output(o.json, "--json");  // before minutes of frames, not after
   std::vector<Result> results;
   std::printf("pelt bench fps: %dx%d, %d frames after %d warm-up, %s, sort %s, filter %s\n", o.width, o.height,
               o.frames, o.warmup, o.match_llvmpipe ? "the llvmpipe harness's scene (--match-llvmpipe)" : "pelt's own fur",

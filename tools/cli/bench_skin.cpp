@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,6 +17,7 @@
 #include "tools/bench/skin_meshes.h"
 #include "tools/cli/commands.h"
 #include "tools/io/input_error.h"
+#include "tools/io/output_file.h"
 #include "tools/io/scene.h"
 #include "tools/render/scene_renderer.h"
 
@@ -64,12 +64,6 @@ void check_options(const SkinBenchOptions& o) {
   range("--threads", o.threads, 1, 256);
   range("--frames", o.frames, 1, 100000);
   range("--warmup", o.warmup, 0, 100000);
-  if (!o.json.empty()) {
-    const std::filesystem::path dir = std::filesystem::path(o.json).parent_path();
-    std::error_code ec;
-    if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
-      throw io::InputError(o.json, "--json", "folder " + dir.string() + " does not exist");
-  }
 }
 
 double median(std::vector<double> v) {
@@ -245,23 +239,14 @@ void write_json_atomic(const std::string& path, const std::vector<Measurement>& 
                     {"ms_raster_front_median", m.front_median},
                     {"ms_raster_tiles_median", m.tiles_median},
                     {"fragments", m.raster.fragments_visible + m.raster.fragments_blended}});
-  const std::filesystem::path p(path);
-  const std::filesystem::path tmp = p.parent_path() / ("." + p.filename().string() + ".tmp");
-  {
-    std::ofstream f(tmp);
-    if (!f) throw io::InputError(path, "--json", "cannot open " + tmp.string() + " for writing");
-    f << list.dump(2) << "\n";
-    if (!f) throw io::InputError(path, "--json", "write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, p, ec);
-  if (ec) throw io::InputError(path, "--json", "cannot rename " + tmp.string() + ": " + ec.message());
+  io::write_text_atomic(path, list.dump(2) + "\n", "--json");
 }
 
 int run_bench_skin(const SkinBenchOptions& o) {
   check_options(o);
   const std::filesystem::path head = o.head.empty() ? bench::find_head_scan("--head") : std::filesystem::path(o.head);
   const std::vector<bench::SkinBenchMesh> meshes = bench::make_skin_bench_meshes(head);
+  if (!o.json.empty()) io::prepare_output(o.json, "--json");  // before minutes of frames, not after
   std::vector<Measurement> ms;
   for (const bench::SkinBenchMesh& m : meshes)
     for (Measurement& r : measure_mesh(m, o)) ms.push_back(std::move(r));

@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cstdio>
 #include <exception>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,6 +18,7 @@
 #include "tools/io/image_backend.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
+#include "tools/io/output_file.h"
 #include "tools/io/scene.h"
 #include "tools/render/frame_sequence.h"
 #include "tools/render/interrupt.h"
@@ -78,28 +78,6 @@ void write_frame(const std::filesystem::path& path, const render::FrameImage& im
   }
 }
 
-void write_json_atomic(const std::string& path, const nlohmann::json& j) {
-  const std::filesystem::path p(path);
-  const std::filesystem::path tmp = p.parent_path() / ("." + p.filename().string() + ".tmp");
-  {
-    std::ofstream f(tmp);
-    if (!f) throw io::InputError(path, "--stats", "cannot open for writing");
-    f << j.dump(2) << "\n";
-    if (!f) throw io::InputError(path, "--stats", "write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, p, ec);
-  if (ec) throw io::InputError(path, "--stats", "cannot move the file into place: " + ec.message());
-}
-
-void make_parent_folder(const std::filesystem::path& file) {
-  const std::filesystem::path dir = file.parent_path();
-  if (dir.empty()) return;
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw io::InputError(file.string(), "-o", "cannot create folder " + dir.string() + ": " + ec.message());
-}
-
 // Everything decided from the options and the scene before any rendering, so a bad
 // option costs nothing and leaves no output.
 struct Plan {
@@ -151,7 +129,8 @@ int run_render(const RenderOptions& o) {
   const render::ProgressMode mode = render::progress_mode(o.quiet, fileno(stderr));
   nlohmann::json stats_frames = nlohmann::json::array();
   const auto write_stats = [&] {
-    if (!o.stats.empty()) write_json_atomic(o.stats, {{"frames", stats_frames}});
+    if (!o.stats.empty())
+      io::write_text_atomic(o.stats, nlohmann::json{{"frames", stats_frames}}.dump(2) + "\n", "--stats");
   };
 
   if (plan.frames.empty()) {
@@ -159,6 +138,7 @@ int run_render(const RenderOptions& o) {
       std::fprintf(stderr, "pelt: nothing to render: %s\n",
                    plan.planned == 0 ? ("shard " + o.shard + " has no frames in this range").c_str()
                                      : "every frame's output already exists (--resume)");
+    if (!o.stats.empty()) io::prepare_output(o.stats, "--stats");
     write_stats();
     return 0;
   }
@@ -176,10 +156,15 @@ int run_render(const RenderOptions& o) {
   rs.budget = o.budget;
   rs.aov = aov;
   render::SceneRenderer renderer(scene, rs);
+  // The destinations are proven writable before the first frame, so a bad path fails now
+  // instead of after a whole sequence has rendered.
+  if (!o.stats.empty()) io::prepare_output(o.stats, "--stats");
+  io::prepare_output(plan.kind == render::OutputKind::gif ? std::filesystem::path(o.output)
+                                                           : pattern.path_for(plan.frames.front()),
+                     "-o");
 
   std::unique_ptr<io::AnimatedGifWriter> gif;
   if (plan.kind == render::OutputKind::gif) {
-    make_parent_folder(o.output);
     gif = std::make_unique<io::AnimatedGifWriter>(o.output, renderer.width(), renderer.height(),
                                                   scene.animation ? scene.animation->fps : io::Animation{}.fps);
   }
@@ -217,7 +202,7 @@ int run_render(const RenderOptions& o) {
         gif->add_frame(slot.img.color.data());
       } else {
         const std::filesystem::path path = pattern.path_for(slot.frame);
-        make_parent_folder(path);
+        io::prepare_output(path, "-o");  // a pattern may put frames in folders of their own
         write_frame(path, slot.img, aov, io::ImageWriteOptions{o.png_compression});
       }
     } catch (...) {

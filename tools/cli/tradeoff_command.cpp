@@ -6,19 +6,17 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
-#include <unistd.h>
-
 #include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
+#include "tools/io/output_file.h"
 #include "tools/io/scene.h"
 #include "tools/render/scene_renderer.h"
 #include "tools/tradeoff/image_compare.h"
@@ -74,26 +72,6 @@ Measured measure(const io::Scene& scene, const io::Quality& q, const io::Budget&
   return {tradeoff::summarize(ms, warm_up), tradeoff::to_display(img.width, img.height, img.color)};
 }
 
-// Writes `text` to `path` through a temporary renamed into place, like the images.
-void write_text_atomic(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.parent_path() / ("." + path.filename().string() + ".tmp-" + std::to_string(::getpid()));
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    if (!f) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw io::InputError(path.string(), "-o", "cannot write the file");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw io::InputError(path.string(), "-o", "cannot move the file into place: " + ec.message());
-  }
-}
-
 std::string label(const tradeoff::Setting& s) { return s.knob + "=" + s.setting; }
 
 int run_tradeoff(const TradeoffOptions& o) {
@@ -107,6 +85,8 @@ int run_tradeoff(const TradeoffOptions& o) {
     throw io::InputError(dir.string(), "-o", "exists and is not a folder");
   const int threads = o.threads > 0 ? o.threads : std::max(1, int(std::thread::hardware_concurrency()));
   const std::vector<tradeoff::Setting> plan = tradeoff::plan_sweep(scene.quality, knobs);
+  io::prepare_output(dir / "tradeoff.csv", "-o");  // before the reference, which can take minutes
+  if (o.images) io::prepare_output(dir / "images" / "reference.png", "--images");
 
   std::vector<tradeoff::Row> rows;
   std::vector<tradeoff::DisplayImage> images;  // per row, kept only with --images
@@ -160,14 +140,9 @@ int run_tradeoff(const TradeoffOptions& o) {
                 fs::path(o.scene).filename().string().c_str(), reference.width, reference.height, threads, o.runs);
   const std::string markdown = std::string(about) + table;
 
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw io::InputError(dir.string(), "-o", "cannot create the folder: " + ec.message());
-  write_text_atomic(dir / "tradeoff.csv", csv.str());
-  write_text_atomic(dir / "tradeoff.md", markdown);
+  io::write_text_atomic(dir / "tradeoff.csv", csv.str(), "-o");
+  io::write_text_atomic(dir / "tradeoff.md", markdown, "-o");
   if (o.images) {
-    fs::create_directories(dir / "images", ec);
-    if (ec) throw io::InputError((dir / "images").string(), "--images", "cannot create the folder: " + ec.message());
     for (size_t i = 0; i < rows.size(); ++i)
       io::write_image_atomic(dir / "images" / (rows[i].knob + "_" + rows[i].setting + ".png"), images[i].width,
                              images[i].height, 4, io::PixelType::u8, images[i].rgba.data());

@@ -7,6 +7,7 @@
 #include "tools/io/image_backend.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
+#include "tools/io/output_file.h"
 #include "tools/io/srgb.h"
 
 namespace pelt::io {

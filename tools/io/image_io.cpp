@@ -9,10 +9,9 @@
 #include <system_error>
 #include <vector>
 
-#include <unistd.h>
-
 #include "tools/io/image_backend.h"
 #include "tools/io/input_error.h"
+#include "tools/io/output_file.h"
 #include "tools/io/pixels.h"
 #include "tools/io/srgb.h"
 
@@ -41,34 +40,7 @@ const char* type_name(PixelType t) {
   return "?";
 }
 
-// Removes the temporary unless released: every early exit leaves no file behind.
-class TempFile {
- public:
-  explicit TempFile(std::filesystem::path p) : path_(std::move(p)) {}
-  ~TempFile() {
-    if (!released_) {
-      std::error_code ec;
-      std::filesystem::remove(path_, ec);
-    }
-  }
-  const std::filesystem::path& path() const { return path_; }
-  void release() { released_ = true; }
-
- private:
-  std::filesystem::path path_;
-  bool released_ = false;
-};
-
 }  // namespace
-
-std::filesystem::path temp_beside(const std::filesystem::path& path) {
-  // Appended piece by piece: `"." + string` trips GCC 12's -Wrestrict false positive.
-  std::string name = ".";
-  name += path.filename().string();
-  name += ".tmp-";
-  name += std::to_string(::getpid());
-  return (path.has_parent_path() ? path.parent_path() : std::filesystem::path(".")) / name;
-}
 
 void write_image_atomic(const std::filesystem::path& path, int width, int height, int channels,
                         PixelType type, const void* pixels, const ImageWriteOptions& options) {

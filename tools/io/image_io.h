@@ -43,10 +43,6 @@ struct ImageWriteOptions {
 void write_image_atomic(const std::filesystem::path& path, int width, int height, int channels,
                         PixelType type, const void* pixels, const ImageWriteOptions& options = {});
 
-// The temporary an atomic writer fills before renaming it over `path`: `.NAME.tmp-PID` in
-// path's folder (the same file system, so the rename is atomic).
-std::filesystem::path temp_beside(const std::filesystem::path& path);
-
 // Reads an image as linear float RGBA (grey is replicated, a missing alpha is 1), colour
 // as stored (straight alpha for PNG; nothing is multiplied by alpha).
 // 8 and 16-bit integer files are decoded with `encoding` (sRGB for colour maps); float

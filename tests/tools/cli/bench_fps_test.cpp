@@ -19,7 +19,7 @@ std::vector<std::string> tiny_run(const std::filesystem::path& json) {
 
 nlohmann::json run_json(const std::vector<std::string>& extra) {
   TempDir dir;
-  const std::filesystem::path json = dir.path() / "fps.json";
+  const std::filesystem::path json = dir.path() / "results" / "fps.json";  // a folder made for it
   std::vector<std::string> args = tiny_run(json);
   args.insert(args.end(), extra.begin(), extra.end());
   const Result r = run_pelt(args, dir.path());
@@ -63,6 +63,20 @@ TEST(BenchFps, AnUnknownKnobValueNamesItsFlag) {
     EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(json)) << flag;
   }
+}
+
+// A --json path that cannot be written is refused before the first frame, not after the
+// whole benchmark: no table row is printed.
+TEST(BenchFps, AnUnwritableJsonPathFailsBeforeTheRun) {
+  TempDir dir;
+  const std::filesystem::path taken = dir.write("taken", "a file, not a folder");
+  const std::filesystem::path json = taken / "fps.json";
+  const Result r = run_pelt(tiny_run(json), dir.path());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(json.string() + ": --json: cannot create folder " + taken.string()), std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.out.find("FPS"), std::string::npos) << r.out;
+  EXPECT_EQ(read_text(taken), "a file, not a folder");
 }
 
 }  // namespace

@@ -223,7 +223,7 @@ TEST_F(RenderCommand, PngSequenceAndGifReadBack) {
 }
 
 TEST_F(RenderCommand, StatsListEveryRenderedFrame) {
-  const fs::path stats = dir.path() / "stats.json";
+  const fs::path stats = dir.path() / "logs" / "shot" / "stats.json";  // folders made for it, as for -o
   const Result r = pelt({"-o", (dir.path() / "s/f_#.exr").string(), "--frames", "3:5", "--stats", stats.string(), "-q"});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.err.empty()) << "--quiet printed: " << r.err;
@@ -239,6 +239,17 @@ TEST_F(RenderCommand, StatsListEveryRenderedFrame) {
     EXPECT_TRUE(wrote) << f.dump();
   }
   EXPECT_TRUE(fs::exists(dir.path() / "s/f_5.exr"));
+}
+
+// A --stats path that cannot be written is refused before the first frame, not after the
+// whole sequence: no frame, no folder for the frames.
+TEST_F(RenderCommand, AnUnwritableStatsPathFailsBeforeTheFirstFrame) {
+  const fs::path stats = scene / "stats.json";  // under the scene file, a regular file
+  const Result r = pelt({"-o", (dir.path() / "u/f_#.png").string(), "--frames", "0:2", "--stats", stats.string(), "-q"});
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(stats.string() + ": --stats: cannot create folder " + scene.string()), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "u"));
 }
 
 // A frame is written on a second thread while the next one renders; a write that fails there still

@@ -147,5 +147,18 @@ TEST(TradeoffCommand, OutputPathThatIsAFileIsRefused) {
   EXPECT_EQ(read_text(file), "not a folder");
 }
 
+// A folder that cannot be made is refused before the reference renders (which takes minutes
+// on a real scene), not after every row was measured.
+TEST(TradeoffCommand, AnOutputFolderThatCannotBeMadeIsRefusedBeforeRendering) {
+  TempDir dir;
+  const fs::path scene = dir.write("tiny.json", kTinyFurScene);
+  const fs::path file = dir.write("taken", "not a folder");
+  const Result r = run_pelt({"tradeoff", scene.string(), "-o", (file / "report").string(), "--no-plot"}, dir.path());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("-o: cannot create folder " + (file / "report").string()), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("[1/"), std::string::npos) << "rendered before refusing: " << r.err;
+  EXPECT_EQ(read_text(file), "not a folder");
+}
+
 }  // namespace
 }  // namespace pelt::cli_test

@@ -1,0 +1,111 @@
+// Text outputs written atomically, and destinations proven writable before the work: the
+// file appears whole or not at all, no temporary is left behind, and every failure is an
+// InputError naming the file and the option.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/tools/io/temp_dir.h"
+#include "tools/io/input_error.h"
+#include "tools/io/output_file.h"
+
+namespace pelt::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// Every entry below `dir`, relative and sorted (folders and files).
+std::vector<std::string> entries(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) out.push_back(fs::relative(e.path(), dir).string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The InputError `fn` throws (a test failure when it throws none).
+template <class Fn>
+InputError error_of(Fn&& fn) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no InputError";
+  return InputError("", "", "");
+}
+
+TEST(OutputFile, WriteTextAtomicWritesTheWholeTextAndNothingElse) {
+  TempDir dir;
+  const fs::path p = dir.path() / "results.json";
+  write_text_atomic(p, "[1, 2]\n", "--json");
+  EXPECT_EQ(read(p), "[1, 2]\n");
+  write_text_atomic(p, "[3]\n", "--json");  // replaces an earlier file
+  EXPECT_EQ(read(p), "[3]\n");
+  EXPECT_EQ(entries(dir.path()), std::vector<std::string>{"results.json"});
+}
+
+TEST(OutputFile, AFailedWriteNamesFileAndOptionAndLeavesNothing) {
+  TempDir dir;
+  const fs::path taken = dir.write("taken", "a file, not a folder");
+  const fs::path p = taken / "results.json";
+  const InputError e = error_of([&] { write_text_atomic(p, "[]\n", "--json"); });
+  EXPECT_EQ(e.file, p.string());
+  EXPECT_EQ(e.field, "--json");
+  EXPECT_NE(e.reason.find("cannot create a file in " + taken.string()), std::string::npos) << e.what();
+  EXPECT_EQ(read(taken), "a file, not a folder");
+  EXPECT_EQ(entries(dir.path()), std::vector<std::string>{"taken"});
+}
+
+TEST(OutputFile, PrepareOutputMakesTheFolderAndLeavesNoFile) {
+  TempDir dir;
+  const fs::path p = dir.path() / "a" / "b" / "stats.json";
+  prepare_output(p, "--stats");
+  EXPECT_TRUE(fs::is_directory(dir.path() / "a" / "b"));
+  EXPECT_EQ(entries(dir.path()), (std::vector<std::string>{"a", "a/b"}));
+  write_text_atomic(p, "{}\n", "--stats");
+  EXPECT_EQ(read(p), "{}\n");
+
+  // A file already there is not touched: only the run's end replaces it.
+  prepare_output(p, "--stats");
+  EXPECT_EQ(read(p), "{}\n");
+  EXPECT_EQ(entries(dir.path()), (std::vector<std::string>{"a", "a/b", "a/b/stats.json"}));
+}
+
+TEST(OutputFile, PrepareOutputRefusesWhatCannotBecomeTheFile) {
+  TempDir dir;
+  const fs::path taken = dir.write("taken", "a file, not a folder");
+  const InputError under_file = error_of([&] { prepare_output(taken / "deeper" / "fps.json", "--json"); });
+  EXPECT_EQ(under_file.file, (taken / "deeper" / "fps.json").string());
+  EXPECT_EQ(under_file.field, "--json");
+  EXPECT_NE(under_file.reason.find("cannot create folder " + (taken / "deeper").string()), std::string::npos)
+      << under_file.what();
+
+  fs::create_directories(dir.path() / "folder");
+  const InputError folder = error_of([&] { prepare_output(dir.path() / "folder", "--stats"); });
+  EXPECT_EQ(folder.field, "--stats");
+  EXPECT_EQ(folder.reason, "is a folder, not a file");
+
+  const InputError empty = error_of([&] { prepare_output("", "--json"); });
+  EXPECT_EQ(empty.reason, "names no file");
+  EXPECT_EQ(entries(dir.path()), (std::vector<std::string>{"folder", "taken"}));
+}
+
+TEST(OutputFile, TheTemporaryLiesBesideTheTarget) {
+  EXPECT_EQ(temp_beside("out/x.json").parent_path(), fs::path("out"));
+  EXPECT_EQ(temp_beside("x.json").parent_path(), fs::path("."));
+  EXPECT_EQ(temp_beside("out/x.json").filename().string().rfind(".x.json.tmp-", 0), 0u);
+}
+
+}  // namespace
+}  // namespace pelt::io

@@ -1,14 +1,17 @@
 // `pelt tradeoff SCENE.json`: what each quality knob costs in time and buys in accuracy.
 // Renders the reference once, then every knob's settings one at a time on top of the
-// scene's own quality, then the presets; times each frame, measures its error against the
-// reference and writes a CSV, a markdown table and a plot of error against time.
+// scene's own quality, then the presets; times each frame (every setting twice, on the way
+// through the sweep and back), measures its error against the reference and writes a CSV, a
+// markdown table and a plot of error against time.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -43,9 +46,9 @@ struct TradeoffOptions {
   io::Budget budget;
 };
 
-// One setting's measurement: its timed runs and the image it made.
+// One setting's measurement: its timed runs (ms) and the image it made.
 struct Measured {
-  tradeoff::Timing time;
+  std::vector<double> ms;
   tradeoff::DisplayImage image;
 };
 
@@ -69,7 +72,12 @@ Measured measure(const io::Scene& scene, const io::Quality& q, const io::Budget&
     renderer.render(0, img, stats);
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
-  return {tradeoff::summarize(ms, warm_up), tradeoff::to_display(img.width, img.height, img.color)};
+  return {std::move(ms), tradeoff::to_display(img.width, img.height, img.color)};
+}
+
+size_t image_hash(const tradeoff::DisplayImage& image) {
+  return std::hash<std::string_view>{}(
+      std::string_view(reinterpret_cast<const char*>(image.rgba.data()), image.rgba.size()));
 }
 
 std::string label(const tradeoff::Setting& s) { return s.knob + "=" + s.setting; }
@@ -90,6 +98,8 @@ int run_tradeoff(const TradeoffOptions& o) {
 
   std::vector<tradeoff::Row> rows;
   std::vector<tradeoff::DisplayImage> images;  // per row, kept only with --images
+  std::vector<std::vector<double>> first_ms(plan.size());  // the first pass's runs per rendered row
+  std::vector<size_t> first_hash(plan.size());             // and its image's hash
   tradeoff::DisplayImage reference;
   int rendered = 0;
   const int to_render = int(std::count_if(plan.begin(), plan.end(), [](const auto& s) { return !s.same_as; }));
@@ -113,8 +123,10 @@ int run_tradeoff(const TradeoffOptions& o) {
                    io::describe(s.quality).c_str());
       Measured m = measure(scene, s.quality, o.budget, threads, o.width, o.height, is_reference ? 1 : o.runs, !is_reference);
       if (is_reference) reference = m.image;
-      row.time = m.time;
+      row.time = tradeoff::summarize(m.ms, !is_reference);
       row.error = tradeoff::compare(m.image, reference);
+      first_ms[i] = std::move(m.ms);
+      first_hash[i] = image_hash(m.image);
       std::fprintf(stderr, "pelt tradeoff:        %s ms median, rmse %s, psnr %s dB\n",
                    tradeoff::format_ms(row.time.median, true).c_str(),
                    tradeoff::format_number(row.error.rmse, 4).c_str(),
@@ -124,6 +136,24 @@ int run_tradeoff(const TradeoffOptions& o) {
     rows.push_back(std::move(row));
   }
 
+  // The way back: every row timed again in reverse order (tradeoff::second_pass_order), its
+  // time the faster pass's median. The image must come out the same, bit for bit.
+  const std::vector<size_t> back = tradeoff::second_pass_order(plan);
+  for (size_t k = 0; k < back.size(); ++k) {
+    const size_t i = back[k];
+    std::fprintf(stderr, "pelt tradeoff: [way back %zu/%zu] %s...\n", k + 1, back.size(), label(plan[i]).c_str());
+    Measured m = measure(scene, plan[i].quality, o.budget, threads, o.width, o.height, o.runs, true);
+    if (image_hash(m.image) != first_hash[i])
+      throw std::logic_error("tradeoff: " + label(plan[i]) + " rendered a different image on the way back (a " +
+                             "render that is not deterministic is a bug)");
+    rows[i].time = tradeoff::combine_passes(first_ms[i], m.ms);
+    std::fprintf(stderr, "pelt tradeoff:        %s ms median (first pass %s)\n",
+                 tradeoff::format_ms(tradeoff::summarize(m.ms).median, true).c_str(),
+                 tradeoff::format_ms(tradeoff::summarize(first_ms[i]).median, true).c_str());
+  }
+  for (size_t i = 0; i < plan.size(); ++i)
+    if (plan[i].same_as) rows[i].time = rows[*plan[i].same_as].time;
+
   std::vector<tradeoff::CostPoint> points;
   for (const tradeoff::Row& r : rows) points.push_back({r.time.median, r.error.rmse});
   const std::vector<bool> front = tradeoff::pareto_front(points);
@@ -131,12 +161,13 @@ int run_tradeoff(const TradeoffOptions& o) {
   std::ostringstream csv;
   tradeoff::write_csv(csv, rows);
   const std::string table = tradeoff::markdown_table(rows, front);
-  char about[512];
+  char about[1024];
   std::snprintf(about, sizeof about,
-                "`pelt tradeoff %s`: %dx%d, %d thread(s); each row is the median of %d timed frames after one "
-                "warm-up frame, except the reference: one timed frame, its first, no warm-up. Error against the "
-                "reference on the 8-bit sRGB RGB image `pelt render` writes. `pareto` = no other row is both "
-                "faster and closer.\n\n",
+                "`pelt tradeoff %s`: %dx%d, %d thread(s). Every row but the reference is timed twice, on the "
+                "way through the sweep and again on the way back, each time %d frames after one warm-up frame; "
+                "its time is the faster pass's median, its range covers both. The reference: one timed frame, "
+                "its first, no warm-up. Error against the reference on the 8-bit sRGB RGB image `pelt render` "
+                "writes. `pareto` = no other row is both faster and closer.\n\n",
                 fs::path(o.scene).filename().string().c_str(), reference.width, reference.height, threads, o.runs);
   const std::string markdown = std::string(about) + table;
 
@@ -182,7 +213,7 @@ Run add_tradeoff_command(CLI::App& app) {
   sub->add_option("scene", o->scene, "Scene file (JSON, version 1); its `quality` block is the default row")
       ->required();
   sub->add_option("-o,--output", o->output, "Output folder (default: out/tradeoff/<scene file stem>)");
-  sub->add_option("--runs", o->runs, "Timed frames per setting after one warm-up (at least 5)")
+  sub->add_option("--runs", o->runs, "Timed frames per setting and pass, after one warm-up each (at least 5)")
       ->check(CLI::Range(5, 1000));
   sub->add_option("--threads", o->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 256));
   sub->add_option("--width", o->width, "Image width (default: the scene's)")->check(CLI::Range(1, 16384));

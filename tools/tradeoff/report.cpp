@@ -21,6 +21,20 @@ Timing summarize(std::span<const double> ms, bool warmed_up) {
   return t;
 }
 
+Timing combine_passes(std::span<const double> first, std::span<const double> second) {
+  if (first.size() != second.size())
+    throw std::invalid_argument("combine_passes: " + std::to_string(first.size()) + " and " +
+                                std::to_string(second.size()) + " runs in the two passes");
+  const Timing a = summarize(first), b = summarize(second);
+  Timing t;
+  t.median = std::min(a.median, b.median);
+  t.min = std::min(a.min, b.min);
+  t.max = std::max(a.max, b.max);
+  t.runs = a.runs + b.runs;
+  t.passes = 2;
+  return t;
+}
+
 std::string csv_field(const std::string& s) {
   if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
   std::string q = "\"";
@@ -55,7 +69,9 @@ void write_csv(std::ostream& out, std::span<const Row> rows) {
 namespace {
 
 std::string spread(const Row& r) {
-  std::string s = std::to_string(r.time.runs) + (r.time.runs == 1 ? " run" : " runs");
+  const int per_pass = r.time.runs / std::max(1, r.time.passes);
+  std::string s = (r.time.passes > 1 ? std::to_string(r.time.passes) + " x " : std::string()) +
+                  std::to_string(per_pass) + (per_pass == 1 ? " run" : " runs");
   if (!r.time.warmed_up) s += ", no warm-up";
   if (r.time.runs > 1) s += " (" + format_ms(r.time.min, true) + "-" + format_ms(r.time.max, true) + ")";
   if (!r.same_as.empty()) s += "; same settings as " + r.same_as;

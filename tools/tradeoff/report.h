@@ -14,12 +14,20 @@ namespace pelt::tradeoff {
 // Frame times of one setting, in milliseconds.
 struct Timing {
   double median = 0, min = 0, max = 0;
-  int runs = 0;
+  int runs = 0;           // timed frames in all passes together, the same number in each
+  int passes = 1;         // 2: measured on the way through the sweep and again on the way back
   bool warmed_up = true;  // false for the reference: its single run is the first frame
 };
 // Median (mean of the middle two for an even count), min and max. Throws
 // std::invalid_argument for no runs.
 Timing summarize(std::span<const double> ms, bool warmed_up = true);
+
+// One setting measured in two passes, each after its own warm-up frame: the lower of the two
+// passes' medians, and min and max over both. The machine's state drifts during a sweep (a
+// shared host lowers the clock after sustained load and gives it back later), and the drift
+// only ever adds time, so the faster pass is the better estimate of what the setting costs.
+// Throws std::invalid_argument if a pass has no runs or the two have different counts.
+Timing combine_passes(std::span<const double> first, std::span<const double> second);
 
 struct Row {
   std::string knob, setting;

@@ -58,4 +58,11 @@ std::vector<Setting> plan_sweep(const io::Quality& base, const std::vector<std::
   return plan;
 }
 
+std::vector<size_t> second_pass_order(const std::vector<Setting>& plan) {
+  std::vector<size_t> order;
+  for (size_t i = plan.size(); i-- > 0;)
+    if (!plan[i].same_as && plan[i].knob != kReferenceKnob) order.push_back(i);
+  return order;
+}
+
 }  // namespace pelt::tradeoff

@@ -36,4 +36,11 @@ std::vector<std::string> parse_knob_list(std::string_view list);
 // the presets of kSweepPresets. `same_as` is filled for every repeated quality.
 std::vector<Setting> plan_sweep(const io::Quality& base, const std::vector<std::string>& knobs);
 
+// The settings timed a second time, in the order they are timed: every rendered setting
+// (no `same_as`) except the reference, last to first. The first pass goes through the plan
+// in order right after the reference's long render, so its first rows run in whatever state
+// that load leaves the machine in; on the way back each row has a different neighbour and
+// a different distance from the reference (see combine_passes).
+std::vector<size_t> second_pass_order(const std::vector<Setting>& plan);
+
 }  // namespace pelt::tradeoff

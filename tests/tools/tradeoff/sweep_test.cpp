@@ -1,5 +1,5 @@
 // The sweep plan: --knobs parsing, the order and count of rows, each knob's setting reaching
-// the quality, and which rows provably repeat an earlier one.
+// the quality, which rows provably repeat an earlier one, and the order of the way back.
 #include "tools/tradeoff/sweep.h"
 
 #include <set>
@@ -93,6 +93,23 @@ TEST(TradeoffSweep, RepeatsPointAtTheFirstIdenticalQuality) {
     if (s.same_as) {
       EXPECT_EQ(plan[*s.same_as].knob, kDefaultKnob);
     }
+}
+
+TEST(TradeoffSweep, TheWayBackTimesEveryRenderedRowButTheReferenceLastToFirst) {
+  io::Quality base;
+  base.shells = 16;
+  const std::vector<Setting> plan = plan_sweep(base, {"shells", "sort"});
+  const std::vector<size_t> back = second_pass_order(plan);
+  std::vector<size_t> expected;
+  for (size_t i = plan.size(); i-- > 1;)  // plan[0] is the reference
+    if (!plan[i].same_as) expected.push_back(i);
+  EXPECT_EQ(back, expected);
+  ASSERT_FALSE(back.empty());
+  EXPECT_EQ(plan[back.front()].knob, kPresetKnob);  // the last row of the sweep comes first
+  EXPECT_EQ(plan[back.back()].knob, kDefaultKnob);  // and the first after the reference last
+  for (size_t i : back) EXPECT_NE(plan[i].knob, kReferenceKnob);
+  EXPECT_EQ(plan[0].knob, kReferenceKnob);
+  EXPECT_TRUE(second_pass_order({}).empty());
 }
 
 }  // namespace

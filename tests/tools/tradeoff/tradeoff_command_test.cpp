@@ -81,6 +81,11 @@ TEST(TradeoffCommand, SweepsSortAndSppAgainstTheReference) {
   EXPECT_NE(r.out.find("| knob | setting | ms_median |"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("| reference | reference |"), std::string::npos);
   EXPECT_NE(r.out.find("same settings as default=scene"), std::string::npos);
+  // Every row but the reference was timed on the way through the sweep and on the way back.
+  EXPECT_NE(r.out.find("| default | scene |"), std::string::npos);
+  EXPECT_NE(r.out.find("| 2 x 5 runs ("), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| 1 run, no warm-up |"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("[way back 1/"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out / "tradeoff.png"));  // --no-plot
 
   // --images: one PNG per row.

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
@@ -43,10 +44,13 @@ struct Options {
   bool match_llvmpipe = false;
   std::string sort;  // empty: tile, or none with --match-llvmpipe (the harness's order)
   std::string filter;  // empty: trilinear (the harness's filter too)
+  std::string fins;    // empty: silhouette, or all with --match-llvmpipe (the harness draws every fin)
+  std::string shells;  // empty: 16, the paper's
   std::string json;
 };
 
 constexpr float kElevationDeg = 20.0f;
+constexpr int kPaperShells = 16;
 constexpr float kFovyDeg = 45.0f;
 
 io::Camera orbit_camera(float distance, float radius, float azimuth) {
@@ -109,7 +113,7 @@ io::Scene bench_scene(const PaperTable& t, bool match) {
   o.material.type = io::MaterialType::lambert;
   o.material.color = glm::vec3(0.8f, 0.58f, 0.36f) * 0.45f;
   fur::FurParams fp;
-  fp.shells = 16;
+  fp.shells = kPaperShells;
   fp.texture_size = 256;
   fp.length = 0.1f;
   fp.density = 30.0f;
@@ -139,14 +143,19 @@ double percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, size_t(q * (v.size() - 1) + 0.5))];
 }
 
-// The quality knobs of every run: the harness draws in submission order, pelt's default sorts
-// per tile, and --sort overrides both; --filter overrides trilinear. Throws io::InputError for
-// a bad --sort or --filter.
+// The quality knobs of every run: the harness draws in submission order and every fin, pelt's
+// default sorts per tile and fades the fins in near silhouettes; --sort and --fins override
+// both, --filter overrides trilinear and --shells the paper's 16 (re-sliced at the same optical
+// depth, so the fur's look holds and only its cost and accuracy move). Throws io::InputError
+// for a bad value.
 io::Quality bench_quality(const Options& o) {
   io::Quality q;
   q.sort = o.match_llvmpipe ? io::SortQuality::none : io::SortQuality::tile;
-  apply_knob_flag(q, "sort", o.sort);
-  apply_knob_flag(q, "filter", o.filter);
+  q.fins = o.match_llvmpipe ? fur::FinMode::all : fur::FinMode::silhouette;
+  q.shells = kPaperShells;
+  for (const auto& [knob, value] : {std::pair{"sort", &o.sort}, std::pair{"filter", &o.filter},
+                                    std::pair{"fins", &o.fins}, std::pair{"shells", &o.shells}})
+    apply_knob_flag(q, knob, *value);
   return q;
 }
 
@@ -196,6 +205,8 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
                     {"match_llvmpipe", o.match_llvmpipe},
                     {"sort", io::knob_value(quality, "sort")},
                     {"filter", io::knob_value(quality, "filter")},
+                    {"fins", io::knob_value(quality, "fins")},
+                    {"shells", *quality.shells},
                     {"fps_median", 1000.0 / percentile(r.ms, 0.5)},
                     {"fps_min", 1000.0 / *std::max_element(r.ms.begin(), r.ms.end())},
                     {"fps_max", 1000.0 / *std::min_element(r.ms.begin(), r.ms.end())},
@@ -218,9 +229,11 @@ int run_fps(const Options& o) {
   }
   if (!o.json.empty()) io::prepare_output(o.json, "--json");  // before minutes of frames, not after
   std::vector<Result> results;
-  std::printf("pelt bench fps: %dx%d, %d frames after %d warm-up, %s, sort %s, filter %s\n", o.width, o.height,
-              o.frames, o.warmup, o.match_llvmpipe ? "the llvmpipe harness's scene (--match-llvmpipe)" : "pelt's own fur",
-              io::knob_value(quality, "sort").c_str(), io::knob_value(quality, "filter").c_str());
+  std::printf("pelt bench fps: %dx%d, %d frames after %d warm-up, %s, %d shells, fins %s, sort %s, filter %s\n",
+              o.width, o.height, o.frames, o.warmup,
+              o.match_llvmpipe ? "the llvmpipe harness's scene (--match-llvmpipe)" : "pelt's own fur", *quality.shells,
+              io::knob_value(quality, "fins").c_str(), io::knob_value(quality, "sort").c_str(),
+              io::knob_value(quality, "filter").c_str());
   for (const PaperTable* t : tables) {
     std::vector<Result> rows;
     for (int th : o.threads) rows.push_back(run_one(*t, th, o, quality));
@@ -260,6 +273,8 @@ Run add_bench_fps(CLI::App& bench) {
   sub->add_flag("--match-llvmpipe", o->match_llvmpipe, "Draw the llvmpipe harness's exact scene");
   add_knob_option(*sub, "sort", o->sort, "Fur sort (default: tile; none with --match-llvmpipe):");
   add_knob_option(*sub, "filter", o->filter, "Fur texture filter (default: trilinear):");
+  add_knob_option(*sub, "fins", o->fins, "Fins (default: silhouette; all with --match-llvmpipe):");
+  add_knob_option(*sub, "shells", o->shells, "Shells (default: 16, the paper's; 2 to 128), e.g.");
   sub->add_option("--json", o->json, "Also write the results as JSON");
   return [o] { return run_fps(*o); };
 }

@@ -1,4 +1,5 @@
-// `pelt bench fps` on a tiny image: the JSON names the knobs each run used, and a bad knob
+// `pelt bench fps` on a tiny image: the JSON names the knobs each run used, --fins and
+// --shells change the counts beside the paper's, and a bad knob
 // is an error naming its flag (exit 2, no JSON file). Its timings are not checked: speed is
 // measured by running the benchmark, never in a test.
 #include <gtest/gtest.h>
@@ -34,6 +35,8 @@ TEST(BenchFps, JsonRecordsTheKnobsOfTheRun) {
   EXPECT_EQ(own[0]["scene"], "box");
   EXPECT_EQ(own[0]["sort"], "tile");
   EXPECT_EQ(own[0]["filter"], "bilinear_mip");
+  EXPECT_EQ(own[0]["fins"], "silhouette");
+  EXPECT_EQ(own[0]["shells"], 16);
   EXPECT_EQ(own[0]["frames"], 2);
   EXPECT_EQ(own[0]["vertices"]["sum"], 5032);
   EXPECT_EQ(own[0]["faces"]["sum"], 36456);
@@ -44,16 +47,39 @@ TEST(BenchFps, JsonRecordsTheKnobsOfTheRun) {
   ASSERT_EQ(match.size(), 1u);
   EXPECT_EQ(match[0]["sort"], "none");
   EXPECT_EQ(match[0]["filter"], "trilinear");
+  EXPECT_EQ(match[0]["fins"], "all");
   const nlohmann::json sorted = run_json({"--match-llvmpipe", "--sort", "exact", "--filter", "nearest"});
   ASSERT_EQ(sorted.size(), 1u);
   EXPECT_EQ(sorted[0]["sort"], "exact");
   EXPECT_EQ(sorted[0]["filter"], "nearest");
 }
 
+// --shells changes the geometry, and the counts beside the paper's say so: 8 shells of the
+// box's 588 faces and 296 vertices, fins between 7 pairs of layers on its 882 edges. The counts
+// are of the shared vertex array, as the paper's are, so --fins (what is drawn of it) leaves
+// them alone and shows in the JSON's `fins`.
+TEST(BenchFps, FinsAndShellsFlagsChangeTheDrawnFur) {
+  const nlohmann::json run = run_json({"--fins", "off", "--shells", "8"});
+  ASSERT_EQ(run.size(), 1u);
+  EXPECT_EQ(run[0]["fins"], "off");
+  EXPECT_EQ(run[0]["shells"], 8);
+  EXPECT_EQ(run[0]["vertices"]["base"], 296);
+  EXPECT_EQ(run[0]["vertices"]["shell"], 8 * 296);
+  EXPECT_EQ(run[0]["faces"]["shell"], 8 * 588);
+  EXPECT_EQ(run[0]["faces"]["fin"], 882 * 7 * 2);
+  EXPECT_EQ(run[0]["faces"]["sum"], 588 + 8 * 588 + 882 * 7 * 2);
+  const nlohmann::json all = run_json({"--fins", "all"});
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0]["fins"], "all");
+  EXPECT_EQ(all[0]["faces"]["fin"], 26460);
+}
+
 TEST(BenchFps, AnUnknownKnobValueNamesItsFlag) {
   for (const auto& [flag, value, message] :
        {std::tuple{"--filter", "anisotropic", "--filter: unknown value `anisotropic` (nearest, bilinear, bilinear_mip, trilinear)"},
-        std::tuple{"--sort", "depth", "--sort: unknown value `depth`"}}) {
+        std::tuple{"--sort", "depth", "--sort: unknown value `depth`"},
+        std::tuple{"--fins", "sideways", "--fins: unknown value `sideways`"},
+        std::tuple{"--shells", "1", "--shells:"}}) {
     TempDir dir;
     const std::filesystem::path json = dir.path() / "fps.json";
     std::vector<std::string> args = tiny_run(json);

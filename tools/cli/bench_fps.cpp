@@ -46,6 +46,7 @@ struct Options {
   std::string filter;  // empty: trilinear (the harness's filter too)
   std::string fins;    // empty: silhouette, or all with --match-llvmpipe (the harness draws every fin)
   std::string shells;  // empty: 16, the paper's
+  std::string fin_quads;  // empty: the default quality's
   std::string json;
 };
 
@@ -144,7 +145,8 @@ double percentile(std::vector<double> v, double q) {
 }
 
 // The quality knobs of every run: the harness draws in submission order and every fin, pelt's
-// default sorts per tile and fades the fins in near silhouettes; --sort and --fins override
+// default sorts per tile, fades the fins in near silhouettes and merges their quads where the
+// strands run straight (`fin_quads`, which the harness's mode refuses); --sort and --fins override
 // both, --filter overrides trilinear and --shells the paper's 16 (re-sliced at the same optical
 // depth, so the fur's look holds and only its cost and accuracy move). Throws io::InputError
 // for a bad value.
@@ -153,9 +155,14 @@ io::Quality bench_quality(const Options& o) {
   q.sort = o.match_llvmpipe ? io::SortQuality::none : io::SortQuality::tile;
   q.fins = o.match_llvmpipe ? fur::FinMode::all : fur::FinMode::silhouette;
   q.shells = kPaperShells;
+  if (o.match_llvmpipe) q.fin_quads = io::FinQuads::layer;  // the harness draws eq. 1's quads
   for (const auto& [knob, value] : {std::pair{"sort", &o.sort}, std::pair{"filter", &o.filter},
-                                    std::pair{"fins", &o.fins}, std::pair{"shells", &o.shells}})
+                                    std::pair{"fins", &o.fins}, std::pair{"shells", &o.shells},
+                                    std::pair{"fin_quads", &o.fin_quads}})
     apply_knob_flag(q, knob, *value);
+  if (o.match_llvmpipe && q.fin_quads == io::FinQuads::merged)
+    throw io::InputError("", "--fin-quads", "merged fins are not drawn with --match-llvmpipe (the harness's fins are "
+                                            "one quad per pair of layers)");
   return q;
 }
 
@@ -206,6 +213,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
                     {"sort", io::knob_value(quality, "sort")},
                     {"filter", io::knob_value(quality, "filter")},
                     {"fins", io::knob_value(quality, "fins")},
+                    {"fin_quads", io::knob_value(quality, "fin_quads")},
                     {"shells", *quality.shells},
                     {"fps_median", 1000.0 / percentile(r.ms, 0.5)},
                     {"fps_min", 1000.0 / *std::max_element(r.ms.begin(), r.ms.end())},
@@ -229,11 +237,12 @@ int run_fps(const Options& o) {
   }
   if (!o.json.empty()) io::prepare_output(o.json, "--json");  // before minutes of frames, not after
   std::vector<Result> results;
-  std::printf("pelt bench fps: %dx%d, %d frames after %d warm-up, %s, %d shells, fins %s, sort %s, filter %s\n",
+  std::printf("pelt bench fps: %dx%d, %d frames after %d warm-up, %s, %d shells, fins %s (%s quads), sort %s, "
+              "filter %s\n",
               o.width, o.height, o.frames, o.warmup,
               o.match_llvmpipe ? "the llvmpipe harness's scene (--match-llvmpipe)" : "pelt's own fur", *quality.shells,
-              io::knob_value(quality, "fins").c_str(), io::knob_value(quality, "sort").c_str(),
-              io::knob_value(quality, "filter").c_str());
+              io::knob_value(quality, "fins").c_str(), io::knob_value(quality, "fin_quads").c_str(),
+              io::knob_value(quality, "sort").c_str(), io::knob_value(quality, "filter").c_str());
   for (const PaperTable* t : tables) {
     std::vector<Result> rows;
     for (int th : o.threads) rows.push_back(run_one(*t, th, o, quality));
@@ -275,6 +284,7 @@ Run add_bench_fps(CLI::App& bench) {
   add_knob_option(*sub, "filter", o->filter, "Fur texture filter (default: trilinear):");
   add_knob_option(*sub, "fins", o->fins, "Fins (default: silhouette; all with --match-llvmpipe):");
   add_knob_option(*sub, "shells", o->shells, "Shells (default: 16, the paper's; 2 to 128), e.g.");
+  add_knob_option(*sub, "fin_quads", o->fin_quads, "Fin quads (default: merged; layer with --match-llvmpipe):");
   sub->add_option("--json", o->json, "Also write the results as JSON");
   return [o] { return run_fps(*o); };
 }

@@ -13,6 +13,7 @@ struct Named {
 
 constexpr Named<fur::FinMode> kFins[] = {
     {"off", fur::FinMode::off}, {"all", fur::FinMode::all}, {"silhouette", fur::FinMode::silhouette}};
+constexpr Named<FinQuads> kFinQuads[] = {{"layer", FinQuads::layer}, {"merged", FinQuads::merged}};
 constexpr Named<SortQuality> kSorts[] = {{"none", SortQuality::none},
                                          {"layer", SortQuality::layer},
                                          {"tile", SortQuality::tile},
@@ -76,6 +77,8 @@ std::optional<std::string> set_knob(Quality& q, std::string_view knob, std::stri
     fur::FinMode m{};
     err = pick(kFins, value, m);
     n.fins = m;
+  } else if (knob == "fin_quads") {
+    err = pick(kFinQuads, value, n.fin_quads);
   } else if (knob == "sort") {
     err = pick(kSorts, value, n.sort);
   } else if (knob == "spp") {
@@ -111,6 +114,7 @@ std::optional<std::string> set_knob(Quality& q, std::string_view knob, std::stri
 std::string knob_value(const Quality& q, std::string_view knob) {
   if (knob == "shells") return q.shells ? std::to_string(*q.shells) : "scene";
   if (knob == "fins") return q.fins ? name_of(kFins, *q.fins) : "scene";
+  if (knob == "fin_quads") return name_of(kFinQuads, q.fin_quads);
   if (knob == "sort") return name_of(kSorts, q.sort);
   if (knob == "spp") return std::to_string(q.spp);
   if (knob == "filter") return name_of(kFilters, q.filter);
@@ -124,6 +128,7 @@ std::string knob_value(const Quality& q, std::string_view knob) {
 std::vector<std::string> knob_sweep(std::string_view knob) {
   if (knob == "shells") return {"4", "8", "16", "32", "64"};
   if (knob == "fins") return {"off", "all", "silhouette"};
+  if (knob == "fin_quads") return {"layer", "merged"};
   if (knob == "sort") return {"none", "layer", "tile", "exact"};
   if (knob == "spp") return {"1", "4", "16"};
   if (knob == "filter") return {"nearest", "bilinear", "bilinear_mip", "trilinear"};
@@ -152,8 +157,9 @@ std::optional<Quality> quality_preset(std::string_view name) {
     q.single_scattering = shading::SingleScattering::correct;
     return q;
   }
-  if (name == "high") {  // the reference's layers and sort, 4 samples a pixel
+  if (name == "high") {  // the reference's layers, sort and fins, 4 samples a pixel
     q.shells = 64;
+    q.fin_quads = FinQuads::layer;
     q.sort = SortQuality::exact;
     q.spp = 4;
     q.multiple_scattering = shading::MultipleScattering::reference;
@@ -162,6 +168,7 @@ std::optional<Quality> quality_preset(std::string_view name) {
   }
   if (name == "reference") {
     q.shells = 64;
+    q.fin_quads = FinQuads::layer;  // eq. 1's fins, one quad per pair of layers
     q.sort = SortQuality::exact;
     q.spp = kMaxSppSide * kMaxSppSide;
     // Level 0 bilinear under 64 samples a pixel: the texture is filtered by the

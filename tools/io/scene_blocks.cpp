@@ -130,7 +130,7 @@ shading::SkinParams parse_skin_block(const JsonFields& js, const json& j, const 
 
 Quality parse_quality_block(const JsonFields& js, const json& j, const std::string& path) {
   js.expect_object(j, path,
-                   {"preset", "shells", "fins", "sort", "spp", "filter", "multiple_scattering",
+                   {"preset", "shells", "fins", "fin_quads", "sort", "spp", "filter", "multiple_scattering",
                     "single_scattering", "precision"});
   Quality q;
   if (const json* v = JsonFields::find(j, "preset")) {

@@ -1,10 +1,12 @@
 #include "tools/render/fur_object.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 
 #include <glm/geometric.hpp>
 
+#include "fur/fin_spans.h"
 #include "tools/io/input_error.h"
 #include "tools/render/animation.h"
 #include "tools/render/varyings.h"
@@ -80,7 +82,8 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
       lighting_(options.lighting),
       filter_(options.filter),
       double_precision_(options.double_precision),
-      grey_allowed_(options.grey_varyings) {
+      grey_allowed_(options.grey_varyings),
+      merge_fins_(options.merge_fins && !options.match_llvmpipe) {
   {
     StageTimer t(setup, "fur_geometry");
     if (auto e = fur::build_fur_geometry(base, params, geo_)) throw io::InputError(name, "fur." + e->field, e->reason);
@@ -265,6 +268,32 @@ void FurObject::rebuild_fin_list() {
   auto quad = [&](uint32_t s, uint32_t e) -> const uint32_t* {
     return geo_.fin_indices.data() + (size_t{s} * edges + e) * 6;
   };
+  if (fin_strips_ && merge_fins_) {
+    // One quad from each break of either chain to the next (fur/fin_spans.h): its first
+    // triangle (a0, b0, b1) and second (a0, b1, a1) as in the per-layer quads.
+    const uint32_t n = geo_.base_vertex_count, words = fur::fin_break_words(geo_.layers);
+    fin_breaks_.resize(size_t{n} * words);
+    // Room for every quad unmerged, so that a pose that merges less never allocates mid-run.
+    fin_list_.reserve(size_t{edges} * (geo_.layers - 1) * 6);
+    fin_quad_edge_.reserve(size_t{edges} * (geo_.layers - 1));
+    const float tolerance = fur::kFinSpanTolerance * geo_.layer_distance;
+    fur::fin_chain_breaks(pose_, n, geo_.layers, tolerance, fur::kMaxFinSpan, 0, n, fin_breaks_);
+    fin_ends_.resize(geo_.layers);
+    uint32_t* ends = fin_ends_.data();
+    for (uint32_t e = 0; e < edges; ++e) {
+      if (fin_weight_[e] < kMinFinWeight) continue;
+      const uint32_t count = fur::fin_quad_ends(pose_, n, geo_.layers, geo_.edges[e].a, geo_.edges[e].b, fin_breaks_,
+                                                tolerance, ends);
+      for (uint32_t k = 0, s0 = 0; k < count; s0 = ends[k++]) {
+        const uint32_t* lo = quad(s0, e);
+        const uint32_t* hi = quad(ends[k] - 1, e);
+        const uint32_t q[6] = {lo[0], lo[1], hi[2], lo[0], hi[2], hi[5]};
+        fin_list_.insert(fin_list_.end(), q, q + 6);
+        fin_quad_edge_.push_back(e);
+      }
+    }
+    return;
+  }
   if (fin_strips_) {
     for (uint32_t e = 0; e < edges; ++e) {
       if (fin_weight_[e] < kMinFinWeight) continue;
@@ -355,6 +384,7 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
   if (varyings_dirty) {
     StageTimer st(stats, "fur_pose");
     rebuild_varyings();
+    if (merge_fins_) fin_list_dirty_ = true;  // where the chains run straight has moved
   }
   if (params_.fins != fur::FinMode::off && (fin_list_dirty_ || !fins_eye_ || *fins_eye_ != f.eye)) {
     if (params_.fins == fur::FinMode::silhouette) {
@@ -432,7 +462,8 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
     d.state.depth_func = raster::DepthFunc::LessEqual;  // shell 0 lies exactly on the base
     d.state.depth_write = false;
     d.state.cull = fin ? raster::CullMode::None : raster::CullMode::Back;
-    if (fin && fin_strips_) d.sort_group = 2 * fin_quads_per_sort_run(geo_.layers - 1);
+    // A merged quad is keyed alone: it already spans up to fur::kMaxFinSpan layers.
+    if (fin && fin_strips_) d.sort_group = merge_fins_ ? 2 : 2 * fin_quads_per_sort_run(geo_.layers - 1);
     draws.push_back(d);
   };
   if (sort == FurSort::layer) {

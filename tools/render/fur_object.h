@@ -47,6 +47,10 @@ struct FurDrawOptions {
   // Per-vertex lighting that is grey everywhere is passed as FurGreyVaryings (the same image
   // from half the varyings); off: always FurVaryings (for tests and measurements).
   bool grey_varyings = true;
+  // The `fin_quads: merged` quality: in the tile and exact sorts, a fin's quads span several
+  // layers where its chains run straight (fur/fin_spans.h). Off: one quad per pair of layers,
+  // as eq. 1 lists them. Never with match_llvmpipe, whose fins are the harness's.
+  bool merge_fins = false;
   // Builds the strand textures' layers as its items (the render's threads); none: in order.
   raster::ParallelFor parallel;
 };
@@ -117,6 +121,9 @@ class FurObject {
   // shared blocks.
   std::vector<uint32_t> fin_list_, fin_quad_edge_, fin_segment_;
   bool fin_strips_ = false;
+  bool merge_fins_;
+  std::vector<uint64_t> fin_breaks_;  // per base vertex, fur::fin_chain_breaks of the current pose
+  std::vector<uint32_t> fin_ends_;    // one fin's fur::fin_quad_ends
 
   // Per-vertex lighting: SoA inputs and outputs padded to whole 16-lane batches.
   struct Soa {

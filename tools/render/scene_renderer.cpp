@@ -275,6 +275,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       fo.filter = quality_.filter;
       fo.double_precision = quality_.precision == io::Precision::double_precision;
       fo.grey_varyings = settings.fur_grey_varyings;
+      fo.merge_fins = quality_.fin_quads == io::FinQuads::merged;
       fo.parallel = parallel;
       obj->fur = std::make_unique<FurObject>(obj->mesh, *so.fur, fo, name, setup_stats_);
     }

@@ -37,6 +37,7 @@ TEST(BenchFps, JsonRecordsTheKnobsOfTheRun) {
   EXPECT_EQ(own[0]["filter"], "bilinear_mip");
   EXPECT_EQ(own[0]["fins"], "silhouette");
   EXPECT_EQ(own[0]["shells"], 16);
+  EXPECT_EQ(own[0]["fin_quads"], "merged");
   EXPECT_EQ(own[0]["frames"], 2);
   EXPECT_EQ(own[0]["vertices"]["sum"], 5032);
   EXPECT_EQ(own[0]["faces"]["sum"], 36456);
@@ -48,6 +49,7 @@ TEST(BenchFps, JsonRecordsTheKnobsOfTheRun) {
   EXPECT_EQ(match[0]["sort"], "none");
   EXPECT_EQ(match[0]["filter"], "trilinear");
   EXPECT_EQ(match[0]["fins"], "all");
+  EXPECT_EQ(match[0]["fin_quads"], "layer");
   const nlohmann::json sorted = run_json({"--match-llvmpipe", "--sort", "exact", "--filter", "nearest"});
   ASSERT_EQ(sorted.size(), 1u);
   EXPECT_EQ(sorted[0]["sort"], "exact");
@@ -74,12 +76,24 @@ TEST(BenchFps, FinsAndShellsFlagsChangeTheDrawnFur) {
   EXPECT_EQ(all[0]["faces"]["fin"], 26460);
 }
 
+TEST(BenchFps, MergedFinsAreRefusedInTheHarnessMode) {
+  TempDir dir;
+  const std::filesystem::path json = dir.path() / "fps.json";
+  std::vector<std::string> args = tiny_run(json);
+  args.insert(args.end(), {"--match-llvmpipe", "--fin-quads", "merged"});
+  const Result r = run_pelt(args, dir.path());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--fin-quads: merged fins are not drawn with --match-llvmpipe"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(json));
+}
+
 TEST(BenchFps, AnUnknownKnobValueNamesItsFlag) {
   for (const auto& [flag, value, message] :
        {std::tuple{"--filter", "anisotropic", "--filter: unknown value `anisotropic` (nearest, bilinear, bilinear_mip, trilinear)"},
         std::tuple{"--sort", "depth", "--sort: unknown value `depth`"},
         std::tuple{"--fins", "sideways", "--fins: unknown value `sideways`"},
-        std::tuple{"--shells", "1", "--shells:"}}) {
+        std::tuple{"--shells", "1", "--shells:"},
+        std::tuple{"--fin-quads", "fused", "--fin-quads: unknown value `fused` (layer, merged)"}}) {
     TempDir dir;
     const std::filesystem::path json = dir.path() / "fps.json";
     std::vector<std::string> args = tiny_run(json);

@@ -31,7 +31,7 @@ void expect_refused(const std::string& list, const std::string& words) {
 
 TEST(TradeoffSweep, RefusesBadKnobLists) {
   expect_refused("sort,bogus", "unknown knob `bogus`");
-  expect_refused("sort,bogus", "shells, fins, sort");  // the valid names are listed
+  expect_refused("sort,bogus", "shells, fins, fin_quads, sort");  // the valid names are listed
   expect_refused("", "empty knob name");
   expect_refused("sort,", "empty knob name");
   expect_refused("spp,,sort", "empty knob name");

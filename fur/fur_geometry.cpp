@@ -245,14 +245,11 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
   const size_t E = out.edges.size();
   out.fin_indices.resize(size_t(S - 1) * E * 6);
   uint32_t* fi = out.fin_indices.data();
-  for (uint32_t s = 0; s + 1 < S; ++s) {
-    const uint32_t lo = uint32_t(s * N), hi = uint32_t((s + 1) * N);
+  for (uint32_t s = 0; s + 1 < S; ++s)
     for (const FurEdge& e : out.edges) {
-      const uint32_t a0 = e.a + lo, b0 = e.b + lo, a1 = e.a + hi, b1 = e.b + hi;
-      *fi++ = a0; *fi++ = b0; *fi++ = b1;
-      *fi++ = a0; *fi++ = b1; *fi++ = a1;
+      fin_quad_indices(e, uint32_t(N), s, s + 1, fi);
+      fi += 6;
     }
-  }
   out.counts = fur_counts(N, F, E, int(S));
   return std::nullopt;
 }

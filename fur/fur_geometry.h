@@ -83,6 +83,16 @@ struct FurGeometry {
 
 BoundingSphere bounding_sphere(const Mesh& mesh);
 
+// The six indices of the fin quad on `edge` between layers s0 < s1 of the shared array (N base
+// vertices): (a_s0, b_s0, b_s1), (a_s0, b_s1, a_s1). FurGeometry::fin_indices holds these for
+// s1 = s0 + 1; merged fins (fur/fin_spans.h) take them over several layers.
+inline void fin_quad_indices(const FurEdge& edge, uint32_t base_vertex_count, uint32_t s0, uint32_t s1,
+                             uint32_t out[6]) {
+  const uint32_t a0 = edge.a + s0 * base_vertex_count, b0 = edge.b + s0 * base_vertex_count;
+  const uint32_t a1 = edge.a + s1 * base_vertex_count, b1 = edge.b + s1 * base_vertex_count;
+  out[0] = a0, out[1] = b0, out[2] = b1, out[3] = a0, out[4] = b1, out[5] = a1;
+}
+
 // Unique undirected edges of the triangles, sorted by (a, b), with their faces.
 std::vector<FurEdge> mesh_edges(const Mesh& mesh);
 

@@ -52,6 +52,9 @@ struct Options {
 
 constexpr float kElevationDeg = 20.0f;
 constexpr int kPaperShells = 16;
+
+// The harness draws every fin; pelt's own run fades them in near silhouettes.
+fur::FinMode default_fins(bool match) { return match ? fur::FinMode::all : fur::FinMode::silhouette; }
 constexpr float kFovyDeg = 45.0f;
 
 io::Camera orbit_camera(float distance, float radius, float azimuth) {
@@ -118,7 +121,7 @@ io::Scene bench_scene(const PaperTable& t, bool match) {
   fp.texture_size = 256;
   fp.length = 0.1f;
   fp.density = 30.0f;
-  fp.fins = match ? fur::FinMode::all : fur::FinMode::silhouette;
+  fp.fins = default_fins(match);
   if (!match) {
     fp.gravity = fur::GravityParams{};
     fp.wind = fur::WindParams{};
@@ -153,7 +156,7 @@ double percentile(std::vector<double> v, double q) {
 io::Quality bench_quality(const Options& o) {
   io::Quality q;
   q.sort = o.match_llvmpipe ? io::SortQuality::none : io::SortQuality::tile;
-  q.fins = o.match_llvmpipe ? fur::FinMode::all : fur::FinMode::silhouette;
+  q.fins = default_fins(o.match_llvmpipe);
   q.shells = kPaperShells;
   if (o.match_llvmpipe) q.fin_quads = io::FinQuads::layer;  // the harness draws eq. 1's quads
   for (const auto& [knob, value] : {std::pair{"sort", &o.sort}, std::pair{"filter", &o.filter},

@@ -19,7 +19,8 @@ namespace pelt::io {
 enum class SortQuality { none, layer, tile, exact };
 // How fins are drawn (fur/fin_spans.h): one quad per pair of layers (eq. 1), or merged into
 // taller quads where the strands run straight (tile and exact sorts only; the default: the
-// same error against the reference on the furry box at 1024 x 768, 1.13x faster, README).
+// same error against the reference on the furry box at 1024 x 768, and faster, README's
+// "What accuracy costs").
 enum class FinQuads { layer, merged };
 // Shading arithmetic: the SIMD float kernels, or the double-precision scalar references
 // (shading/skin_reference.h, the fur lighting reference, raster::sample_reference).

@@ -1,12 +1,10 @@
 #include "tools/render/fur_object.h"
 
 #include <algorithm>
-#include <bit>
 #include <cstring>
 
 #include <glm/geometric.hpp>
 
-#include "fur/fin_spans.h"
 #include "tools/io/input_error.h"
 #include "tools/render/animation.h"
 #include "tools/render/varyings.h"
@@ -268,37 +266,26 @@ void FurObject::rebuild_fin_list() {
   auto quad = [&](uint32_t s, uint32_t e) -> const uint32_t* {
     return geo_.fin_indices.data() + (size_t{s} * edges + e) * 6;
   };
-  if (fin_strips_ && merge_fins_) {
-    // One quad from each break of either chain to the next (fur/fin_spans.h): its first
-    // triangle (a0, b0, b1) and second (a0, b1, a1) as in the per-layer quads.
-    const uint32_t n = geo_.base_vertex_count, words = fur::fin_break_words(geo_.layers);
-    fin_breaks_.resize(size_t{n} * words);
-    // Room for every quad unmerged, so that a pose that merges less never allocates mid-run.
-    fin_list_.reserve(size_t{edges} * (geo_.layers - 1) * 6);
-    fin_quad_edge_.reserve(size_t{edges} * (geo_.layers - 1));
-    const float tolerance = fur::kFinSpanTolerance * geo_.layer_distance;
-    fur::fin_chain_breaks(pose_, n, geo_.layers, tolerance, fur::kMaxFinSpan, 0, n, fin_breaks_);
-    fin_ends_.resize(geo_.layers);
-    uint32_t* ends = fin_ends_.data();
-    for (uint32_t e = 0; e < edges; ++e) {
-      if (fin_weight_[e] < kMinFinWeight) continue;
-      const uint32_t count = fur::fin_quad_ends(pose_, n, geo_.layers, geo_.edges[e].a, geo_.edges[e].b, fin_breaks_,
-                                                tolerance, ends);
-      for (uint32_t k = 0, s0 = 0; k < count; s0 = ends[k++]) {
-        const uint32_t* lo = quad(s0, e);
-        const uint32_t* hi = quad(ends[k] - 1, e);
-        const uint32_t q[6] = {lo[0], lo[1], hi[2], lo[0], hi[2], hi[5]};
-        fin_list_.insert(fin_list_.end(), q, q + 6);
-        fin_quad_edge_.push_back(e);
-      }
-    }
-    return;
-  }
   if (fin_strips_) {
+    // Each fin root to tip: one quad per pair of layers, or merged (fur/fin_spans.h) from the
+    // chains' breaks, which update() works out whenever the pose moves, before any draw. Room for every quad unmerged, so that a pose that
+    // merges less never allocates mid-run.
+    const uint32_t n = geo_.base_vertex_count, layers = geo_.layers;
+    fin_list_.reserve(size_t{edges} * (layers - 1) * 6);
+    fin_quad_edge_.reserve(size_t{edges} * (layers - 1));
+    fin_ends_.resize(layers);
+    uint32_t* ends = fin_ends_.data();
+    uint32_t count = layers - 1;
+    for (uint32_t s = 0; s < count; ++s) ends[s] = s + 1;
     for (uint32_t e = 0; e < edges; ++e) {
       if (fin_weight_[e] < kMinFinWeight) continue;
-      for (uint32_t s = 0; s + 1 < geo_.layers; ++s) {
-        fin_list_.insert(fin_list_.end(), quad(s, e), quad(s, e) + 6);
+      const fur::FurEdge& edge = geo_.edges[e];
+      if (merge_fins_)
+        count = fur::fin_quad_ends(pose_, n, layers, edge.a, edge.b, fin_breaks_, fin_tolerance(), ends);
+      for (uint32_t k = 0, s0 = 0; k < count; s0 = ends[k++]) {
+        uint32_t q[6];
+        fur::fin_quad_indices(edge, n, s0, ends[k], q);
+        fin_list_.insert(fin_list_.end(), q, q + 6);
         fin_quad_edge_.push_back(e);
       }
     }
@@ -384,7 +371,12 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
   if (varyings_dirty) {
     StageTimer st(stats, "fur_pose");
     rebuild_varyings();
-    if (merge_fins_) fin_list_dirty_ = true;  // where the chains run straight has moved
+    if (merge_fins_) {  // where the chains run straight has moved: the merged fin list with it
+      const uint32_t words = fur::fin_break_words(geo_.layers);
+      fin_breaks_.resize(size_t{n} * words);
+      fur::fin_chain_breaks(pose_, n, geo_.layers, fin_tolerance(), fur::kMaxFinSpan, 0, n, fin_breaks_);
+      fin_list_dirty_ = true;
+    }
   }
   if (params_.fins != fur::FinMode::off && (fin_list_dirty_ || !fins_eye_ || *fins_eye_ != f.eye)) {
     if (params_.fins == fur::FinMode::silhouette) {

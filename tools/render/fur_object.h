@@ -10,6 +10,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "fur/dynamics.h"
+#include "fur/fin_spans.h"
 #include "fur/fur_geometry.h"
 #include "fur/fur_params.h"
 #include "fur/strand_textures.h"
@@ -94,6 +95,8 @@ class FurObject {
   void light_vertices(const std::vector<shading::Light>& lights, const glm::vec3& eye);
   void rebuild_varyings();
   void rebuild_fin_list();
+  // How far a merged fin may stray from the per-layer one (fur/fin_spans.h), scene units.
+  float fin_tolerance() const { return fur::kFinSpanTolerance * geo_.layer_distance; }
 
   fur::FurParams params_;
   bool match_llvmpipe_;
@@ -122,7 +125,7 @@ class FurObject {
   std::vector<uint32_t> fin_list_, fin_quad_edge_, fin_segment_;
   bool fin_strips_ = false;
   bool merge_fins_;
-  std::vector<uint64_t> fin_breaks_;  // per base vertex, fur::fin_chain_breaks of the current pose
+  std::vector<uint64_t> fin_breaks_;  // merge_fins_: per base vertex, fur::fin_chain_breaks of pose_
   std::vector<uint32_t> fin_ends_;    // one fin's fur::fin_quad_ends
 
   // Per-vertex lighting: SoA inputs and outputs padded to whole 16-lane batches.

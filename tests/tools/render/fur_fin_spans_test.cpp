@@ -34,18 +34,6 @@ Frame render_box(io::SortQuality sort, io::FinQuads quads, int frame, const std:
   return f;
 }
 
-double rmse(const FrameImage& a, const FrameImage& b) {
-  double sum = 0;
-  size_t n = 0;
-  for (size_t i = 0; i < a.color.size(); ++i) {
-    if (i % 4 == 3) continue;
-    const double d = double(a.color[i]) - double(b.color[i]);
-    sum += d * d;
-    ++n;
-  }
-  return std::sqrt(sum / double(n));
-}
-
 const char* const kStill = R"("fins": "all")";
 const char* const kWindy = R"("fins": "all", "gravity": {}, "wind": {"strength": 0.5})";
 
@@ -64,7 +52,7 @@ TEST(FurFinSpans, MergedFinsSetUpFewerTrianglesForNearlyTheSameFur) {
         // Measured 0.0025-0.0026 RMS in linear colour, mostly the trilinear level of detail
         // (a block's level comes from the triangle that opened it: a sliver or a tall quad);
         // the tile sort's own error against the exact sort is 0.0023 here.
-        EXPECT_LT(rmse(merged.image, layered.image), 0.004) << fur << " frame " << frame;
+        EXPECT_LT(image_rmse(merged.image.color, layered.image.color), 0.004) << fur << " frame " << frame;
       }
     }
   }

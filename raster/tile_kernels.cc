@@ -715,12 +715,12 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   // Interpolation reads, per visible triangle, its set-up, its three indices and its
   // three vertices' varyings: dependent loads at random addresses of a large mesh. Each is
   // fetched a few triangles ahead of its use, once the load it depends on has arrived.
-  auto prefetch_indices = [&](const TileScratch::Visible& v) {
-    hwy::Prefetch(frame.draws[v.draw].indices + 3 * size_t{v.tri->primitive});
+  auto prefetch_indices = [&](const TriSetup& t) {
+    hwy::Prefetch(frame.draws[t.draw].indices + 3 * size_t{t.primitive});
   };
-  auto prefetch_varyings = [&](const TileScratch::Visible& v) {
-    const DrawCall& d = frame.draws[v.draw];
-    const uint32_t* tri = d.indices + 3 * size_t{v.tri->primitive};
+  auto prefetch_varyings = [&](const TriSetup& t) {
+    const DrawCall& d = frame.draws[t.draw];
+    const uint32_t* tri = d.indices + 3 * size_t{t.primitive};
     for (int c = 0; c < 3; ++c) {
       const float* a = d.varyings + size_t{tri[c]} * d.varying_count;
       hwy::Prefetch(a);
@@ -732,8 +732,8 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   bool derivatives = true;
   for (size_t k = 0; k < visible_count; ++k) {
     if (k + 2 * kPrefetchAhead < visible_count) PrefetchSetup(s.visible[k + 2 * kPrefetchAhead].tri);
-    if (k + kPrefetchAhead < visible_count) prefetch_indices(s.visible[k + kPrefetchAhead]);
-    if (k + kPrefetchAhead / 2 < visible_count) prefetch_varyings(s.visible[k + kPrefetchAhead / 2]);
+    if (k + kPrefetchAhead < visible_count) prefetch_indices(*s.visible[k + kPrefetchAhead].tri);
+    if (k + kPrefetchAhead / 2 < visible_count) prefetch_varyings(*s.visible[k + kPrefetchAhead / 2].tri);
     const TileScratch::Visible& v = s.visible[k];
     if (v.draw != derivatives_draw) {
       derivatives_draw = v.draw;
@@ -754,7 +754,14 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   // Pass 3: translucent fragments, back to front per tile when asked.
   // Back to front; equal keys keep submission order, which setup ids follow (frame.h).
   if (frame.options.sort == SortMode::Tile) sort_back_to_front(s.translucent, s.translucent_scratch);
-  for (const TranslucentRef& ref : s.translucent) {
+  // The same chain of dependent loads as pass 2 (set-up, indices, varyings), fetched ahead in
+  // the same stages: sorted back to front, a tile's triangles visit the mesh in no useful order.
+  const size_t translucent_count = s.translucent.size();
+  for (size_t k = 0; k < translucent_count; ++k) {
+    if (k + 2 * kPrefetchAhead < translucent_count) PrefetchSetup(s.translucent[k + 2 * kPrefetchAhead].tri);
+    if (k + kPrefetchAhead < translucent_count) prefetch_indices(*s.translucent[k + kPrefetchAhead].tri);
+    if (k + kPrefetchAhead / 2 < translucent_count) prefetch_varyings(*s.translucent[k + kPrefetchAhead / 2].tri);
+    const TranslucentRef& ref = s.translucent[k];
     const TriSetup& t = *ref.tri;
     const DrawCall& draw = frame.draws[t.draw];
     TileEdges te;

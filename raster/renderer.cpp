@@ -285,13 +285,14 @@ void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& opti
     // Each visible entry owns at least one pixel of the tile.
     im.scratch.back()->visible.reserve(kTilePixels);
   }
-  // Every worker's list of translucent items is sized for the heaviest tile now, not when
-  // a worker first meets such a tile: which worker takes which tile varies from run to run,
-  // and a frame that renders again must not allocate.
+  // Every worker's list of translucent items (and the tile sort's second buffer) is sized for
+  // the heaviest tile now, not when a worker first meets such a tile: which worker takes
+  // which tile varies from run to run, and a frame that renders again must not allocate.
   const uint32_t max_load = tiles > 0 ? *std::max_element(load.begin(), load.end()) : 0;
   for (auto& s : im.scratch) {
     s->fragments_visible = s->pixels_shaded = s->fragments_blended = s->lanes_shaded = 0;
     if (s->translucent.capacity() < max_load) s->translucent.reserve(max_load);
+    if (s->translucent_scratch.capacity() < max_load) s->translucent_scratch.reserve(max_load);
   }
 
   FrameView view;

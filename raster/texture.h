@@ -228,6 +228,9 @@ double block_lod(const float* u, const float* v, int width, int height);
 // below 1. For tests against block_lod, and for shaders that want to skip work.
 void block_lods(const float* u, const float* v, size_t blocks, int width, int height, float lod_bias, int levels,
                 double* out);
+// block_lod_length2 of each of `blocks` blocks by the sampler's SIMD kernel, which must give it
+// bit for bit (for tests). Throws std::invalid_argument for a null pointer or a size below 1.
+void block_lod_length2s(const float* u, const float* v, size_t blocks, int width, int height, double* out);
 // Its argument: block_lod = 0.5 * log2(block_lod_length2), the larger squared length of the
 // two block derivatives in texels. Each row's three differences telescope to its last minus
 // its first value (and each column's to its bottom minus its top), exact in double; the four

@@ -706,6 +706,10 @@ void BlockLodsImpl(const float* u, const float* v, size_t blocks, int32_t width,
   }
 }
 
+void BlockLength2sImpl(const float* u, const float* v, size_t blocks, int32_t width, int32_t height, double* out) {
+  for (size_t k = 0; k < blocks; ++k) out[k] = BlockLength2(u + k * kBlockLanes, v + k * kBlockLanes, width, height);
+}
+
 void SampleImpl(const Texture& tex, const SamplerState& s, const float* u, const float* v,
                 size_t lanes, float* const out[4], const uint16_t* m) {
   if (tex.format() == TexelFormat::La8) {  // always linear
@@ -746,6 +750,15 @@ namespace pelt::raster {
 
 HWY_EXPORT(SampleImpl);
 HWY_EXPORT(BlockLodsImpl);
+HWY_EXPORT(BlockLength2sImpl);
+
+void block_lod_length2s(const float* u, const float* v, size_t blocks, int width, int height, double* out) {
+  if (width < 1 || height < 1) throw std::invalid_argument("block_lod_length2s: width and height must be positive");
+  if (blocks == 0) return;
+  if (u == nullptr || v == nullptr || out == nullptr)
+    throw std::invalid_argument("block_lod_length2s: u, v or out is null");
+  HWY_DYNAMIC_DISPATCH(BlockLength2sImpl)(u, v, blocks, width, height, out);
+}
 
 void block_lods(const float* u, const float* v, size_t blocks, int width, int height, float lod_bias, int levels,
                 double* out) {

@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "raster/parallel.h"
@@ -301,13 +303,10 @@ TEST(Texture, BlockLodFromDerivatives) {
   EXPECT_EQ(block_lod(u.data(), v.data(), 64, 64), -std::numeric_limits<double>::infinity());
 }
 
-// The sampler's SIMD level of detail (block_lods) against the scalar block_lod, clamped the
-// same way, on every target: random blocks (random derivatives, rotations and perspective-like
-// bends) and hard ones (zero, tiny, subnormal, huge and non-finite derivatives, exact powers of
-// two, 1e38 next to 1). Highway's log may differ from std::log2 by an ulp or two; an exact
-// power of 4 must give the exact integer.
-TEST(Texture, BlockLodsMatchScalarLodOnEveryTarget) {
-  std::vector<float> u, v;
+// Blocks for the level-of-detail tests: random ones (random derivatives, rotations and
+// perspective-like bends), then hard ones (zero, tiny, subnormal, huge and non-finite
+// derivatives, exact powers of two, 1e38 next to 1). Returns the count of random blocks.
+size_t lod_test_blocks(std::vector<float>& u, std::vector<float>& v) {
   std::mt19937 rng(77);
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
   for (int i = 0; i < 200; ++i) {
@@ -334,6 +333,49 @@ TEST(Texture, BlockLodsMatchScalarLodOnEveryTarget) {
   }
   ramp_block(1.0f, 1.0f, 0.0f, 0.0f, u, v);
   u[u.size() - 13] = 1e38f;  // lane 3: row 0's last value
+  // Each lane alone non-finite or huge, in u and in v: every row, column and sum sees one.
+  for (int lane = 0; lane < 16; ++lane)
+    for (float bad : {nan, inf, 1e38f}) {
+      ramp_block(0.25f, 0.5f, 3.0f / 256, 1.0f / 256, u, v);
+      u[u.size() - 16 + size_t(lane)] = bad;
+      ramp_block(0.25f, 0.5f, 1.0f / 256, 3.0f / 256, u, v);
+      v[v.size() - 16 + size_t(lane)] = -bad;
+    }
+  return random_blocks;
+}
+
+// The sampler's SIMD squared derivative length (block_lod_length2s) against the scalar
+// block_lod_length2, bit for bit, on every target (NaN where it gives NaN).
+TEST(Texture, BlockLength2IsTheScalarBitForBitOnEveryTarget) {
+  std::vector<float> u, v;
+  lod_test_blocks(u, v);
+  const size_t blocks = u.size() / 16;
+  for_each_target([&](const std::string& target) {
+    for (const auto& [w, h] : {std::pair{256, 128}, std::pair{1, 16384}, std::pair{1000, 3}}) {
+      std::vector<double> got(blocks, -1.0);
+      block_lod_length2s(u.data(), v.data(), blocks, w, h, got.data());
+      for (size_t k = 0; k < blocks; ++k) {
+        const double want = block_lod_length2(u.data() + 16 * k, v.data() + 16 * k, w, h);
+        if (std::isnan(want)) {
+          EXPECT_TRUE(std::isnan(got[k])) << target << " block " << k;
+        } else {
+          EXPECT_EQ(std::bit_cast<uint64_t>(got[k]), std::bit_cast<uint64_t>(want))
+              << target << " " << w << "x" << h << " block " << k << ": " << got[k] << " against " << want;
+        }
+      }
+    }
+  });
+  double out = 0.0;
+  EXPECT_THROW(block_lod_length2s(u.data(), nullptr, 1, 256, 256, &out), std::invalid_argument);
+  EXPECT_THROW(block_lod_length2s(u.data(), v.data(), 1, 256, 0, &out), std::invalid_argument);
+}
+
+// The sampler's SIMD level of detail (block_lods) against the scalar block_lod, clamped the
+// same way, on every target, on lod_test_blocks. Highway's log may differ from std::log2 by
+// an ulp or two; an exact power of 4 must give the exact integer.
+TEST(Texture, BlockLodsMatchScalarLodOnEveryTarget) {
+  std::vector<float> u, v;
+  const size_t random_blocks = lod_test_blocks(u, v);
   const size_t blocks = u.size() / 16;
   const int levels = 9;
   for_each_target([&](const std::string& target) {

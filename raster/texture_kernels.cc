@@ -21,6 +21,7 @@
 #include <bit>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "raster/block_mask-inl.h"
 #include "raster/config.h"
@@ -752,21 +753,31 @@ HWY_EXPORT(SampleImpl);
 HWY_EXPORT(BlockLodsImpl);
 HWY_EXPORT(BlockLength2sImpl);
 
+namespace {
+
+// The checks of block_lods and block_lod_length2s: throws std::invalid_argument, prefixed `fn`,
+// when a size is below 1 (`sizes` names them) or, with blocks to do, a pointer is null.
+// Returns whether there are blocks to do.
+bool lod_blocks_to_do(const char* fn, const char* sizes, bool sizes_ok, size_t blocks, const float* u,
+                      const float* v, const double* out) {
+  if (!sizes_ok) throw std::invalid_argument(std::string(fn) + ": " + sizes + " must be positive");
+  if (blocks == 0) return false;
+  if (u == nullptr || v == nullptr || out == nullptr) throw std::invalid_argument(std::string(fn) + ": u, v or out is null");
+  return true;
+}
+
+}  // namespace
+
 void block_lod_length2s(const float* u, const float* v, size_t blocks, int width, int height, double* out) {
-  if (width < 1 || height < 1) throw std::invalid_argument("block_lod_length2s: width and height must be positive");
-  if (blocks == 0) return;
-  if (u == nullptr || v == nullptr || out == nullptr)
-    throw std::invalid_argument("block_lod_length2s: u, v or out is null");
-  HWY_DYNAMIC_DISPATCH(BlockLength2sImpl)(u, v, blocks, width, height, out);
+  if (lod_blocks_to_do("block_lod_length2s", "width and height", width >= 1 && height >= 1, blocks, u, v, out))
+    HWY_DYNAMIC_DISPATCH(BlockLength2sImpl)(u, v, blocks, width, height, out);
 }
 
 void block_lods(const float* u, const float* v, size_t blocks, int width, int height, float lod_bias, int levels,
                 double* out) {
-  if (width < 1 || height < 1 || levels < 1)
-    throw std::invalid_argument("block_lods: width, height and levels must be positive");
-  if (blocks == 0) return;
-  if (u == nullptr || v == nullptr || out == nullptr) throw std::invalid_argument("block_lods: u, v or out is null");
-  HWY_DYNAMIC_DISPATCH(BlockLodsImpl)(u, v, blocks, width, height, lod_bias, levels, out);
+  if (lod_blocks_to_do("block_lods", "width, height and levels", width >= 1 && height >= 1 && levels >= 1, blocks,
+                       u, v, out))
+    HWY_DYNAMIC_DISPATCH(BlockLodsImpl)(u, v, blocks, width, height, lod_bias, levels, out);
 }
 
 void sample(const Texture& tex, const SamplerState& state, const float* u, const float* v,

@@ -52,10 +52,10 @@ struct Options {
 
 constexpr float kElevationDeg = 20.0f;
 constexpr int kPaperShells = 16;
+constexpr float kFovyDeg = 45.0f;
 
 // The harness draws every fin; pelt's own run fades them in near silhouettes.
 fur::FinMode default_fins(bool match) { return match ? fur::FinMode::all : fur::FinMode::silhouette; }
-constexpr float kFovyDeg = 45.0f;
 
 io::Camera orbit_camera(float distance, float radius, float azimuth) {
   const float el = glm::radians(kElevationDeg);

@@ -98,8 +98,11 @@ int run_tradeoff(const TradeoffOptions& o) {
 
   std::vector<tradeoff::Row> rows;
   std::vector<tradeoff::DisplayImage> images;  // per row, kept only with --images
-  std::vector<std::vector<double>> first_ms(plan.size());  // the first pass's runs per rendered row
-  std::vector<size_t> first_hash(plan.size());             // and its image's hash
+  struct FirstPass {
+    std::vector<double> ms;  // timed runs
+    size_t image_hash = 0;   // what the way back must render again
+  };
+  std::vector<FirstPass> first(plan.size());  // per rendered row
   tradeoff::DisplayImage reference;
   int rendered = 0;
   const int to_render = int(std::count_if(plan.begin(), plan.end(), [](const auto& s) { return !s.same_as; }));
@@ -125,8 +128,7 @@ int run_tradeoff(const TradeoffOptions& o) {
       if (is_reference) reference = m.image;
       row.time = tradeoff::summarize(m.ms, !is_reference);
       row.error = tradeoff::compare(m.image, reference);
-      first_ms[i] = std::move(m.ms);
-      first_hash[i] = image_hash(m.image);
+      first[i] = {std::move(m.ms), image_hash(m.image)};
       std::fprintf(stderr, "pelt tradeoff:        %s ms median, rmse %s, psnr %s dB\n",
                    tradeoff::format_ms(row.time.median, true).c_str(),
                    tradeoff::format_number(row.error.rmse, 4).c_str(),
@@ -143,13 +145,14 @@ int run_tradeoff(const TradeoffOptions& o) {
     const size_t i = back[k];
     std::fprintf(stderr, "pelt tradeoff: [way back %zu/%zu] %s...\n", k + 1, back.size(), label(plan[i]).c_str());
     Measured m = measure(scene, plan[i].quality, o.budget, threads, o.width, o.height, o.runs, true);
-    if (image_hash(m.image) != first_hash[i])
+    if (image_hash(m.image) != first[i].image_hash)
       throw std::logic_error("tradeoff: " + label(plan[i]) + " rendered a different image on the way back (a " +
                              "render that is not deterministic is a bug)");
-    rows[i].time = tradeoff::combine_passes(first_ms[i], m.ms);
+    const double first_median = rows[i].time.median;
+    rows[i].time = tradeoff::combine_passes(first[i].ms, m.ms);
     std::fprintf(stderr, "pelt tradeoff:        %s ms median (first pass %s)\n",
                  tradeoff::format_ms(tradeoff::summarize(m.ms).median, true).c_str(),
-                 tradeoff::format_ms(tradeoff::summarize(first_ms[i]).median, true).c_str());
+                 tradeoff::format_ms(first_median, true).c_str());
   }
   for (size_t i = 0; i < plan.size(); ++i)
     if (plan[i].same_as) rows[i].time = rows[*plan[i].same_as].time;

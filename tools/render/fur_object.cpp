@@ -81,7 +81,7 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
       filter_(options.filter),
       double_precision_(options.double_precision),
       grey_allowed_(options.grey_varyings),
-      merge_fins_(options.merge_fins && !options.match_llvmpipe) {
+      merge_fins_(options.merge_fins && !options.match_llvmpipe && params.fins != fur::FinMode::off) {
   {
     StageTimer t(setup, "fur_geometry");
     if (auto e = fur::build_fur_geometry(base, params, geo_)) throw io::InputError(name, "fur." + e->field, e->reason);
@@ -268,8 +268,8 @@ void FurObject::rebuild_fin_list() {
   };
   if (fin_strips_) {
     // Each fin root to tip: one quad per pair of layers, or merged (fur/fin_spans.h) from the
-    // chains' breaks, which update() works out whenever the pose moves, before any draw. Room for every quad unmerged, so that a pose that
-    // merges less never allocates mid-run.
+    // chains' breaks, which update() works out whenever the pose moves, before any draw. Room
+    // for every quad unmerged, so that a pose that merges less never allocates mid-run.
     const uint32_t n = geo_.base_vertex_count, layers = geo_.layers;
     fin_list_.reserve(size_t{edges} * (layers - 1) * 6);
     fin_quad_edge_.reserve(size_t{edges} * (layers - 1));
@@ -358,6 +358,12 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
     poses_dirty_ = false;
     lighting_dirty_ = true;
     varyings_dirty = true;
+    if (merge_fins_) {  // where the chains run straight has moved: the merged fin list with it
+      const uint32_t words = fur::fin_break_words(geo_.layers);
+      fin_breaks_.resize(size_t{n} * words);
+      fur::fin_chain_breaks(pose_, n, geo_.layers, fin_tolerance(), fur::kMaxFinSpan, 0, n, fin_breaks_);
+      fin_list_dirty_ = true;
+    }
   }
   if (lighting_ == FurLighting::vertex &&
       (lighting_dirty_ || !lit_eye_ || *lit_eye_ != f.eye || !lit_lights_ || !same(*lit_lights_, lights))) {
@@ -371,12 +377,6 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
   if (varyings_dirty) {
     StageTimer st(stats, "fur_pose");
     rebuild_varyings();
-    if (merge_fins_) {  // where the chains run straight has moved: the merged fin list with it
-      const uint32_t words = fur::fin_break_words(geo_.layers);
-      fin_breaks_.resize(size_t{n} * words);
-      fur::fin_chain_breaks(pose_, n, geo_.layers, fin_tolerance(), fur::kMaxFinSpan, 0, n, fin_breaks_);
-      fin_list_dirty_ = true;
-    }
   }
   if (params_.fins != fur::FinMode::off && (fin_list_dirty_ || !fins_eye_ || *fins_eye_ != f.eye)) {
     if (params_.fins == fur::FinMode::silhouette) {

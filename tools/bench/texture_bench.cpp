@@ -2,7 +2,8 @@
 // and layout (RGBA8 linear or sRGB, luminance-alpha), at 1 and 4 texels per pixel
 // (magnified-to-1:1 and minified, the range of the fur shells). Each iteration samples 64K lanes laid out as the 4x4 blocks of a rotated,
 // slightly perspective screen-space mapping, as a FragmentBatch delivers them; SampleMasked adds a
-// fur batch's partly covered blocks.
+// fur batch's partly covered blocks. BlockLods times the mipmapped filters' first pass alone, the
+// level of detail of each 4x4 block (raster::block_lods), per block.
 #include <benchmark/benchmark.h>
 
 #include <bit>
@@ -111,6 +112,23 @@ void BM_Sample(benchmark::State& state, int64_t target, Filter filter, int size,
   hwy::SetSupportedTargetsForTest(0);
 }
 
+// The level of detail of the 4096 blocks of coords(256, 4): the pass the trilinear sampler runs
+// over every chunk of blocks before its taps.
+void BM_BlockLods(benchmark::State& state, int64_t target) {
+  hwy::SetSupportedTargetsForTest(target);
+  std::vector<float> u, v;
+  coords(256, 4.0f, u, v);
+  const size_t blocks = kLanes / 16;
+  std::vector<double> lods(blocks);
+  for (auto _ : state) {
+    block_lods(u.data(), v.data(), blocks, 256, 256, 0.0f, 9, lods.data());
+    benchmark::DoNotOptimize(lods[blocks - 1]);
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(blocks));
+  hwy::SetSupportedTargetsForTest(0);
+}
+
 const char* filter_name(Filter f) {
   switch (f) {
     case Filter::Nearest: return "nearest";
@@ -139,6 +157,8 @@ void register_all() {
                                  (kind == Kind::la8 ? "/256_la8" : "/256_rgba8") + "/texels_per_pixel:4";
         benchmark::RegisterBenchmark(name.c_str(), BM_Sample, target, f, 256, kind, 4.0f, true);
       }
+  for (int64_t target : hwy::SupportedAndGeneratedTargets())
+    benchmark::RegisterBenchmark((std::string("BlockLods/") + hwy::TargetName(target)).c_str(), BM_BlockLods, target);
 }
 
 }  // namespace

@@ -262,7 +262,7 @@ void FurObject::rebuild_varyings() {
 void FurObject::rebuild_fin_list() {
   const uint32_t edges = static_cast<uint32_t>(geo_.edges.size());
   fin_list_.clear();
-  fin_quad_edge_.clear();
+  fin_quad_weight_.clear();
   auto quad = [&](uint32_t s, uint32_t e) -> const uint32_t* {
     return geo_.fin_indices.data() + (size_t{s} * edges + e) * 6;
   };
@@ -272,7 +272,7 @@ void FurObject::rebuild_fin_list() {
     // for every quad unmerged, so that a pose that merges less never allocates mid-run.
     const uint32_t n = geo_.base_vertex_count, layers = geo_.layers;
     fin_list_.reserve(size_t{edges} * (layers - 1) * 6);
-    fin_quad_edge_.reserve(size_t{edges} * (layers - 1));
+    fin_quad_weight_.reserve(size_t{edges} * (layers - 1));
     fin_ends_.resize(layers);
     uint32_t* ends = fin_ends_.data();
     uint32_t count = layers - 1;
@@ -286,21 +286,21 @@ void FurObject::rebuild_fin_list() {
         uint32_t q[6];
         fur::fin_quad_indices(edge, n, s0, ends[k], q);
         fin_list_.insert(fin_list_.end(), q, q + 6);
-        fin_quad_edge_.push_back(e);
+        fin_quad_weight_.push_back(fin_weight_[e]);
       }
     }
     return;
   }
   fin_segment_.assign(geo_.layers, 0);
   for (uint32_t s = 0; s + 1 < geo_.layers; ++s) {
-    fin_segment_[s] = static_cast<uint32_t>(fin_quad_edge_.size());
+    fin_segment_[s] = static_cast<uint32_t>(fin_quad_weight_.size());
     for (uint32_t e = 0; e < edges; ++e) {
       if (fin_weight_[e] < kMinFinWeight) continue;
       fin_list_.insert(fin_list_.end(), quad(s, e), quad(s, e) + 6);
-      fin_quad_edge_.push_back(e);
+      fin_quad_weight_.push_back(fin_weight_[e]);
     }
   }
-  fin_segment_[geo_.layers - 1] = static_cast<uint32_t>(fin_quad_edge_.size());
+  fin_segment_[geo_.layers - 1] = static_cast<uint32_t>(fin_quad_weight_.size());
 }
 
 void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lights,
@@ -407,7 +407,7 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
     fin_strips_ = strips;
     rebuild_fin_list();
   }
-  const bool fins = params_.fins != fur::FinMode::off && !fin_quad_edge_.empty();
+  const bool fins = params_.fins != fur::FinMode::off && !fin_quad_weight_.empty();
   // One shader per draw (the layer order splits shells and fins into per-layer draws);
   // built once per sort mode, only their per-frame inputs change.
   const size_t want = sort == FurSort::layer ? 2 * geo_.layers - 1 : 2;
@@ -432,10 +432,11 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
       shaders_.push_back(std::make_unique<FurShader>(su));
     }
   }
-  const float* weight = params_.fins == fur::FinMode::silhouette ? fin_weight_.data() : nullptr;
+  // Silhouette fins fade by their edge's weight, looked up per quad; the others are drawn whole.
+  const float* weight = params_.fins == fur::FinMode::silhouette ? fin_quad_weight_.data() : nullptr;
   for (auto& sh : shaders_) {
     sh->set_view(lights, eye);
-    sh->set_fins(fin_quad_edge_.data(), weight);
+    sh->set_fins(weight);
     sh->set_grey_lighting(grey_);
   }
 
@@ -464,7 +465,7 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
       if (fins && s + 1 < geo_.layers) {
         // The fin shader maps its primitives into the whole fin list.
         FurShader* sh = shaders_[2 * s + 1].get();
-        sh->set_fins(fin_quad_edge_.data() + fin_segment_[s], weight);
+        sh->set_fins(weight ? weight + fin_segment_[s] : nullptr);
         draw(true, 2 * fin_segment_[s], 2 * (fin_segment_[s + 1] - fin_segment_[s]), sh);
       }
     }

@@ -117,12 +117,14 @@ class FurObject {
   std::optional<fur::WindField> wind_field_;
   std::vector<float> shell_varyings_, fin_varyings_;
   std::vector<float> fin_weight_;           // per edge
-  // Fins drawn this frame: all of them, or (silhouette) those with a visible weight; the edge
-  // of each quad. In layer-then-edge order (FurSort none and layer), with where each layer's
+  // Fins drawn this frame: all of them, or (silhouette) those with a visible weight; the weight
+  // of each quad's edge (per quad, so that the shader looks it up with one load a lane). In
+  // layer-then-edge order (FurSort none and layer), with where each layer's
   // segment starts, or (fin_strips_: tile and exact) each fin's quads root to tip, a strip
   // whose triangles share edges one after the other, so that the tiles pack them into
   // shared blocks.
-  std::vector<uint32_t> fin_list_, fin_quad_edge_, fin_segment_;
+  std::vector<uint32_t> fin_list_, fin_segment_;
+  std::vector<float> fin_quad_weight_;
   bool fin_strips_ = false;
   bool merge_fins_;
   std::vector<uint64_t> fin_breaks_;  // merge_fins_: per base vertex, fur::fin_chain_breaks of pose_

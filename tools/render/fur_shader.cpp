@@ -56,8 +56,16 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
     uint32_t i = 0;
     while (i < b.blocks) {
       const uint32_t layer = layer_of(i);
+      // The run goes on while its blocks' triangles lie in the layer's range [first, end): a
+      // compare a block, where layer_of's division was a fifth of this function's time.
+      const uint32_t first = layer * s_.base_faces;
+      const bool last = layer + 1 == layers;  // layer_of puts every triangle above it in the last layer
+      const uint32_t end = last ? 0 : first + s_.base_faces;
       uint32_t j = i + 1;
-      while (j < b.blocks && layer_of(j) == layer) ++j;
+      for (; j < b.blocks; ++j) {
+        const uint32_t p = b.primitive[j * raster::kBlockLanes] + s_.primitive_offset;
+        if (p < first || (!last && p >= end)) break;
+      }
       const size_t off = size_t{i} * raster::kBlockLanes;
       float* const run_out[4] = {texel_out[0] + off, texel_out[1] + off, texel_out[2] + off, texel_out[3] + off};
       const size_t run = size_t{j - i} * raster::kBlockLanes;
@@ -68,9 +76,10 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
       i = j;
     }
   }
-  if (s_.fins && weight_) {
-    // Per lane: a block may hold the quads of several fins.
-    for (size_t i = 0; i < n; ++i) alpha[i] *= weight_[quad_edge_[(b.primitive[i] + s_.primitive_offset) / 2]];
+  if (s_.fins && quad_weight_) {
+    // Per lane: a block may hold the quads of several fins. (Looked up through the quad's edge,
+    // two dependent loads a lane, this was about 1.5 % of a teapot:5 frame.)
+    for (size_t i = 0; i < n; ++i) alpha[i] *= quad_weight_[(b.primitive[i] + s_.primitive_offset) / 2];
   }
 
   // Colour = min(1, tint * texel): per block the layer's tint for the luminance shells, per lane

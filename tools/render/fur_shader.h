@@ -42,13 +42,11 @@ class FurShader final : public raster::Shader {
   explicit FurShader(const FurShaderSetup& setup) : s_(setup) {
     if (!s_.fins && !s_.shell_tint) throw std::invalid_argument("FurShader: a shell draw needs shell_tint");
   }
-  // Per-frame inputs; call between renders, never during one. Fins: `quad_edge` maps a fin
-  // quad of the object's fin list to its edge, `weight` an edge to its fade (null: 1).
+  // Per-frame inputs; call between renders, never during one. Fins: `quad_weight` gives each
+  // fin quad of the draw (triangles 2q and 2q + 1, counted from primitive_offset) its fade
+  // (null: 1).
   void set_view(const std::vector<shading::Light>& lights, const glm::vec3& eye);
-  void set_fins(const uint32_t* quad_edge, const float* weight) {
-    quad_edge_ = quad_edge;
-    weight_ = weight;
-  }
+  void set_fins(const float* quad_weight) { quad_weight_ = quad_weight; }
   // Per-vertex lighting arrives as FurGreyVaryings (else FurVaryings); per frame, as above.
   void set_grey_lighting(bool grey) { grey_ = grey; }
   void shade(const raster::FragmentBatch& batch) const override;
@@ -57,8 +55,7 @@ class FurShader final : public raster::Shader {
   FurShaderSetup s_;
   std::vector<shading::Light> lights_;
   float eye_[3] = {0, 0, 0};
-  const uint32_t* quad_edge_ = nullptr;
-  const float* weight_ = nullptr;
+  const float* quad_weight_ = nullptr;
   bool grey_ = false;
 };
 

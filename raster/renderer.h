@@ -32,7 +32,20 @@ struct RenderTarget {
   float* color = nullptr;  // width*height*4 linear RGBA, row 0 at the top; null: not wanted
   float* depth = nullptr;  // width*height window depth z/w*0.5+0.5; 1 where empty
   uint32_t* id = nullptr;  // width*height id_base + triangle + 1 of the visible opaque triangle; 0 empty
+  // width*height*4 bytes, R, G, B, A: the linear colour as an RGBA8 UNORM framebuffer holds it
+  // (unorm8 of each channel, no sRGB encoding), row 0 at the top; null: not wanted. A quarter of
+  // the float plane's bytes: where the frame only has to reach memory (bench fps, as the GPU and
+  // llvmpipe draw into RGBA8), writing it is that much cheaper.
+  uint8_t* color8 = nullptr;
 };
+
+// An RGBA8 UNORM channel: round-half-up(255 c) of c clamped to [0, 1] (a product, then a sum, in
+// float); NaN gives 0. The tile resolve computes exactly this.
+inline uint8_t unorm8(float c) {
+  if (!(c > 0.0f)) return 0;
+  if (!(c < 1.0f)) return 255;
+  return static_cast<uint8_t>(static_cast<int>(c * 255.0f + 0.5f));
+}
 
 struct RenderOptions {
   glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};

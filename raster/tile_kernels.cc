@@ -518,10 +518,47 @@ inline const TriSetup& SetupOf(const FrameView& frame, uint32_t id) {
   return frame.chunks[id >> kSetupIndexBits].setups[id & ((1u << kSetupIndexBits) - 1)];
 }
 
+// The tile's w x h pixels as RGBA8 bytes (unorm8 of each channel) into the target's rows from
+// dst (the tile's top-left pixel, `stride` bytes a row): block by block, its 16 pixels' four
+// channels packed into one 32-bit word a pixel with whole vectors, then its four rows copied out
+// (about a third of the time of converting row by row, four pixels a vector).
+void Resolve8(const TileScratch& s, int32_t w, int32_t h, uint8_t* dst, size_t stride) {
+  const DF df;
+  const DI di;
+  const DU du;
+  const size_t n = hn::Lanes(df);
+  auto channel = [&](const float* p) {  // unorm8, a uint32 per lane
+    const auto c = hn::Min(hn::Max(hn::Load(df, p), hn::Zero(df)), hn::Set(df, 1.0f));  // NaN: 0 (Max's second operand)
+    return hn::BitCast(du, hn::ConvertTo(di, hn::Add(hn::Mul(c, hn::Set(df, 255.0f)), hn::Set(df, 0.5f))));
+  };
+  HWY_ALIGN uint32_t words[kBlockLanes];
+  for (int32_t by = 0; by < h; by += kBlockSize)
+    for (int32_t bx = 0; bx < w; bx += kBlockSize) {
+      const size_t src = size_t{BlockIndex(bx, by, 0, 0)} * kBlockLanes;
+      for (size_t i = 0; i < size_t(kBlockLanes); i += n) {
+        const auto word = hn::Or(hn::Or(channel(s.color[0] + src + i), hn::ShiftLeft<8>(channel(s.color[1] + src + i))),
+                                 hn::Or(hn::ShiftLeft<16>(channel(s.color[2] + src + i)),
+                                        hn::ShiftLeft<24>(channel(s.color[3] + src + i))));
+        hn::Store(word, du, words + i);
+      }
+      const size_t bytes = 4 * size_t(std::min(kBlockSize, w - bx));
+      for (int32_t r = 0; r < kBlockSize && by + r < h; ++r) {
+        uint8_t* to = dst + size_t(by + r) * stride + 4 * size_t(bx);
+        if (bytes == sizeof(uint32_t) * kBlockSize) {
+          std::memcpy(to, words + r * kBlockSize, sizeof(uint32_t) * kBlockSize);  // one 16-byte store, inlined
+        } else {
+          std::memcpy(to, words + r * kBlockSize, bytes);  // the tile's last, partial block column
+        }
+      }
+    }
+}
+
 void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& s) {
   const RenderTarget& t = frame.target;
   const int32_t w = std::min(kTileSize, frame.vp.width - tx0);
   const int32_t h = std::min(kTileSize, frame.vp.height - ty0);
+  if (t.color8)
+    Resolve8(s, w, h, t.color8 + (static_cast<size_t>(ty0) * t.width + tx0) * 4, static_cast<size_t>(t.width) * 4);
   const int32_t whole = w & ~(kBlockSize - 1);  // columns resolved 4 at a time
   [[maybe_unused]] const hn::CappedTag<float, 4> d4;
   for (int32_t y = 0; y < h; ++y) {
@@ -588,6 +625,11 @@ void FillEmptyTile(const FrameView& frame, int32_t tx0, int32_t ty0) {
   const int32_t w = std::min(kTileSize, frame.vp.width - tx0);
   const int32_t h = std::min(kTileSize, frame.vp.height - ty0);
   const glm::vec4 bg = frame.options.background;
+  // A tile row of background bytes, copied whole into each row of the RGBA8 plane.
+  uint8_t bg8[4 * kTileSize];
+  if (t.color8)
+    for (int32_t x = 0; x < kTileSize; ++x)
+      for (int c = 0; c < 4; ++c) bg8[4 * x + c] = unorm8(bg[c]);
 #if HWY_TARGET != HWY_SCALAR
   const hn::CappedTag<float, 4> d4;
   alignas(16) const float rgba[4] = {bg.r, bg.g, bg.b, bg.a};
@@ -605,6 +647,7 @@ void FillEmptyTile(const FrameView& frame, int32_t tx0, int32_t ty0) {
       for (; x < w; ++x)
         for (int c = 0; c < 4; ++c) dst[4 * x + c] = bg[c];
     }
+    if (t.color8) std::memcpy(t.color8 + row * 4, bg8, 4 * size_t(w));
     if (t.depth) std::fill(t.depth + row, t.depth + row + w, 1.0f);
     if (t.id) std::fill(t.id + row, t.id + row + w, 0u);
   }

@@ -1,6 +1,7 @@
 // `pelt bench fps`: the fur paper's Tables 1-3 (Box, Teapot, Teapot2) measured on this
 // CPU: counts in the seed's layout and median FPS of an animated run (orbiting camera,
-// the wind lerp every frame, every frame fully rasterized into memory).
+// the wind lerp every frame, every frame fully rasterized into memory: an RGBA8 framebuffer, as
+// the paper's GPU and the llvmpipe harness draw into, or pelt's float RGBA with --framebuffer).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -48,6 +49,9 @@ struct Options {
   std::string shells;  // empty: 16, the paper's
   std::string fin_quads;  // empty: the default quality's
   std::string json;
+  // "rgba8": RGBA8 UNORM bytes (raster::RenderTarget::color8), the GPU's and the harness's
+  // framebuffer; "float": linear float RGBA, what `pelt render` resolves to (four times the bytes).
+  std::string framebuffer = "rgba8";
 };
 
 constexpr float kElevationDeg = 20.0f;
@@ -188,6 +192,7 @@ Result run_one(const PaperTable& t, int threads, const Options& o, const io::Qua
   rs.threads = threads;
   rs.match_llvmpipe = o.match_llvmpipe;
   rs.quality = q;
+  rs.color8 = o.framebuffer == "rgba8";
   render::SceneRenderer r(scene, std::move(meshes), rs);
   render::FrameImage img;
   render::FrameStats st;
@@ -213,6 +218,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
                     {"height", o.height},
                     {"threads", r.threads},
                     {"match_llvmpipe", o.match_llvmpipe},
+                    {"framebuffer", o.framebuffer},
                     {"sort", io::knob_value(quality, "sort")},
                     {"filter", io::knob_value(quality, "filter")},
                     {"fins", io::knob_value(quality, "fins")},
@@ -240,9 +246,9 @@ int run_fps(const Options& o) {
   }
   if (!o.json.empty()) io::prepare_output(o.json, "--json");  // before minutes of frames, not after
   std::vector<Result> results;
-  std::printf("pelt bench fps: %dx%d, %d frames after %d warm-up, %s, %d shells, fins %s (%s quads), sort %s, "
+  std::printf("pelt bench fps: %dx%d %s, %d frames after %d warm-up, %s, %d shells, fins %s (%s quads), sort %s, "
               "filter %s\n",
-              o.width, o.height, o.frames, o.warmup,
+              o.width, o.height, o.framebuffer == "rgba8" ? "RGBA8" : "float RGBA", o.frames, o.warmup,
               o.match_llvmpipe ? "the llvmpipe harness's scene (--match-llvmpipe)" : "pelt's own fur", *quality.shells,
               io::knob_value(quality, "fins").c_str(), io::knob_value(quality, "fin_quads").c_str(),
               io::knob_value(quality, "sort").c_str(), io::knob_value(quality, "filter").c_str());
@@ -288,6 +294,9 @@ Run add_bench_fps(CLI::App& bench) {
   add_knob_option(*sub, "fins", o->fins, "Fins (default: silhouette; all with --match-llvmpipe):");
   add_knob_option(*sub, "shells", o->shells, "Shells (default: 16, the paper's; 2 to 128), e.g.");
   add_knob_option(*sub, "fin_quads", o->fin_quads, "Fin quads (default: merged; layer with --match-llvmpipe):");
+  sub->add_option("--framebuffer", o->framebuffer,
+                  "Frame in memory: rgba8 (default, as the GPU and the llvmpipe harness) | float (pelt render's)")
+      ->check(CLI::IsMember({"rgba8", "float"}));
   sub->add_option("--json", o->json, "Also write the results as JSON");
   return [o] { return run_fps(*o); };
 }

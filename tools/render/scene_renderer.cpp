@@ -393,8 +393,15 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
       target.id = out.id.data();
       break;
     default:
-      out.color.resize(px * 4);
-      target.color = out.color.data();
+      if (settings_.color8) {
+        out.color8.resize(px * 4);
+        target.color8 = out.color8.data();
+      }
+      // Supersampling averages float passes (below), and converts the average once.
+      if (!settings_.color8 || offsets_.size() > 1) {
+        out.color.resize(px * 4);
+        target.color = out.color.data();
+      }
       break;
   }
   raster::RenderOptions opt;
@@ -411,6 +418,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
     sample_color_.resize(px * 4);
     accum_.assign(px * 4, 0.0);
     target.color = sample_color_.data();
+    target.color8 = nullptr;
   }
   stats.samples = static_cast<int>(offsets.size());
   for (const glm::vec2& o : offsets) {
@@ -430,6 +438,8 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   if (offsets.size() > 1) {
     const double inv = 1.0 / double(offsets.size());
     for (size_t i = 0; i < px * 4; ++i) out.color[i] = static_cast<float>(accum_[i] * inv);
+    if (settings_.color8 && !out.color8.empty())
+      for (size_t i = 0; i < px * 4; ++i) out.color8[i] = raster::unorm8(out.color[i]);
   }
   stats.stage("raster_front") = {true, stats.raster.ms_front};
   stats.stage("raster_tiles") = {true, stats.raster.ms_tiles};

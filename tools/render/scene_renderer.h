@@ -32,6 +32,9 @@ struct RenderSettings {
   bool match_llvmpipe = false;      // fur as the llvmpipe harness draws it (bench fps)
   FurLighting fur_lighting = FurLighting::vertex;
   bool fur_grey_varyings = true;    // FurDrawOptions::grey_varyings (off: tests, measurements)
+  // The colour AOV as RGBA8 UNORM bytes (FrameImage::color8, raster::unorm8 of each channel)
+  // instead of floats: a frame that only has to reach memory, as bench fps draws it.
+  bool color8 = false;
 };
 
 // The scene as a quality setting draws it: `shells` and `fins` replace every fur block's,
@@ -47,7 +50,8 @@ std::vector<glm::vec2> sample_offsets(int spp);
 // The planes of one rendered frame, row 0 at the top. Only the AOV asked for is filled.
 struct FrameImage {
   int width = 0, height = 0;
-  std::vector<float> color;     // RGBA linear
+  std::vector<float> color;     // RGBA linear (with RenderSettings::color8 only when supersampled)
+  std::vector<uint8_t> color8;  // RenderSettings::color8: RGBA8 UNORM of the linear colour
   std::vector<float> depth;     // window depth, 1 = background
   std::vector<uint32_t> id;     // scene triangle index + 1, 0 = background
 };

@@ -42,6 +42,10 @@ TEST(BenchFps, JsonRecordsTheKnobsOfTheRun) {
   EXPECT_EQ(own[0]["vertices"]["sum"], 5032);
   EXPECT_EQ(own[0]["faces"]["sum"], 36456);
   EXPECT_GT(own[0]["fps_median"].get<double>(), 0.0);
+  EXPECT_EQ(own[0]["framebuffer"], "rgba8");  // the GPU's and the harness's, unless asked
+  const nlohmann::json floats = run_json({"--framebuffer", "float"});
+  ASSERT_EQ(floats.size(), 1u);
+  EXPECT_EQ(floats[0]["framebuffer"], "float");
 
   // The harness's scene keeps its own order and filter unless a flag says otherwise.
   const nlohmann::json match = run_json({"--match-llvmpipe"});
@@ -93,7 +97,8 @@ TEST(BenchFps, AnUnknownKnobValueNamesItsFlag) {
         std::tuple{"--sort", "depth", "--sort: unknown value `depth`"},
         std::tuple{"--fins", "sideways", "--fins: unknown value `sideways`"},
         std::tuple{"--shells", "1", "--shells:"},
-        std::tuple{"--fin-quads", "fused", "--fin-quads: unknown value `fused` (layer, merged)"}}) {
+        std::tuple{"--fin-quads", "fused", "--fin-quads: unknown value `fused` (layer, merged)"},
+        std::tuple{"--framebuffer", "rgb", "--framebuffer: rgb not in {rgba8,float}"}}) {
     TempDir dir;
     const std::filesystem::path json = dir.path() / "fps.json";
     std::vector<std::string> args = tiny_run(json);

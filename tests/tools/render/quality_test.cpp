@@ -40,6 +40,34 @@ const io::Quality& reference_quality() {
   return q;
 }
 
+// RenderSettings::color8 (bench fps's framebuffer): the bytes are raster::unorm8 of the float
+// frame the same settings give, with one sample (resolved by the tiles) and with four (the
+// average converted once).
+TEST(Quality, TheRgba8FrameIsTheFloatFrameQuantised) {
+  const io::Scene scene = SceneDir().scene(knob_scene());
+  for (int spp : {1, 4}) {
+    io::Quality q = *io::quality_preset("default");
+    q.spp = spp;
+    RenderSettings rs;
+    rs.threads = 2;
+    rs.quality = q;
+    FrameImage floats, bytes;
+    FrameStats st;
+    SceneRenderer(scene, rs).render(0, floats, st);
+    rs.color8 = true;
+    SceneRenderer(scene, rs).render(0, bytes, st);
+    ASSERT_EQ(floats.color.size(), bytes.color8.size()) << "spp " << spp;
+    EXPECT_TRUE(floats.color8.empty());
+    EXPECT_EQ(bytes.color.empty(), spp == 1);  // one sample resolves straight to bytes
+    size_t mid = 0;
+    for (size_t i = 0; i < floats.color.size(); ++i) {
+      ASSERT_EQ(bytes.color8[i], raster::unorm8(floats.color[i])) << "spp " << spp << " value " << i;
+      mid += bytes.color8[i] > 0 && bytes.color8[i] < 255;
+    }
+    EXPECT_GT(mid, floats.color.size() / 4) << "spp " << spp;  // a picture, not a flat fill
+  }
+}
+
 TEST(Quality, ReferenceIsDeterministicOnAnyThreadCount) {
   const io::Scene scene = io::parse_scene(knob_scene(), "knobs.json");
   const FrameImage one = render_at(scene, reference_quality(), 1);

@@ -77,6 +77,9 @@ struct FrameView {
   const uint32_t* tile_load = nullptr;  // per tile: its bin items over every chunk
   RenderOptions options;
   RenderTarget target;
+  // With target.color8: one tile row of the background as RGBA8 bytes (unorm8), made once a
+  // frame and copied into each row of an empty tile.
+  uint8_t background8[4 * kTileSize];
 };
 
 inline constexpr uint32_t kBatchBlocks = kMaxBatchBlocks;

@@ -305,6 +305,9 @@ void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& opti
   view.tile_load = load.data();
   view.options = options;
   view.target = target;
+  if (target.color8)
+    for (int32_t x = 0; x < kTileSize; ++x)
+      for (int c = 0; c < 4; ++c) view.background8[4 * x + c] = unorm8(options.background[c]);
   im.pool.parallel_for(tiles, [&](size_t i, int slot) {
     raster_tile(view, im.tile_order[i], *im.scratch[slot]);
   });

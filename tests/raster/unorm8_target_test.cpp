@@ -1,7 +1,7 @@
 // The RGBA8 target (RenderTarget::color8): every byte is unorm8 of the float colour the same
 // render gives, on every target, in covered, partial edge and empty tiles, with colours
-// outside [0, 1] and NaN, into a plane that is not 4-byte aligned; and the byte plane alone
-// gives the same bytes as beside the float plane.
+// outside [0, 1] and NaN, into a 16-byte aligned plane and one that is not even 4-byte aligned;
+// and the byte plane alone gives the same bytes as beside the float plane.
 #include <gtest/gtest.h>
 
 #include <cmath>

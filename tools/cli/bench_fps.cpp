@@ -52,6 +52,7 @@ struct Options {
   // "rgba8": RGBA8 UNORM bytes (raster::RenderTarget::color8), the GPU's and the harness's
   // framebuffer; "float": linear float RGBA, what `pelt render` resolves to (four times the bytes).
   std::string framebuffer = "rgba8";
+  bool rgba8() const { return framebuffer == "rgba8"; }
 };
 
 constexpr float kElevationDeg = 20.0f;
@@ -192,7 +193,7 @@ Result run_one(const PaperTable& t, int threads, const Options& o, const io::Qua
   rs.threads = threads;
   rs.match_llvmpipe = o.match_llvmpipe;
   rs.quality = q;
-  rs.color8 = o.framebuffer == "rgba8";
+  rs.color8 = o.rgba8();
   render::SceneRenderer r(scene, std::move(meshes), rs);
   render::FrameImage img;
   render::FrameStats st;
@@ -248,7 +249,7 @@ int run_fps(const Options& o) {
   std::vector<Result> results;
   std::printf("pelt bench fps: %dx%d %s, %d frames after %d warm-up, %s, %d shells, fins %s (%s quads), sort %s, "
               "filter %s\n",
-              o.width, o.height, o.framebuffer == "rgba8" ? "RGBA8" : "float RGBA", o.frames, o.warmup,
+              o.width, o.height, o.rgba8() ? "RGBA8" : "float RGBA", o.frames, o.warmup,
               o.match_llvmpipe ? "the llvmpipe harness's scene (--match-llvmpipe)" : "pelt's own fur", *quality.shells,
               io::knob_value(quality, "fins").c_str(), io::knob_value(quality, "fin_quads").c_str(),
               io::knob_value(quality, "sort").c_str(), io::knob_value(quality, "filter").c_str());

@@ -438,7 +438,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   if (offsets.size() > 1) {
     const double inv = 1.0 / double(offsets.size());
     for (size_t i = 0; i < px * 4; ++i) out.color[i] = static_cast<float>(accum_[i] * inv);
-    if (settings_.color8 && !out.color8.empty())
+    if (settings_.color8)  // supersampling is for the colour AOVs only (quality.spp's check)
       for (size_t i = 0; i < px * 4; ++i) out.color8[i] = raster::unorm8(out.color[i]);
   }
   stats.stage("raster_front") = {true, stats.raster.ms_front};

@@ -44,7 +44,7 @@ const io::Quality& reference_quality() {
 // frame the same settings give, with one sample (resolved by the tiles) and with four (the
 // average converted once).
 TEST(Quality, TheRgba8FrameIsTheFloatFrameQuantised) {
-  const io::Scene scene = SceneDir().scene(knob_scene());
+  const io::Scene scene = io::parse_scene(knob_scene(), "knobs.json");
   for (int spp : {1, 4}) {
     io::Quality q = *io::quality_preset("default");
     q.spp = spp;

@@ -82,10 +82,18 @@ HWY_INLINE VF TexelCoord(VF c, VF fsize, bool repeat) {
 }
 
 // floor(x) as a texel index, and the fraction of x above it (the weight of the next texel).
+// Every caller's x is finite and within a few texels of [0, kMaxTextureSide] (TexelCoord and
+// RepeatPow2 clamp it, NaN included), so the integral float xf converts exactly through the
+// float 1.5 * 2^23 + xf, whose bits are 0x4B400000 + xf: an add and a subtract, where ConvertTo
+// adds four operations to fix up out-of-range lanes that cannot occur here (four conversions
+// a trilinear vector).
 HWY_INLINE VI FloorIndex(VF x, VF& frac) {
+  static_assert(kMaxTextureSide < (1 << 22), "FloorIndex's exact conversion needs |x| < 2^22");
+  const DI di;
   const VF xf = hn::Floor(x);
   frac = hn::Sub(x, xf);
-  return hn::ConvertTo(DI(), xf);
+  const VF biased = hn::Add(xf, hn::Set(DF(), 12582912.0f));
+  return hn::Sub(hn::BitCast(di, biased), hn::Set(di, 0x4B400000));
 }
 
 // Repeat on a power-of-two axis (every level of a power-of-two texture): TexelCoord's x,
@@ -372,15 +380,36 @@ HWY_INLINE void TapFootprint(const hn::Vec<DU> (&word)[kFootprintWords<kLa>], co
   if constexpr (kLa) {
     const DF df;
     const DI di;
-    const hn::Vec<DU> m = hn::Set(DU(), 0xFF);
-    auto tap = [&](hn::Vec<DU> w32, VF w) {
-      acc.c[0] = hn::MulAdd(w, hn::ConvertTo(df, hn::BitCast(di, hn::And(w32, m))), acc.c[0]);
-      acc.c[3] = hn::MulAdd(w, hn::ConvertTo(df, hn::BitCast(di, hn::And(hn::ShiftRight<8>(w32), m))), acc.c[3]);
+    const DU du;
+    // A word's four bytes (L, A of the left texel, L, A of the right) as 32-bit integers: the
+    // first by a mask, the last by a shift, the middle two by one byte shuffle each where the
+    // target has one (a shift and a mask each before: twelve operations a trilinear vector fewer).
+    auto to_float = [&](hn::Vec<DU> b) { return hn::ConvertTo(df, hn::BitCast(di, b)); };
+#if HWY_TARGET == HWY_SCALAR
+    auto byte1 = [&](hn::Vec<DU> w32) { return hn::And(hn::ShiftRight<8>(w32), hn::Set(du, 0xFF)); };
+    auto byte2 = [&](hn::Vec<DU> w32) { return hn::And(hn::ShiftRight<16>(w32), hn::Set(du, 0xFF)); };
+#else
+    alignas(16) static constexpr uint8_t kByte1[16] = {1, 0x80, 0x80, 0x80, 5, 0x80, 0x80, 0x80,
+                                                       9, 0x80, 0x80, 0x80, 13, 0x80, 0x80, 0x80};
+    alignas(16) static constexpr uint8_t kByte2[16] = {2, 0x80, 0x80, 0x80, 6, 0x80, 0x80, 0x80,
+                                                       10, 0x80, 0x80, 0x80, 14, 0x80, 0x80, 0x80};
+    const hn::Repartition<uint8_t, DU> d8;
+    const auto index1 = hn::LoadDup128(d8, kByte1), index2 = hn::LoadDup128(d8, kByte2);
+    auto byte1 = [&](hn::Vec<DU> w32) {
+      return hn::BitCast(du, hn::TableLookupBytesOr0(hn::BitCast(d8, w32), index1));
     };
-    tap(word[0], fp.w[0]);
-    tap(hn::ShiftRight<16>(word[0]), fp.w[1]);
-    tap(word[1], fp.w[2]);
-    tap(hn::ShiftRight<16>(word[1]), fp.w[3]);
+    auto byte2 = [&](hn::Vec<DU> w32) {
+      return hn::BitCast(du, hn::TableLookupBytesOr0(hn::BitCast(d8, w32), index2));
+    };
+#endif
+    for (int row = 0; row < 2; ++row) {
+      const hn::Vec<DU> w32 = word[row];
+      const VF left = fp.w[2 * row], right = fp.w[2 * row + 1];
+      acc.c[0] = hn::MulAdd(left, to_float(hn::And(w32, hn::Set(du, 0xFF))), acc.c[0]);
+      acc.c[3] = hn::MulAdd(left, to_float(byte1(w32)), acc.c[3]);
+      acc.c[0] = hn::MulAdd(right, to_float(byte2(w32)), acc.c[0]);
+      acc.c[3] = hn::MulAdd(right, to_float(hn::ShiftRight<24>(w32)), acc.c[3]);
+    }
   } else {
     for (int q = 0; q < 4; ++q) Tap<kSrgb>(word[q], fp.w[q], srgb, acc);
   }

@@ -331,6 +331,57 @@ TEST(TextureSampling, ABlockMaskSamplesItsLanesAndZeroesTheRest) {
     }
 }
 
+// Non-finite coordinates give unspecified samples but never read outside the texture
+// (texture.h): the kernels clamp every texel coordinate into a few texels of the texture
+// before converting it to an index, NaN included, and the conversion relies on that. Lanes of
+// NaN and infinities, alone in a block or among finite lanes, in u, in v or both, on every
+// target, filter and wrap, through the per-block and the dense paths: every sample is finite
+// and within [0, 1] (an index from an unclamped NaN lies 2^29 texels away; under the test
+// build's AddressSanitizer that is a report, elsewhere garbage or a crash).
+TEST(TextureSampling, NonFiniteCoordinatesReadInsideTheTexture) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  const float bad[] = {nan, -nan, inf, -inf};
+  uint32_t seed = 800;
+  const LaPair la = random_la_texture(64, 64, seed++);
+  const Texture textures[] = {la.la, random_texture(37, 20, TexelEncoding::Linear, seed++),
+                              random_texture(64, 16, TexelEncoding::Srgb, seed++)};
+  Coords c = random_coords(48, seed++);
+  std::mt19937 rng(seed++);
+  for (size_t b = 0; b < c.u.size() / 16; ++b)
+    for (size_t l = 0; l < 16; ++l) {
+      const size_t i = 16 * b + l;
+      const bool whole = b % 4 == 0;  // every lane of the block; else about a third of them
+      if (!whole && rng() % 3 != 0) continue;
+      const float x = bad[rng() % std::size(bad)];
+      switch (b % 3) {
+        case 0: c.u[i] = x; break;
+        case 1: c.v[i] = x; break;
+        default: c.u[i] = x; c.v[i] = bad[rng() % std::size(bad)];
+      }
+    }
+  std::vector<uint16_t> mask(c.u.size() / 16);
+  for (uint16_t& m : mask) m = uint16_t(rng() | 1u);
+  for (const Texture& tex : textures)
+    for_each_target([&](const std::string& target) {
+      for (Filter f : kAllFilters)
+        for (Wrap wu : kWraps)
+          for (Wrap wv : kWraps)
+            for (const uint16_t* m : {static_cast<const uint16_t*>(nullptr), static_cast<const uint16_t*>(mask.data())}) {
+              const Samples got = run_sample(tex, SamplerState{f, wu, wv, 0.0f}, c.u, c.v, m);
+              size_t failures = 0;
+              for (size_t i = 0; i < c.u.size() && failures < 5; ++i)
+                for (int ch = 0; ch < 4; ++ch) {
+                  const float x = got.c[ch][i];
+                  const bool ok = std::isfinite(x) && x >= 0.0f && x <= 1.0f + 1e-6f;
+                  failures += !ok;
+                  EXPECT_TRUE(ok) << tex.width() << "x" << tex.height() << " " << target << " filter " << int(f)
+                                  << " wrap " << int(wu) << int(wv) << " mask " << (m != nullptr) << " lane " << i
+                                  << " (u " << c.u[i] << ", v " << c.v[i] << ") channel " << ch << ": " << x;
+                }
+            }
+    });
+}
+
 TEST(TextureSampling, RejectsBadArguments) {
   const Texture tex = random_texture(4, 4, TexelEncoding::Linear, 1);
   std::vector<float> u(16, 0.5f), v(16, 0.5f), o(16);

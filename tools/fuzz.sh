@@ -3,12 +3,12 @@
 # build-fuzz and runs each for SECONDS (default 60) on its seed corpus. A crash stops that
 # target and leaves its input as build-fuzz/fuzz/crash-* / leak-* / timeout-*; copy it into
 # tests/fuzz/regressions/<target>/ so fuzz_replay_test replays it (see docs/robustness.md).
-# Usage: tools/fuzz.sh [SECONDS] [TARGET...]   (targets: obj gltf scene raster)
+# Usage: tools/fuzz.sh [SECONDS] [TARGET...]   (targets: obj gltf scene raster sampler)
 set -euo pipefail
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(obj gltf scene raster)
+[ ${#targets[@]} -eq 0 ] && targets=(obj gltf scene raster sampler)
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=$root/build-fuzz
 jobs=${PELT_FUZZ_JOBS:-2}
@@ -30,6 +30,7 @@ seed obj "$root"/tools/data/bunny.obj "$root"/tests/fuzz/seeds/obj/* "$root"/tes
 seed gltf "$root"/tools/data/BoxTextured.glb "$root"/tests/fuzz/seeds/gltf/* "$root"/tests/fuzz/regressions/gltf/*
 seed scene "$root"/tools/scenes/*.json "$root"/tests/fuzz/regressions/scene/*
 seed raster "$root"/tests/fuzz/seeds/raster/* "$root"/tests/fuzz/regressions/raster/*
+seed sampler "$root"/tests/fuzz/seeds/sampler/* "$root"/tests/fuzz/regressions/sampler/*
 
 status=0
 for t in "${targets[@]}"; do

@@ -8,9 +8,11 @@
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <hwy/targets.h>
 #include <glm/mat4x4.hpp>
 
 #include "raster/renderer.h"
+#include "raster/texture.h"
 #include "tests/tools/io/temp_dir.h"
 #include "tools/io/input_error.h"
 #include "tools/io/mesh_loader.h"
@@ -192,6 +194,97 @@ Outcome run_raster(const uint8_t* data, size_t size) {
       require(false, "pixel " + std::to_string(p) + " id " + std::to_string(id[p]) + " beyond the draw");
     for (int c = 0; c < 4; ++c)
       if (!std::isfinite(color[p * 4 + c])) require(false, "pixel " + std::to_string(p) + " colour is not finite");
+  }
+  return Outcome::accepted;
+}
+
+Outcome run_sampler(const uint8_t* data, size_t size) {
+  uint8_t head[4] = {0, 0, 0, 0};
+  for (size_t k = 0; k < 4 && k < size; ++k) head[k] = data[k];
+  const size_t body = size > 4 ? size - 4 : 0;
+
+  raster::SamplerState state;
+  state.filter = raster::Filter(head[0] % 4);
+  state.wrap_u = (head[0] & 0x04) ? raster::Wrap::Clamp : raster::Wrap::Repeat;
+  state.wrap_v = (head[0] & 0x08) ? raster::Wrap::Clamp : raster::Wrap::Repeat;
+  const int format = (head[0] >> 4) % 3;  // RGBA8 linear, RGBA8 sRGB, La8
+  const bool masked = (head[0] & 0x40) != 0;
+  // Powers of two (the dense lanes' repeat needs them) or any size up to 64.
+  const bool pow2 = (head[0] & 0x80) != 0;
+  const int w = pow2 ? 1 << (head[1] % 9) : 1 + head[1] % 64;
+  const int h = pow2 ? 1 << (head[2] % 9) : 1 + head[2] % 64;
+  state.lod_bias = float(int8_t(head[3])) / 16.0f;
+
+  // Texels from a fixed generator: the coordinates are what is fuzzed. A third of them fully
+  // transparent and some opaque, as in the fur's strand textures.
+  uint32_t x = 0x9E3779B9u ^ uint32_t(w * 977 + h);
+  auto next = [&x] {
+    x ^= x << 13;
+    x ^= x >> 17;
+    x ^= x << 5;
+    return x;
+  };
+  const size_t texels = size_t(w) * size_t(h);
+  std::vector<uint8_t> bytes(texels * (format == 2 ? 2 : 4));
+  const size_t channels = format == 2 ? 2 : 4;
+  for (size_t i = 0; i < texels; ++i) {
+    const uint32_t r = next(), sel = r % 6;
+    for (size_t c = 0; c + 1 < channels; ++c) bytes[i * channels + c] = uint8_t(r >> (8 * c + 3));
+    bytes[i * channels + channels - 1] = sel < 2 ? 0 : sel == 2 ? 255 : uint8_t(r >> 24);
+  }
+  raster::Texture tex;
+  const auto error = format == 2 ? raster::Texture::from_la8(w, h, bytes.data(), tex)
+                                 : raster::Texture::from_rgba8(w, h, bytes.data(),
+                                                               format == 1 ? raster::TexelEncoding::Srgb
+                                                                           : raster::TexelEncoding::Linear,
+                                                               tex);
+  if (error) throw std::runtime_error("fuzz harness: texture " + error->message());
+
+  // Lanes in whole blocks: the floats given, then zeros.
+  const size_t given = std::min(body / 8, kMaxFuzzSampleBlocks * 16);
+  const size_t lanes = std::max<size_t>((given + 15) / 16, 1) * 16;
+  std::vector<float> u(lanes, 0.0f), v(lanes, 0.0f);
+  for (size_t i = 0; i < given; ++i) {
+    std::memcpy(&u[i], data + 4 + 8 * i, 4);
+    std::memcpy(&v[i], data + 4 + 8 * i + 4, 4);
+  }
+  // A block's mask from its first lane's bits, with empty and full blocks among them.
+  std::vector<uint16_t> mask(lanes / 16);
+  for (size_t b = 0; b < mask.size(); ++b) {
+    uint32_t bu, bv;
+    std::memcpy(&bu, &u[16 * b], 4);
+    std::memcpy(&bv, &v[16 * b], 4);
+    const uint32_t m = bu ^ (bv >> 7) ^ uint32_t(b * 0x2545F491u);
+    mask[b] = b % 5 == 0 ? uint16_t(0xFFFF) : b % 5 == 1 ? uint16_t(0) : uint16_t(m ^ (m >> 16));
+  }
+
+  std::vector<float> all[4], part[4];
+  for (int c = 0; c < 4; ++c) {
+    all[c].assign(lanes, -1.0f);
+    part[c].assign(lanes, -1.0f);
+  }
+  float* const all_out[4] = {all[0].data(), all[1].data(), all[2].data(), all[3].data()};
+  float* const part_out[4] = {part[0].data(), part[1].data(), part[2].data(), part[3].data()};
+  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    raster::sample(tex, state, u.data(), v.data(), lanes, all_out);
+    if (masked) raster::sample(tex, state, u.data(), v.data(), lanes, part_out, mask.data());
+    hwy::SetSupportedTargetsForTest(0);
+    // Messages are built only on failure.
+    for (size_t i = 0; i < lanes; ++i)
+      for (int c = 0; c < 4; ++c) {
+        const float a = all[c][i];
+        if (!(a >= 0.0f && a <= 1.0f + 1e-6f))
+          require(false, std::string(hwy::TargetName(target)) + " lane " + std::to_string(i) + " channel " +
+                             std::to_string(c) + " sample " + std::to_string(a) + " outside [0, 1]");
+        if (!masked) continue;
+        const bool inside = (mask[i / 16] >> (i % 16)) & 1u;
+        const float want = inside ? a : 0.0f;
+        if (std::memcmp(&part[c][i], &want, sizeof(float)) != 0)
+          require(false, std::string(hwy::TargetName(target)) + " lane " + std::to_string(i) + " channel " +
+                             std::to_string(c) + ": masked " + std::to_string(part[c][i]) + ", unmasked " +
+                             std::to_string(a) + (inside ? " inside" : " outside") + " the mask");
+      }
   }
   return Outcome::accepted;
 }

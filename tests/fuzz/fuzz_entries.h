@@ -36,7 +36,17 @@ Outcome run_scene(const uint8_t* data, size_t size);
 // target. Never rejected: every float pattern must render without NaN or out-of-range depth.
 Outcome run_raster(const uint8_t* data, size_t size);
 
+// The bytes as a texture sampling call: 4 bytes of sampler state and texture shape (filter,
+// wraps, format RGBA8 / sRGB / La8, a block mask or none, width and height from 1 to 64 or a power
+// of two up to 256, LOD bias), then float32 u, v per lane (NaN, Inf, huge: anything), at most
+// kMaxFuzzSampleBlocks blocks of 16, sampled by raster::sample on every compiled Highway target.
+// Never rejected: every sample must be finite and within [0, 1], the masked call must give the
+// unmasked call's samples inside its mask and +0 outside, and nothing may read outside the
+// texture (AddressSanitizer in the fuzz build).
+Outcome run_sampler(const uint8_t* data, size_t size);
+
 inline constexpr size_t kMaxFuzzTriangles = 300;
+inline constexpr size_t kMaxFuzzSampleBlocks = 160;  // two and a half of the sampler's 64-block chunks
 
 // Where the temporary input files of run_obj / run_gltf live (one folder per process).
 std::string scratch_dir();

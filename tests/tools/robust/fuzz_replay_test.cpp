@@ -61,7 +61,8 @@ struct Target {
   const char* name;
   Entry entry;
 };
-const Target kTargets[] = {{"obj", run_obj}, {"gltf", run_gltf}, {"scene", run_scene}, {"raster", run_raster}};
+const Target kTargets[] = {{"obj", run_obj}, {"gltf", run_gltf}, {"scene", run_scene}, {"raster", run_raster},
+                           {"sampler", run_sampler}};
 
 TEST(FuzzReplay, RegressionInputsEndCleanly) {
   size_t total = 0;
@@ -93,8 +94,12 @@ TEST(FuzzReplay, SeedCorpusIsAccepted) {
   const auto raster = files_in(repo() / "tests/fuzz/seeds/raster");
   ASSERT_FALSE(raster.empty());
   replay(run_raster, raster, true);
-  std::printf("seeds accepted: %zu scenes, %zu obj, %zu gltf, %zu raster\n", scenes.size(), obj.size(),
-              gltf.size(), raster.size());
+
+  const auto sampler = files_in(repo() / "tests/fuzz/seeds/sampler");
+  ASSERT_FALSE(sampler.empty());
+  replay(run_sampler, sampler, true);
+  std::printf("seeds accepted: %zu scenes, %zu obj, %zu gltf, %zu raster, %zu sampler\n", scenes.size(), obj.size(),
+              gltf.size(), raster.size(), sampler.size());
 }
 
 // The rejection path itself: garbage is refused with InputError, not accepted or crashed on.

@@ -225,8 +225,8 @@ Outcome run_sampler(const uint8_t* data, size_t size) {
     return x;
   };
   const size_t texels = size_t(w) * size_t(h);
-  std::vector<uint8_t> bytes(texels * (format == 2 ? 2 : 4));
   const size_t channels = format == 2 ? 2 : 4;
+  std::vector<uint8_t> bytes(texels * channels);
   for (size_t i = 0; i < texels; ++i) {
     const uint32_t r = next(), sel = r % 6;
     for (size_t c = 0; c + 1 < channels; ++c) bytes[i * channels + c] = uint8_t(r >> (8 * c + 3));

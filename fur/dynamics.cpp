@@ -141,9 +141,14 @@ void apply_wind(std::span<const glm::vec3> pose, std::span<const glm::vec3> norm
 
 void lerp_poses(std::span<const glm::vec3> a, std::span<const glm::vec3> b, float t,
                 std::span<glm::vec3> out, size_t begin, size_t end) {
-  // a*(1-t) + b*t is exact at both ends (a + (b-a)*t is not at t = 1 in floats).
+  // a*(1-t) + b*t is exact at both ends (a + (b-a)*t is not at t = 1 in floats). A coordinate
+  // equal in both poses is copied: a*(1-t) + a*t can be an ulp off a, and the roots (layer 0,
+  // never moved by gravity or wind) must stay bit for bit on the base mesh, or shell 0 fails its
+  // less-equal depth test against the base in stripes where the rounding goes outward.
   const float u = 1.0f - t;
-  for (size_t I = begin; I < end; ++I) out[I] = a[I] * u + b[I] * t;
+  auto mix = [&](float x, float y) { return x == y ? x : x * u + y * t; };
+  for (size_t I = begin; I < end; ++I)
+    out[I] = glm::vec3(mix(a[I].x, b[I].x), mix(a[I].y, b[I].y), mix(a[I].z, b[I].z));
 }
 
 float animation_t(double frame, double period_frames) {

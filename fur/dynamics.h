@@ -70,7 +70,8 @@ void apply_wind(std::span<const glm::vec3> pose, std::span<const glm::vec3> norm
                 std::span<glm::vec3> out, uint32_t begin, uint32_t end);
 
 // out[I] = a[I] + (b[I] - a[I]) * t for fur vertices I in [begin, end) (a flat range,
-// not base vertices). t = 0 gives exactly a, t = 1 exactly b.
+// not base vertices). t = 0 gives exactly a, t = 1 exactly b, and a coordinate equal in a and b
+// comes out unchanged for every t (the roots stay on the base mesh).
 void lerp_poses(std::span<const glm::vec3> a, std::span<const glm::vec3> b, float t,
                 std::span<glm::vec3> out, size_t begin, size_t end);
 inline void lerp_poses(std::span<const glm::vec3> a, std::span<const glm::vec3> b, float t,

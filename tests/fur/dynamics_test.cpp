@@ -302,6 +302,31 @@ TEST(Animation, LerpEndpointsAreThePoses) {
   for (size_t k = 0; k < a.size(); ++k) EXPECT_NEAR(glm::length(out[k] - (0.75f * a[k] + 0.25f * b[k])), 0.0f, 1e-5);
 }
 
+// A coordinate equal in both poses (every root, which neither gravity nor wind moves) comes out
+// unchanged for every t: a * (1 - t) + a * t is an ulp off a for many (a, t), which put shell 0
+// an ulp off the base and broke its less-equal depth test in stripes.
+TEST(Animation, LerpKeepsWhatBothPosesShare) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-10, 10);
+  std::vector<glm::vec3> a(4000), b(4000), out(4000);
+  for (size_t k = 0; k < a.size(); ++k) {
+    a[k] = {u(rng), u(rng), u(rng)};
+    b[k] = k % 2 ? a[k] : glm::vec3(a[k].x, u(rng), a[k].z);  // odd: equal; even: only y moves
+  }
+  size_t off_by_the_old_formula = 0;
+  for (int step = 1; step < 48; ++step) {
+    const float t = animation_t(step, 48);
+    lerp_poses(a, b, t, out);
+    for (size_t k = 0; k < a.size(); ++k) {
+      ASSERT_EQ(out[k].x, a[k].x) << k << " t " << t;
+      ASSERT_EQ(out[k].z, a[k].z) << k << " t " << t;
+      if (k % 2) ASSERT_EQ(out[k].y, a[k].y) << k << " t " << t;
+      off_by_the_old_formula += a[k].x * (1.0f - t) + a[k].x * t != a[k].x;
+    }
+  }
+  EXPECT_GT(off_by_the_old_formula, 0u);  // the case is real for these inputs
+}
+
 TEST(Animation, TimeCurveSwingsBetweenThePoses) {
   EXPECT_EQ(animation_t(0, 120), 0.0f);
   EXPECT_NEAR(animation_t(60, 120), 1.0f, 1e-6);

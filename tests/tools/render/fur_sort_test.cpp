@@ -46,23 +46,14 @@ TEST(FurSort, EveryModeStaysCloseToTheExactPerPixelSort) {
 // `none` and `layer`; for `tile` and `exact` fin by fin, root to tip, every triangle sharing an
 // edge with the one before it within a fin, and the tile sort keys runs of three quads.
 TEST(FurSort, TileAndExactDrawEachFinAsAStripKeyedInRunsOfThreeQuads) {
-  const Mesh box = io::make_builtin_mesh("box:3");
   fur::FurParams params;
   params.shells = 16;
   params.texture_size = 32;
   params.fins = fur::FinMode::all;
-  FrameStats st;
-  FurObject o(box, params, {}, "strips", st);
-  const std::vector<shading::Light> lights = {{shading::Light::Type::Ambient, {0, 0, 0}, {1.0f, 1.0f, 1.0f}}};
-  FurFrame f;
-  f.eye = glm::vec3(3.0f, 2.0f, 4.0f);
-  o.update(f, lights, st);
-  const glm::mat4 clip = glm::perspective(glm::radians(45.0f), 1.0f, 1.0f, 20.0f) *
-                         glm::lookAt(f.eye, glm::vec3(0.0f), glm::vec3(0, 1, 0));
+  FurRig rig("box:3", params, "strips");
   const uint32_t quads_per_fin = params.shells - 1;
   for (FurSort sort : {FurSort::none, FurSort::tile, FurSort::exact, FurSort::none}) {
-    std::vector<raster::DrawCall> draws;
-    o.append_draws(draws, clip, sort, lights, f.eye);
+    const std::vector<raster::DrawCall> draws = rig.draws(sort);
     ASSERT_EQ(draws.size(), 2u);  // shells, then fins
     const raster::DrawCall& fins = draws[1];
     ASSERT_EQ(fins.triangle_count % (2 * quads_per_fin), 0u);
@@ -72,7 +63,7 @@ TEST(FurSort, TileAndExactDrawEachFinAsAStripKeyedInRunsOfThreeQuads) {
     // Layer of a fin triangle: its lowest vertex's layer.
     auto layer = [&](uint32_t t) {
       const uint32_t* v = fins.indices + 3 * size_t{t};
-      return std::min({v[0], v[1], v[2]}) / uint32_t(box.positions.size());
+      return std::min({v[0], v[1], v[2]}) / uint32_t(rig.base.positions.size());
     };
     for (uint32_t t = 0; t < fins.triangle_count; ++t) {
       const uint32_t quad = t / 2;

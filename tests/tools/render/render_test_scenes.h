@@ -5,10 +5,14 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "tests/tools/io/temp_dir.h"
 
 #include "tools/io/quality.h"
+#include "tools/io/builtin_meshes.h"
 #include "tools/io/scene.h"
+#include "tools/render/fur_object.h"
 #include "tools/render/scene_renderer.h"
 
 namespace pelt::render::test {
@@ -35,6 +39,30 @@ inline std::string bare_box_scene(int frames) {
          std::to_string(frames) + R"(, "fps": 24},
   "objects": [{"mesh": "box:3", "material": {"type": "lambert"}}]})";
 }
+
+// A fur object driven by hand (update, append_draws) on a built-in mesh, under a white ambient
+// light, seen from (3, 2, 4) through a 45-degree square frustum.
+struct FurRig {
+  FurRig(const std::string& mesh, const fur::FurParams& params, const std::string& name)
+      : base(io::make_builtin_mesh(mesh)), fur(base, params, {}, name, stats) {
+    frame.eye = glm::vec3(3.0f, 2.0f, 4.0f);
+  }
+  Mesh base;
+  FrameStats stats;
+  FurObject fur;
+  std::vector<shading::Light> lights = {{shading::Light::Type::Ambient, {0, 0, 0}, {1.0f, 1.0f, 1.0f}}};
+  FurFrame frame;
+  glm::mat4 clip = glm::perspective(glm::radians(45.0f), 1.0f, 1.0f, 20.0f) *
+                   glm::lookAt(glm::vec3(3.0f, 2.0f, 4.0f), glm::vec3(0.0f), glm::vec3(0, 1, 0));
+
+  // The draws of the current frame, after bringing the object up to date for it.
+  std::vector<raster::DrawCall> draws(FurSort sort) {
+    fur.update(frame, lights, stats);
+    std::vector<raster::DrawCall> d;
+    fur.append_draws(d, clip, sort, lights, frame.eye);
+    return d;
+  }
+};
 
 // A scratch folder for scenes that refer to files, removed with the object.
 class SceneDir : public io::TempDir {

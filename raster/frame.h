@@ -107,6 +107,7 @@ struct alignas(64) TileScratch {
   alignas(64) float depth[kTilePixels];
   alignas(64) uint32_t vis[kTilePixels];  // setup_id of the visible triangle
   alignas(64) uint16_t block_valid[kBlocksPerTile];  // lanes inside the viewport
+  alignas(64) uint32_t overdraw[kTilePixels];        // RenderTarget::overdraw's counts, when wanted
 
   // The batch being assembled for the shader: blocks of one draw.
   uint32_t batch_blocks = 0;

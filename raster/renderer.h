@@ -37,6 +37,10 @@ struct RenderTarget {
   // the float plane's bytes: where the frame only has to reach memory (bench fps, as the GPU and
   // llvmpipe draw into RGBA8), writing it is that much cheaper.
   uint8_t* color8 = nullptr;
+  // width*height: per pixel, the translucent fragments that passed the depth test (each blended
+  // once, or kept for the exact sort), row 0 at the top; null: not counted. Where a frame's
+  // translucent work lies: a fur frame's shells and fins pile up at silhouettes.
+  uint32_t* overdraw = nullptr;
 };
 
 // An RGBA8 UNORM channel: round-half-up(255 c) of c clamped to [0, 1] (a product, then a sum, in

@@ -419,6 +419,17 @@ void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
   }
 }
 
+// RenderTarget::overdraw: one more fragment at the lanes `bits` of block `blk`.
+HWY_INLINE void CountOverdraw(TileScratch& s, uint32_t blk, uint32_t bits) {
+  const DU du;
+  const size_t n = hn::Lanes(du);
+  uint32_t* c = s.overdraw + blk * kBlockLanes;
+  for (size_t g = 0; g * n < kBlockLanes; ++g) {
+    const auto m = hn::RebindMask(du, BitsToMask(bits, g));
+    hn::Store(hn::Add(hn::Load(du, c + g * n), hn::IfThenElseZero(m, hn::Set(du, 1u))), du, c + g * n);
+  }
+}
+
 // Opens a batch slot for block `blk` of `draw` (flushing first when the batch holds
 // another draw or is full); its lanes are filled by Interpolate.
 uint32_t OpenSlot(const FrameView& frame, TileScratch& s, uint32_t draw, int32_t px, int32_t py,
@@ -499,6 +510,8 @@ void ClearTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& s)
     hn::Store(hn::Set(df, 1.0f), df, s.depth + i);
     hn::Store(hn::Set(du, kNoPrimitive), du, s.vis + i);
   }
+  if (frame.target.overdraw)
+    for (size_t i = 0; i < kTilePixels; i += n) hn::Store(hn::Zero(du), du, s.overdraw + i);
   const int32_t w = frame.vp.width - tx0, h = frame.vp.height - ty0;
   if (w >= kTileSize && h >= kTileSize) {
     std::fill(s.block_valid, s.block_valid + kBlocksPerTile, uint16_t{0xFFFF});
@@ -606,6 +619,11 @@ void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& 
         const uint32_t src = BlockIndex(x, y, 0, 0) * kBlockLanes + lane_row;
         std::memcpy(t.depth + row + x, s.depth + src, sizeof(float) * std::min(kBlockSize, w - x));
       }
+    if (t.overdraw)
+      for (int32_t x = 0; x < w; x += kBlockSize) {
+        const uint32_t src = BlockIndex(x, y, 0, 0) * kBlockLanes + lane_row;
+        std::memcpy(t.overdraw + row + x, s.overdraw + src, sizeof(uint32_t) * std::min(kBlockSize, w - x));
+      }
     if (t.id)
       for (int32_t x = 0; x < w; ++x) {
         const uint32_t v = s.vis[BlockIndex(x, y, 0, 0) * kBlockLanes + lane_row + (x % kBlockSize)];
@@ -646,6 +664,7 @@ void FillEmptyTile(const FrameView& frame, int32_t tx0, int32_t ty0) {
     }
     if (t.color8) std::memcpy(t.color8 + row * 4, frame.background8, 4 * size_t(w));
     if (t.depth) std::fill(t.depth + row, t.depth + row + w, 1.0f);
+    if (t.overdraw) std::fill(t.overdraw + row, t.overdraw + row + w, 0u);
     if (t.id) std::fill(t.id + row, t.id + row + w, 0u);
   }
 }
@@ -797,6 +816,7 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   // The same chain of dependent loads as pass 2 (set-up, indices, varyings), fetched ahead in
   // the same stages: sorted back to front, a tile's triangles visit the mesh in no useful order.
   const size_t translucent_count = s.translucent.size();
+  const bool count_overdraw = frame.target.overdraw != nullptr;
   for (size_t k = 0; k < translucent_count; ++k) {
     if (k + 2 * kPrefetchAhead < translucent_count) PrefetchSetup(s.translucent[k + 2 * kPrefetchAhead].tri);
     if (k + kPrefetchAhead < translucent_count) prefetch_indices(*s.translucent[k + kPrefetchAhead].tri);
@@ -817,6 +837,7 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
         const uint32_t passed = DepthTestBlock<F, W, false>(t, px, py, blk, bits, ref.id, s);
         if (passed) {
           s.fragments_blended += std::popcount(passed);
+          if (count_overdraw) CountOverdraw(s, blk, passed);
           if (!tv_made) {
             MakeTriVaryings(frame, t, tv);
             tv_made = true;

@@ -52,10 +52,11 @@ render::Aov parse_aov(const std::string& s) {
   if (s == "color") return render::Aov::color;
   if (s == "depth") return render::Aov::depth;
   if (s == "id") return render::Aov::id;
+  if (s == "overdraw") return render::Aov::overdraw;
   if (s == "sebum") return render::Aov::sebum;
   if (s == "epidermis") return render::Aov::epidermis;
   if (s == "dermis") return render::Aov::dermis;
-  throw io::InputError("", "--aov", "unknown AOV `" + s + "` (color, depth, id, sebum, epidermis, dermis)");
+  throw io::InputError("", "--aov", "unknown AOV `" + s + "` (color, depth, id, overdraw, sebum, epidermis, dermis)");
 }
 
 void write_frame(const std::filesystem::path& path, const render::FrameImage& img, render::Aov aov,
@@ -65,13 +66,16 @@ void write_frame(const std::filesystem::path& path, const render::FrameImage& im
       io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::f32, img.depth.data(), options);
       break;
     case render::Aov::id:
+    case render::Aov::overdraw: {
+      const std::vector<uint32_t>& counts = aov == render::Aov::id ? img.id : img.overdraw;
       if (render::output_kind(path) == render::OutputKind::exr) {
-        std::vector<float> f(img.id.begin(), img.id.end());
+        std::vector<float> f(counts.begin(), counts.end());
         io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::f32, f.data(), options);
       } else {
-        io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::u32, img.id.data(), options);
+        io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::u32, counts.data(), options);
       }
       break;
+    }
     default:
       io::write_image_atomic(path, img.width, img.height, 4, io::PixelType::f32, img.color.data(), options);
       break;
@@ -101,7 +105,7 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
   if (gif) {
     if (pattern.has_frame_field())
       throw io::InputError(o.output, "-o", "a GIF holds every frame in one file; remove the `#` run");
-    if (aov == render::Aov::depth || aov == render::Aov::id)
+    if (aov == render::Aov::depth || aov == render::Aov::id || aov == render::Aov::overdraw)
       throw io::InputError("", "--aov", "a GIF holds colour only; write the " + o.aov + " AOV as .exr or .tif");
     if (shard.count > 1)
       throw io::InputError("", "--shard", "a GIF is one file and cannot be split across jobs; shard to a "
@@ -267,7 +271,7 @@ Run add_render_command(CLI::App& app) {
                       std::to_string(io::kDefaultPngCompression) + ")")
       ->check(CLI::Range(0, 9));
   sub->add_option("--stats", o->stats, "Write per-frame stage statistics as JSON");
-  sub->add_option("--aov", o->aov, "color | depth | id | sebum | epidermis | dermis");
+  sub->add_option("--aov", o->aov, "color | depth | id | overdraw | sebum | epidermis | dermis");
   add_quality_options(*sub, o->quality);
   add_budget_options(*sub, o->budget);
   CLI::Option* frame = sub->add_option("--frame", o->frame, "One frame of the animation (0-based)");

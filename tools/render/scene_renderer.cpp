@@ -138,9 +138,9 @@ namespace {
 
 // A quality the frame cannot honour is the user's request, reported as bad input.
 void check_quality(const io::Scene& scene, const RenderSettings& rs, const io::Quality& q) {
-  if (q.spp > 1 && (rs.aov == Aov::depth || rs.aov == Aov::id))
+  if (q.spp > 1 && (rs.aov == Aov::depth || rs.aov == Aov::id || rs.aov == Aov::overdraw))
     throw io::InputError(scene.file.string(), "quality.spp",
-                         "the depth and id AOVs are point-sampled (one value per pixel); use spp 1, got " +
+                         "the depth, id and overdraw AOVs are point-sampled (one value per pixel); use spp 1, got " +
                              std::to_string(q.spp));
 }
 
@@ -391,6 +391,10 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
     case Aov::id:
       out.id.resize(px);
       target.id = out.id.data();
+      break;
+    case Aov::overdraw:
+      out.overdraw.resize(px);
+      target.overdraw = out.overdraw.data();
       break;
     default:
       if (settings_.color8) {

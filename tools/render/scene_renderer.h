@@ -20,7 +20,7 @@
 
 namespace pelt::render {
 
-enum class Aov { color, depth, id, sebum, epidermis, dermis };
+enum class Aov { color, depth, id, overdraw, sebum, epidermis, dermis };
 
 struct RenderSettings {
   int width = 0, height = 0;  // 0: the scene's image size
@@ -54,6 +54,7 @@ struct FrameImage {
   std::vector<uint8_t> color8;  // RenderSettings::color8: RGBA8 UNORM of the linear colour
   std::vector<float> depth;     // window depth, 1 = background
   std::vector<uint32_t> id;     // scene triangle index + 1, 0 = background
+  std::vector<uint32_t> overdraw;  // translucent fragments that passed the depth test (raster::RenderTarget)
 };
 
 class SceneRenderer {

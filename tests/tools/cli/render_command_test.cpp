@@ -241,6 +241,46 @@ TEST_F(RenderCommand, StatsListEveryRenderedFrame) {
   EXPECT_TRUE(fs::exists(dir.path() / "s/f_5.exr"));
 }
 
+// --aov overdraw: per pixel, the translucent fragments that passed the depth test, as 32-bit
+// unsigned TIFF or float EXR; over the frame they add up to the stats' fragments_blended.
+TEST_F(RenderCommand, OverdrawCountsTheBlendedFragments) {
+  const fs::path fur = dir.write("fur.json", R"({"pelt": 1,
+  "image": {"width": 96, "height": 72},
+  "camera": {"eye": [3.5, 2.5, 5.0], "target": [0, 0, 0]},
+  "lights": [{"type": "directional", "direction": [0.3, 0.8, 0.5]}],
+  "objects": [{"mesh": "box:3", "material": {"type": "lambert"},
+               "fur": {"shells": 8, "texture_size": 32, "fins": "all"}}]})");
+  auto read = [&](const fs::path& p, OIIO::TypeDesc type, auto& pixels) {
+    auto in = OIIO::ImageInput::open(p.string());
+    ASSERT_TRUE(in) << p << ": " << OIIO::geterror();
+    ASSERT_EQ(in->spec().nchannels, 1) << p;
+    pixels.resize(size_t(in->spec().width) * in->spec().height);
+    ASSERT_TRUE(in->read_image(0, 0, 0, 1, type, pixels.data())) << p;
+  };
+  const fs::path stats = dir.path() / "od.json";
+  Result r = run_pelt({"render", fur.string(), "-o", (dir.path() / "od.tif").string(), "--aov", "overdraw",
+                       "--stats", stats.string(), "-q"},
+                      dir.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run_pelt({"render", fur.string(), "-o", (dir.path() / "od.exr").string(), "--aov", "overdraw", "-q"}, dir.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::vector<uint32_t> counts;
+  std::vector<float> floats;
+  read(dir.path() / "od.tif", OIIO::TypeDesc::UINT32, counts);
+  read(dir.path() / "od.exr", OIIO::TypeDesc::FLOAT, floats);
+  ASSERT_EQ(counts.size(), size_t(96 * 72));
+  ASSERT_EQ(floats.size(), counts.size());
+  uint64_t sum = 0;
+  for (size_t i = 0; i < counts.size(); ++i) {
+    EXPECT_EQ(float(counts[i]), floats[i]) << i;
+    sum += counts[i];
+  }
+  const nlohmann::json j = nlohmann::json::parse(read_text(stats));
+  EXPECT_EQ(sum, j["frames"][0]["raster"]["fragments_blended"].get<uint64_t>());
+  EXPECT_GT(*std::max_element(counts.begin(), counts.end()), 8u);  // shells and fins pile up
+  EXPECT_GT(std::count(counts.begin(), counts.end(), 0u), 0);       // the background has none
+}
+
 // A --stats path that cannot be written is refused before the first frame, not after the
 // whole sequence: no frame, no folder for the frames.
 TEST_F(RenderCommand, AnUnwritableStatsPathFailsBeforeTheFirstFrame) {
@@ -324,6 +364,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadOption{"BadExtension", {"-o", "OUT/a.jpg", "--frame", "0"}, "-o: unsupported output extension `.jpg`"},
         BadOption{"GifDepth", {"-o", "OUT/a.gif", "--aov", "depth"}, "--aov: a GIF holds colour only"},
         BadOption{"GifId", {"-o", "OUT/a.gif", "--aov", "id"}, "--aov: a GIF holds colour only"},
+        BadOption{"GifOverdraw", {"-o", "OUT/a.gif", "--aov", "overdraw"}, "--aov: a GIF holds colour only"},
         BadOption{"GifShard", {"-o", "OUT/a.gif", "--shard", "1/2"}, "--shard: a GIF is one file"},
         BadOption{"GifResume", {"-o", "OUT/a.gif", "--resume"}, "--resume: a GIF is written whole"},
         BadOption{"GifPattern", {"-o", "OUT/a_##.gif"}, "-o: a GIF holds every frame in one file"},
@@ -336,7 +377,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadOption{"BadScattering", {"-o", "OUT/a.png", "--frame", "0", "--multiple-scattering", "dipole"},
                   "--multiple-scattering: unknown value `dipole` (paper, normal_blur, reference)"},
         BadOption{"SupersampledDepth", {"-o", "OUT/a.exr", "--frame", "0", "--aov", "depth", "--spp", "4"},
-                  "quality.spp: the depth and id AOVs are point-sampled"}),
+                  "quality.spp: the depth, id and overdraw AOVs are point-sampled"},
+        BadOption{"SupersampledOverdraw", {"-o", "OUT/a.exr", "--frame", "0", "--aov", "overdraw", "--spp", "4"},
+                  "quality.spp: the depth, id and overdraw AOVs are point-sampled"}),
     [](const ::testing::TestParamInfo<BadOption>& info) { return std::string(info.param.name); });
 
 }  // namespace

@@ -233,7 +233,7 @@ TEST(Quality, ReferenceSkinPlaneMatchesTheDoubleShaderAtPixelCentres) {
   EXPECT_LT(worst, 1e-3);
 }
 
-TEST(Quality, SupersampledDepthOrIdIsABadRequest) {
+TEST(Quality, SupersampledDepthIdOrOverdrawIsABadRequest) {
   const io::Scene scene = io::parse_scene(bare_box_scene(1), "box.json");
   RenderSettings rs;
   io::Quality q;
@@ -242,6 +242,8 @@ TEST(Quality, SupersampledDepthOrIdIsABadRequest) {
   rs.aov = Aov::depth;
   EXPECT_THROW(SceneRenderer(scene, rs), io::InputError);
   rs.aov = Aov::id;
+  EXPECT_THROW(SceneRenderer(scene, rs), io::InputError);
+  rs.aov = Aov::overdraw;
   EXPECT_THROW(SceneRenderer(scene, rs), io::InputError);
   rs.aov = Aov::color;
   EXPECT_NO_THROW(SceneRenderer(scene, rs));

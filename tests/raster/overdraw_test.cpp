@@ -1,0 +1,149 @@
+// RenderTarget::overdraw: per pixel, the translucent fragments that passed the depth test. It
+// must count exactly the fragments the scalar reference rasterizer finds (the translucent
+// draws depth-tested against the opaque ones, without depth writes), once per fragment for
+// every sort mode and thread count, a pixel on a shared edge once, and leave the colour alone.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <numeric>
+#include <random>
+#include <string>
+
+#include "tests/raster/reference_raster.h"
+#include "tests/raster/render_helpers.h"
+#include "tests/raster/test_shaders.h"
+
+namespace pelt::raster::test {
+namespace {
+
+constexpr int kW = 150, kH = 110;  // partial tiles on both axes
+
+struct Soup {
+  std::vector<glm::vec3> pos;
+  std::vector<uint32_t> idx;
+
+  DrawCall draw(const Shader& sh, BlendMode blend) const {
+    DrawCall d;
+    d.positions = pos.data();
+    d.vertex_count = uint32_t(pos.size());
+    d.indices = idx.data();
+    d.triangle_count = uint32_t(idx.size() / 3);
+    d.shader = &sh;
+    d.state.blend = blend;
+    d.state.depth_write = blend == BlendMode::Opaque;
+    d.state.depth_func = DepthFunc::LessEqual;
+    return d;
+  }
+};
+
+// Random triangles in NDC, from a pixel wide to larger than the viewport, at random depths.
+Soup random_triangles(std::mt19937& rng, int count) {
+  std::uniform_real_distribution<float> u(-1.2f, 1.2f), size(0.01f, 1.5f), depth(-0.9f, 0.9f);
+  Soup s;
+  for (int i = 0; i < count; ++i) {
+    const float cx = u(rng), cy = u(rng), r = size(rng), z = depth(rng);
+    for (int k = 0; k < 3; ++k) {
+      s.pos.push_back({cx + r * u(rng), cy + r * u(rng), z + 0.1f * u(rng)});
+      s.idx.push_back(uint32_t(s.pos.size() - 1));
+    }
+  }
+  return s;
+}
+
+// A grid of n x n quads over most of the viewport, two triangles each, every inner edge shared
+// (by index) between two triangles: a pixel on a shared edge belongs to one of them.
+Soup quad_grid(int n, float z) {
+  Soup s;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) s.pos.push_back({-0.9f + 1.8f * i / n, -0.85f + 1.7f * j / n + 0.01f * i, z});
+  auto at = [&](int i, int j) { return uint32_t(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      s.idx.insert(s.idx.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+  return s;
+}
+
+struct Counted {
+  std::vector<float> color;
+  std::vector<uint32_t> overdraw;
+  RasterStats stats;
+};
+
+Counted render_counted(std::span<const DrawCall> draws, int threads, SortMode sort, bool count) {
+  Counted c;
+  c.color.assign(size_t(kW) * kH * 4, -1.0f);
+  if (count) c.overdraw.assign(size_t(kW) * kH, 0xDEADBEEFu);
+  RenderTarget t{kW, kH, c.color.data()};
+  t.overdraw = count ? c.overdraw.data() : nullptr;
+  RenderOptions opt;
+  opt.sort = sort;
+  Renderer(threads).render(draws, opt, t, &c.stats);
+  return c;
+}
+
+// The reference's translucent fragments per pixel: the opaque draws, then the translucent ones
+// drawn as opaque without depth writes; the difference of the two counts.
+std::vector<uint32_t> reference_overdraw(std::span<const DrawCall> opaque, std::span<const DrawCall> translucent) {
+  std::vector<DrawCall> all(opaque.begin(), opaque.end());
+  for (DrawCall d : translucent) {
+    d.state.blend = BlendMode::Opaque;
+    d.state.depth_write = false;
+    all.push_back(d);
+  }
+  const ReferenceImage base = reference_render(opaque, kW, kH), with = reference_render(all, kW, kH);
+  std::vector<uint32_t> out(base.count.size());
+  for (size_t i = 0; i < out.size(); ++i) out[i] = with.count[i] - base.count[i];
+  return out;
+}
+
+TEST(Overdraw, CountsTheFragmentsTheReferenceFindsOnEveryTargetSortAndThreadCount) {
+  std::mt19937 rng(42);
+  const Soup walls = random_triangles(rng, 40), glass = random_triangles(rng, 300), grid = quad_grid(7, 0.2f);
+  const ConstantShader grey({0.5f, 0.5f, 0.5f, 1.0f}), tint({0.9f, 0.3f, 0.1f, 0.25f});
+  const VaryingShader lanes(0.4f, true);  // derivatives: triangles pack only across shared edges
+  const DrawCall opaque[] = {walls.draw(grey, BlendMode::Opaque)};
+  const DrawCall translucent[] = {glass.draw(tint, BlendMode::AlphaOver), grid.draw(lanes, BlendMode::AlphaOver),
+                                  glass.draw(tint, BlendMode::Additive)};
+  const std::vector<uint32_t> want = reference_overdraw(opaque, translucent);
+  const uint64_t total = std::accumulate(want.begin(), want.end(), uint64_t{0});
+  ASSERT_GT(total, uint64_t{kW} * kH);  // piles of fragments, and some pixels hidden
+  ASSERT_GT(std::count(want.begin(), want.end(), 0u), 0);
+
+  std::vector<DrawCall> draws(std::begin(opaque), std::end(opaque));
+  draws.insert(draws.end(), std::begin(translucent), std::end(translucent));
+  for_each_target([&](const std::string& target) {
+    for (SortMode sort : {SortMode::None, SortMode::Tile, SortMode::Exact})
+      for (int threads : {0, 1, 2}) {
+        const std::string what = target + " sort " + std::to_string(int(sort)) + " threads " + std::to_string(threads);
+        const Counted got = render_counted(draws, threads, sort, true);
+        size_t wrong = 0, first = 0;
+        for (size_t i = 0; i < want.size(); ++i)
+          if (got.overdraw[i] != want[i] && wrong++ == 0) first = i;
+        EXPECT_EQ(wrong, 0u) << what << ": first at pixel (" << first % kW << ", " << first / kW << "): "
+                             << got.overdraw[first] << " against " << want[first];
+        EXPECT_EQ(got.stats.fragments_blended, total) << what;
+        // Counting does not touch the picture.
+        const Counted plain = render_counted(draws, threads, sort, false);
+        EXPECT_EQ(0, std::memcmp(plain.color.data(), got.color.data(), got.color.size() * sizeof(float))) << what;
+      }
+  });
+}
+
+TEST(Overdraw, APixelOnASharedEdgeCountsOnce) {
+  const Soup grid = quad_grid(9, 0.0f);
+  const ConstantShader tint({0.2f, 0.4f, 0.9f, 0.5f});
+  const DrawCall d = grid.draw(tint, BlendMode::AlphaOver);
+  for_each_target([&](const std::string& target) {
+    const Counted got = render_counted({&d, 1}, 1, SortMode::Tile, true);
+    size_t covered = 0;
+    for (uint32_t c : got.overdraw) {
+      ASSERT_LE(c, 1u) << target;
+      covered += c;
+    }
+    EXPECT_GT(covered, size_t(kW) * kH / 2) << target;  // the grid covers most of the frame
+    EXPECT_EQ(covered, got.stats.fragments_blended) << target;
+  });
+}
+
+}  // namespace
+}  // namespace pelt::raster::test

@@ -140,17 +140,23 @@ io::Scene bench_scene(const PaperTable& t, bool match) {
   return s;
 }
 
+double percentile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, size_t(q * (v.size() - 1) + 0.5))];
+}
+
 struct Result {
   const PaperTable* table;
   int threads;
   std::vector<double> ms;
   fur::FurCounts counts;
-};
+  // The work of the timed frames, summed (raster::RasterStats): what a frame's time buys.
+  uint64_t fragments_blended = 0, lanes_shaded = 0, pixels_shaded = 0;
 
-double percentile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, size_t(q * (v.size() - 1) + 0.5))];
-}
+  double mean(uint64_t sum) const { return double(sum) / double(ms.size()); }
+  // Nanoseconds per blended fragment at the median frame time, on all of the run's threads.
+  double ns_per_fragment() const { return percentile(ms, 0.5) * 1e6 / mean(fragments_blended); }
+};
 
 // The quality knobs of every run: the harness draws in submission order and every fin, pelt's
 // default sorts per tile, fades the fins in near silhouettes and merges their quads where the
@@ -203,7 +209,12 @@ Result run_one(const PaperTable& t, int threads, const Options& o, const io::Qua
     const auto t0 = std::chrono::steady_clock::now();
     r.render(f, img, st, &cam);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (f >= o.warmup) res.ms.push_back(ms);
+    if (f >= o.warmup) {
+      res.ms.push_back(ms);
+      res.fragments_blended += st.raster.fragments_blended;
+      res.lanes_shaded += st.raster.lanes_shaded;
+      res.pixels_shaded += st.raster.pixels_shaded;
+    }
   }
   return res;
 }
@@ -229,6 +240,10 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
                     {"fps_min", 1000.0 / *std::max_element(r.ms.begin(), r.ms.end())},
                     {"fps_max", 1000.0 / *std::min_element(r.ms.begin(), r.ms.end())},
                     {"frames", r.ms.size()},
+                    {"fragments_blended_mean", r.mean(r.fragments_blended)},
+                    {"lanes_shaded_mean", r.mean(r.lanes_shaded)},
+                    {"pixels_shaded_mean", r.mean(r.pixels_shaded)},
+                    {"ns_per_fragment", r.ns_per_fragment()},
                     {"vertices", {{"base", c.base_vertices}, {"shell", c.shell_vertices}, {"fin", c.fin_vertices}, {"sum", c.total_vertices}}},
                     {"faces", {{"base", c.base_faces}, {"shell", c.shell_faces}, {"fin", c.fin_faces}, {"sum", c.total_faces}}}});
   }
@@ -268,6 +283,13 @@ int run_fps(const Options& o) {
                   r.threads, r.threads == 1 ? " " : "s", 1000.0 / percentile(r.ms, 0.5),
                   1000.0 / *std::max_element(r.ms.begin(), r.ms.end()),
                   1000.0 / *std::min_element(r.ms.begin(), r.ms.end()), r.ms.size(), t->fps);
+    const Result& w = rows.front();
+    std::printf("%-8s %.2f M translucent fragments blended a frame in %.2f M shaded lanes, %.2f M opaque pixels "
+                "(mean of the timed frames);", "Work", w.mean(w.fragments_blended) / 1e6, w.mean(w.lanes_shaded) / 1e6,
+                w.mean(w.pixels_shaded) / 1e6);
+    for (const Result& r : rows)
+      std::printf(" %.1f ns a fragment on %d thread%s%s", r.ns_per_fragment(), r.threads, r.threads == 1 ? "" : "s",
+                  &r == &rows.back() ? "\n" : ",");
     if (std::string(t->name) == "teapot2")
       std::printf("note: the paper's Teapot2 vertex row is not self-consistent (882 base but 13152 = 16 x 822 shell);"
                   " the welded 5x5 tessellation has %zu base vertices\n", c.base_vertices);

@@ -42,6 +42,12 @@ TEST(BenchFps, JsonRecordsTheKnobsOfTheRun) {
   EXPECT_EQ(own[0]["vertices"]["sum"], 5032);
   EXPECT_EQ(own[0]["faces"]["sum"], 36456);
   EXPECT_GT(own[0]["fps_median"].get<double>(), 0.0);
+  // The work a frame's time buys: fur fragments blended in shaded lanes, over the opaque box.
+  EXPECT_GT(own[0]["fragments_blended_mean"].get<double>(), 0.0);
+  EXPECT_GE(own[0]["lanes_shaded_mean"].get<double>(),
+            own[0]["fragments_blended_mean"].get<double>() + own[0]["pixels_shaded_mean"].get<double>());
+  EXPECT_GT(own[0]["pixels_shaded_mean"].get<double>(), 0.0);
+  EXPECT_GT(own[0]["ns_per_fragment"].get<double>(), 0.0);
   EXPECT_EQ(own[0]["framebuffer"], "rgba8");  // the GPU's and the harness's, unless asked
   const nlohmann::json floats = run_json({"--framebuffer", "float"});
   ASSERT_EQ(floats.size(), 1u);

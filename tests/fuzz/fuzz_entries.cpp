@@ -181,11 +181,20 @@ Outcome run_raster(const uint8_t* data, size_t size) {
   raster::RenderOptions options;
   options.sort = raster::SortMode((flags[1] >> 1) % 3);
   std::vector<float> color(size_t{kWidth} * kHeight * 4), depth(size_t{kWidth} * kHeight);
-  std::vector<uint32_t> id(size_t{kWidth} * kHeight);
-  const raster::RenderTarget target{kWidth, kHeight, color.data(), depth.data(), id.data()};
-  renderer.render(std::span<const raster::DrawCall>(&draw, 1), options, target);
+  std::vector<uint32_t> id(size_t{kWidth} * kHeight), overdraw(size_t{kWidth} * kHeight);
+  raster::RenderTarget target{kWidth, kHeight, color.data(), depth.data(), id.data()};
+  target.overdraw = overdraw.data();
+  raster::RasterStats stats;
+  renderer.render(std::span<const raster::DrawCall>(&draw, 1), options, target, &stats);
 
   require(failure.empty(), failure);
+  // The overdraw AOV counts exactly the translucent fragments that passed the depth test.
+  uint64_t counted = 0;
+  for (uint32_t c : overdraw) counted += c;
+  if (counted != stats.fragments_blended)
+    require(false, "overdraw counts " + std::to_string(counted) + " fragments, the stats " +
+                       std::to_string(stats.fragments_blended));
+  require(draw.state.blend != raster::BlendMode::Opaque || counted == 0, "an opaque draw counted overdraw");
   // Messages are built only on failure: this loop runs for every pixel of every input.
   for (size_t p = 0; p < depth.size(); ++p) {
     if (!(depth[p] >= 0.0f && depth[p] <= 1.0f))

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -154,8 +155,12 @@ struct Result {
   uint64_t fragments_blended = 0, lanes_shaded = 0, pixels_shaded = 0;
 
   double mean(uint64_t sum) const { return double(sum) / double(ms.size()); }
-  // Nanoseconds per blended fragment at the median frame time, on all of the run's threads.
-  double ns_per_fragment() const { return percentile(ms, 0.5) * 1e6 / mean(fragments_blended); }
+  // Nanoseconds per blended fragment at the median frame time, on all of the run's threads;
+  // none when no fragment was blended (a frame too small to show the fur).
+  std::optional<double> ns_per_fragment() const {
+    if (fragments_blended == 0) return std::nullopt;
+    return percentile(ms, 0.5) * 1e6 / mean(fragments_blended);
+  }
 };
 
 // The quality knobs of every run: the harness draws in submission order and every fin, pelt's
@@ -243,7 +248,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
                     {"fragments_blended_mean", r.mean(r.fragments_blended)},
                     {"lanes_shaded_mean", r.mean(r.lanes_shaded)},
                     {"pixels_shaded_mean", r.mean(r.pixels_shaded)},
-                    {"ns_per_fragment", r.ns_per_fragment()},
+                    {"ns_per_fragment", r.ns_per_fragment() ? nlohmann::json(*r.ns_per_fragment()) : nlohmann::json()},
                     {"vertices", {{"base", c.base_vertices}, {"shell", c.shell_vertices}, {"fin", c.fin_vertices}, {"sum", c.total_vertices}}},
                     {"faces", {{"base", c.base_faces}, {"shell", c.shell_faces}, {"fin", c.fin_faces}, {"sum", c.total_faces}}}});
   }
@@ -287,9 +292,13 @@ int run_fps(const Options& o) {
     std::printf("%-8s %.2f M translucent fragments blended a frame in %.2f M shaded lanes, %.2f M opaque pixels "
                 "(mean of the timed frames);", "Work", w.mean(w.fragments_blended) / 1e6, w.mean(w.lanes_shaded) / 1e6,
                 w.mean(w.pixels_shaded) / 1e6);
-    for (const Result& r : rows)
-      std::printf(" %.1f ns a fragment on %d thread%s%s", r.ns_per_fragment(), r.threads, r.threads == 1 ? "" : "s",
-                  &r == &rows.back() ? "\n" : ",");
+    for (const Result& r : rows) {
+      if (const std::optional<double> ns = r.ns_per_fragment())
+        std::printf(" %.1f ns a fragment on %d thread%s", *ns, r.threads, r.threads == 1 ? "" : "s");
+      else
+        std::printf(" no fragment on %d thread%s", r.threads, r.threads == 1 ? "" : "s");
+      std::printf("%s", &r == &rows.back() ? "\n" : ",");
+    }
     if (std::string(t->name) == "teapot2")
       std::printf("note: the paper's Teapot2 vertex row is not self-consistent (882 base but 13152 = 16 x 822 shell);"
                   " the welded 5x5 tessellation has %zu base vertices\n", c.base_vertices);

@@ -105,7 +105,7 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
   if (gif) {
     if (pattern.has_frame_field())
       throw io::InputError(o.output, "-o", "a GIF holds every frame in one file; remove the `#` run");
-    if (aov == render::Aov::depth || aov == render::Aov::id || aov == render::Aov::overdraw)
+    if (render::per_pixel_value(aov))
       throw io::InputError("", "--aov", "a GIF holds colour only; write the " + o.aov + " AOV as .exr or .tif");
     if (shard.count > 1)
       throw io::InputError("", "--shard", "a GIF is one file and cannot be split across jobs; shard to a "

@@ -138,7 +138,7 @@ namespace {
 
 // A quality the frame cannot honour is the user's request, reported as bad input.
 void check_quality(const io::Scene& scene, const RenderSettings& rs, const io::Quality& q) {
-  if (q.spp > 1 && (rs.aov == Aov::depth || rs.aov == Aov::id || rs.aov == Aov::overdraw))
+  if (q.spp > 1 && per_pixel_value(rs.aov))
     throw io::InputError(scene.file.string(), "quality.spp",
                          "the depth, id and overdraw AOVs are point-sampled (one value per pixel); use spp 1, got " +
                              std::to_string(q.spp));

@@ -22,6 +22,10 @@ namespace pelt::render {
 
 enum class Aov { color, depth, id, overdraw, sebum, epidermis, dermis };
 
+// The AOVs of one value per pixel rather than a colour: point-sampled (no supersampling) and
+// written as one channel (float EXR, depth also TIFF; id and overdraw 32-bit unsigned TIFF), never to a GIF.
+inline bool per_pixel_value(Aov a) { return a == Aov::depth || a == Aov::id || a == Aov::overdraw; }
+
 struct RenderSettings {
   int width = 0, height = 0;  // 0: the scene's image size
   int threads = 1;

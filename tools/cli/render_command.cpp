@@ -22,6 +22,7 @@
 #include "tools/io/scene.h"
 #include "tools/render/frame_sequence.h"
 #include "tools/render/interrupt.h"
+#include "tools/render/overdraw_heatmap.h"
 #include "tools/render/progress.h"
 #include "tools/render/scene_renderer.h"
 
@@ -68,7 +69,10 @@ void write_frame(const std::filesystem::path& path, const render::FrameImage& im
     case render::Aov::id:
     case render::Aov::overdraw: {
       const std::vector<uint32_t>& counts = aov == render::Aov::id ? img.id : img.overdraw;
-      if (render::output_kind(path) == render::OutputKind::exr) {
+      if (aov == render::Aov::overdraw && render::output_kind(path) == render::OutputKind::png) {
+        const std::vector<uint8_t> heat = render::heatmap_rgb8(counts);  // a picture of the counts
+        io::write_image_atomic(path, img.width, img.height, 3, io::PixelType::u8, heat.data(), options);
+      } else if (render::output_kind(path) == render::OutputKind::exr) {
         std::vector<float> f(counts.begin(), counts.end());
         io::write_image_atomic(path, img.width, img.height, 1, io::PixelType::f32, f.data(), options);
       } else {

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/tools/cli/run_pelt.h"
+#include "tools/render/overdraw_heatmap.h"
 
 namespace pelt::cli_test {
 namespace {
@@ -242,7 +243,8 @@ TEST_F(RenderCommand, StatsListEveryRenderedFrame) {
 }
 
 // --aov overdraw: per pixel, the translucent fragments that passed the depth test, as 32-bit
-// unsigned TIFF or float EXR; over the frame they add up to the stats' fragments_blended.
+// unsigned TIFF or float EXR (over the frame they add up to the stats' fragments_blended), or as
+// a heat map in a PNG.
 TEST_F(RenderCommand, OverdrawCountsTheBlendedFragments) {
   const fs::path fur = dir.write("fur.json", R"({"pelt": 1,
   "image": {"width": 96, "height": 72},
@@ -279,6 +281,16 @@ TEST_F(RenderCommand, OverdrawCountsTheBlendedFragments) {
   EXPECT_EQ(sum, j["frames"][0]["raster"]["fragments_blended"].get<uint64_t>());
   EXPECT_GT(*std::max_element(counts.begin(), counts.end()), 8u);  // shells and fins pile up
   EXPECT_GT(std::count(counts.begin(), counts.end(), 0u), 0);       // the background has none
+
+  // A PNG is the counts' picture (render::heatmap_rgb8), pixel for pixel.
+  r = run_pelt({"render", fur.string(), "-o", (dir.path() / "od.png").string(), "--aov", "overdraw", "-q"}, dir.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto in = OIIO::ImageInput::open((dir.path() / "od.png").string());
+  ASSERT_TRUE(in) << OIIO::geterror();
+  ASSERT_EQ(in->spec().nchannels, 3);
+  std::vector<uint8_t> picture(counts.size() * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, picture.data()));
+  EXPECT_EQ(picture, render::heatmap_rgb8(counts));
 }
 
 // A --stats path that cannot be written is refused before the first frame, not after the

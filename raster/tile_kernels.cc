@@ -568,6 +568,15 @@ void Resolve8(const TileScratch& s, int32_t w, int32_t h, uint8_t* dst, size_t s
     }
 }
 
+// Row y of a one-value-a-pixel tile plane (block-major) into `dst`, its w pixels: a block row of
+// 4 values is contiguous in the plane, so one copy a block.
+template <typename T>
+HWY_INLINE void ResolvePlaneRow(const T* plane, int32_t y, int32_t w, T* dst) {
+  const uint32_t lane_row = (y % kBlockSize) * kBlockSize;
+  for (int32_t x = 0; x < w; x += kBlockSize)
+    std::memcpy(dst + x, plane + BlockIndex(x, y, 0, 0) * kBlockLanes + lane_row, sizeof(T) * std::min(kBlockSize, w - x));
+}
+
 void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& s) {
   const RenderTarget& t = frame.target;
   const int32_t w = std::min(kTileSize, frame.vp.width - tx0);
@@ -614,16 +623,8 @@ void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& 
         for (int c = 0; c < 4; ++c) t.color[(row + x) * 4 + c] = s.color[c][src];
       }
     }
-    if (t.depth)
-      for (int32_t x = 0; x < w; x += kBlockSize) {
-        const uint32_t src = BlockIndex(x, y, 0, 0) * kBlockLanes + lane_row;
-        std::memcpy(t.depth + row + x, s.depth + src, sizeof(float) * std::min(kBlockSize, w - x));
-      }
-    if (t.overdraw)
-      for (int32_t x = 0; x < w; x += kBlockSize) {
-        const uint32_t src = BlockIndex(x, y, 0, 0) * kBlockLanes + lane_row;
-        std::memcpy(t.overdraw + row + x, s.overdraw + src, sizeof(uint32_t) * std::min(kBlockSize, w - x));
-      }
+    if (t.depth) ResolvePlaneRow(s.depth, y, w, t.depth + row);
+    if (t.overdraw) ResolvePlaneRow(s.overdraw, y, w, t.overdraw + row);
     if (t.id)
       for (int32_t x = 0; x < w; ++x) {
         const uint32_t v = s.vis[BlockIndex(x, y, 0, 0) * kBlockLanes + lane_row + (x % kBlockSize)];

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
-#include <hwy/targets.h>
 #include <glm/mat4x4.hpp>
+#include <hwy/targets.h>
 
 #include "raster/renderer.h"
 #include "raster/texture.h"

@@ -229,6 +229,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
   nlohmann::json list = nlohmann::json::array();
   for (const Result& r : results) {
     const fur::FurCounts& c = r.counts;
+    const std::optional<double> ns = r.ns_per_fragment();
     list.push_back({{"scene", r.table->name},
                     {"mesh", r.table->mesh},
                     {"width", o.width},
@@ -248,7 +249,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
                     {"fragments_blended_mean", r.mean(r.fragments_blended)},
                     {"lanes_shaded_mean", r.mean(r.lanes_shaded)},
                     {"pixels_shaded_mean", r.mean(r.pixels_shaded)},
-                    {"ns_per_fragment", r.ns_per_fragment() ? nlohmann::json(*r.ns_per_fragment()) : nlohmann::json()},
+                    {"ns_per_fragment", ns ? nlohmann::json(*ns) : nlohmann::json()},
                     {"vertices", {{"base", c.base_vertices}, {"shell", c.shell_vertices}, {"fin", c.fin_vertices}, {"sum", c.total_vertices}}},
                     {"faces", {{"base", c.base_faces}, {"shell", c.shell_faces}, {"fin", c.fin_faces}, {"sum", c.total_faces}}}});
   }

@@ -110,7 +110,8 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
     if (pattern.has_frame_field())
       throw io::InputError(o.output, "-o", "a GIF holds every frame in one file; remove the `#` run");
     if (render::per_pixel_value(aov))
-      throw io::InputError("", "--aov", "a GIF holds colour only; write the " + o.aov + " AOV as .exr or .tif");
+      throw io::InputError("", "--aov", "a GIF holds colour only; write the " + o.aov + " AOV as .exr or .tif" +
+                                            (aov == render::Aov::overdraw ? " (or .png, as a heat map)" : ""));
     if (shard.count > 1)
       throw io::InputError("", "--shard", "a GIF is one file and cannot be split across jobs; shard to a "
                                           "PNG sequence (-o out/frame_####.png) instead");

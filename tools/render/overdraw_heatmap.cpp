@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace pelt::render {
 
@@ -25,8 +26,11 @@ void heatmap_rgb8(uint32_t count, uint8_t rgb[3]) {
 }
 
 std::vector<uint8_t> heatmap_rgb8(std::span<const uint32_t> counts) {
+  // The ramp's kHeatmapTop + 1 colours once, rather than a logarithm a pixel.
+  uint8_t table[kHeatmapTop + 1][3];
+  for (uint32_t n = 0; n <= kHeatmapTop; ++n) heatmap_rgb8(n, table[n]);
   std::vector<uint8_t> out(counts.size() * 3);
-  for (size_t i = 0; i < counts.size(); ++i) heatmap_rgb8(counts[i], out.data() + 3 * i);
+  for (size_t i = 0; i < counts.size(); ++i) std::memcpy(out.data() + 3 * i, table[std::min(counts[i], kHeatmapTop)], 3);
   return out;
 }
 

@@ -22,8 +22,9 @@ namespace pelt::render {
 
 enum class Aov { color, depth, id, overdraw, sebum, epidermis, dermis };
 
-// The AOVs of one value per pixel rather than a colour: point-sampled (no supersampling) and
-// written as one channel (float EXR, depth also TIFF; id and overdraw 32-bit unsigned TIFF), never to a GIF.
+// The AOVs of one value per pixel rather than a colour: point-sampled (no supersampling), never
+// written to a GIF; one channel in EXR (float) and TIFF (depth float, id and overdraw 32-bit
+// unsigned), and overdraw also as a PNG heat map (overdraw_heatmap.h).
 inline bool per_pixel_value(Aov a) { return a == Aov::depth || a == Aov::id || a == Aov::overdraw; }
 
 struct RenderSettings {

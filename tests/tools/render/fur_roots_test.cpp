@@ -11,10 +11,7 @@ namespace pelt::render::test {
 namespace {
 
 TEST(FurRoots, ShellZeroStaysOnTheBaseInEveryAnimatedPose) {
-  fur::FurParams params;
-  params.shells = 8;
-  params.texture_size = 32;
-  params.fins = fur::FinMode::off;
+  const fur::FurParams params = small_fur(8, fur::FinMode::off);
   FurRig rig("box:3", params, "roots");
   rig.frame.gravity = fur::GravityParams{};
   fur::WindParams wind;

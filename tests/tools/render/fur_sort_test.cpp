@@ -46,10 +46,7 @@ TEST(FurSort, EveryModeStaysCloseToTheExactPerPixelSort) {
 // `none` and `layer`; for `tile` and `exact` fin by fin, root to tip, every triangle sharing an
 // edge with the one before it within a fin, and the tile sort keys runs of three quads.
 TEST(FurSort, TileAndExactDrawEachFinAsAStripKeyedInRunsOfThreeQuads) {
-  fur::FurParams params;
-  params.shells = 16;
-  params.texture_size = 32;
-  params.fins = fur::FinMode::all;
+  const fur::FurParams params = small_fur(16, fur::FinMode::all);
   FurRig rig("box:3", params, "strips");
   const uint32_t quads_per_fin = params.shells - 1;
   for (FurSort sort : {FurSort::none, FurSort::tile, FurSort::exact, FurSort::none}) {

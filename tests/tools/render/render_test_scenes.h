@@ -40,6 +40,16 @@ inline std::string bare_box_scene(int frames) {
   "objects": [{"mesh": "box:3", "material": {"type": "lambert"}}]})";
 }
 
+// Fur of `shells` layers with 32x32 strand textures and `fins`: small enough for the tests that
+// drive a FurObject by hand.
+inline fur::FurParams small_fur(int shells, fur::FinMode fins) {
+  fur::FurParams params;
+  params.shells = shells;
+  params.texture_size = 32;
+  params.fins = fins;
+  return params;
+}
+
 // A fur object driven by hand (update, append_draws) on a built-in mesh, under a white ambient
 // light, seen from (3, 2, 4) through a 45-degree square frustum.
 struct FurRig {

@@ -2,6 +2,8 @@
 // CPU: counts in the seed's layout and median FPS of an animated run (orbiting camera,
 // the wind lerp every frame, every frame fully rasterized into memory: an RGBA8 framebuffer, as
 // the paper's GPU and the llvmpipe harness draw into, or pelt's float RGBA with --framebuffer).
+// --versus prices a quality knob on a shared, noisy machine: every frame is drawn with both
+// settings, one right after the other, and the per-frame ratio of their times is reported.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -50,6 +52,9 @@ struct Options {
   std::string shells;  // empty: 16, the paper's
   std::string fin_quads;  // empty: the default quality's
   std::string json;
+  // --versus "knob=value[,knob=value]": the run's quality with these knobs changed, drawn
+  // frame by frame beside it (unset: none).
+  std::optional<std::string> versus;
   // "rgba8": RGBA8 UNORM bytes (raster::RenderTarget::color8), the GPU's and the harness's
   // framebuffer; "float": linear float RGBA, what `pelt render` resolves to (four times the bytes).
   std::string framebuffer = "rgba8";
@@ -153,6 +158,9 @@ struct Result {
   fur::FurCounts counts;
   // The work of the timed frames, summed (raster::RasterStats): what a frame's time buys.
   uint64_t fragments_blended = 0, lanes_shaded = 0, pixels_shaded = 0;
+  // With --versus: the other setting's time for each timed frame (same camera, same frame),
+  // and per frame its time over this run's.
+  std::vector<double> versus_ms, versus_ratio;
 
   double mean(uint64_t sum) const { return double(sum) / double(ms.size()); }
   // Nanoseconds per blended fragment at the median frame time, on all of the run's threads;
@@ -185,7 +193,45 @@ io::Quality bench_quality(const Options& o) {
   return q;
 }
 
-Result run_one(const PaperTable& t, int threads, const Options& o, const io::Quality& q) {
+// The knobs of --versus applied to the run's quality `base`: "knob=value" pairs separated by
+// commas, knob names as in `pelt tradeoff` (e.g. "filter=bilinear_mip,fins=off"). Throws
+// io::InputError naming --versus for a malformed pair, an unknown knob or value, a knob given
+// twice, or a setting that changes nothing (a comparison of a run with itself).
+io::Quality versus_quality(const std::string& spec, const io::Quality& base, bool match_llvmpipe) {
+  io::Quality q = base;
+  std::vector<std::string> seen;
+  std::stringstream pairs(spec);
+  std::string pair;
+  while (std::getline(pairs, pair, ',')) {
+    const size_t eq = pair.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == pair.size())
+      throw io::InputError("", "--versus", "`" + pair + "` is not knob=value (e.g. filter=bilinear_mip)");
+    const std::string knob = pair.substr(0, eq), value = pair.substr(eq + 1);
+    if (std::find(seen.begin(), seen.end(), knob) != seen.end())
+      throw io::InputError("", "--versus", "knob `" + knob + "` given twice");
+    seen.push_back(knob);
+    if (auto e = io::set_knob(q, knob, value)) throw io::InputError("", "--versus", *e);
+  }
+  if (seen.empty()) throw io::InputError("", "--versus", "no knob=value given (e.g. filter=bilinear_mip)");
+  if (q == base) throw io::InputError("", "--versus", "`" + spec + "` is the run's own setting: nothing to compare");
+  if (match_llvmpipe && q.fin_quads == io::FinQuads::merged)
+    throw io::InputError("", "--versus", "merged fins are not drawn with --match-llvmpipe (the harness's fins are "
+                                         "one quad per pair of layers)");
+  return q;
+}
+
+// One line of the setting that differs: "filter=bilinear_mip fins=off".
+std::string versus_label(const io::Quality& run, const io::Quality& other) {
+  std::string label;
+  for (std::string_view knob : io::kKnobs) {
+    const std::string v = io::knob_value(other, knob);
+    if (v != io::knob_value(run, knob)) label += (label.empty() ? "" : " ") + std::string(knob) + "=" + v;
+  }
+  return label;
+}
+
+Result run_one(const PaperTable& t, int threads, const Options& o, const io::Quality& q,
+               const io::Quality* versus) {
   const io::Scene scene = bench_scene(t, o.match_llvmpipe);
   std::vector<io::SceneMesh> meshes(1);
   meshes[0].loaded.mesh = io::make_builtin_mesh(t.mesh);
@@ -205,27 +251,64 @@ Result run_one(const PaperTable& t, int threads, const Options& o, const io::Qua
   rs.match_llvmpipe = o.match_llvmpipe;
   rs.quality = q;
   rs.color8 = o.rgba8();
+  std::optional<render::SceneRenderer> other;  // --versus: the same scene with the other setting
+  if (versus) {
+    std::vector<io::SceneMesh> other_meshes(1);
+    other_meshes[0].loaded.mesh = m;
+    render::RenderSettings vs = rs;
+    vs.quality = *versus;
+    other.emplace(scene, std::move(other_meshes), vs);
+  }
   render::SceneRenderer r(scene, std::move(meshes), rs);
   render::FrameImage img;
   render::FrameStats st;
   Result res{&t, threads, {}, *r.fur_counts(0)};
+  auto timed = [&](render::SceneRenderer& renderer, int f, const io::Camera& cam) {
+    const auto t0 = std::chrono::steady_clock::now();
+    renderer.render(f, img, st, &cam);
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
   for (int f = 0; f < o.warmup + o.frames; ++f) {
     const io::Camera cam = orbit_camera(distance, radius, azimuth(f, o.match_llvmpipe));
-    const auto t0 = std::chrono::steady_clock::now();
-    r.render(f, img, st, &cam);
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    // With --versus, the two settings take turns at going first, so neither is always the one
+    // that finds the caches holding the other's data.
+    double other_ms = 0.0;
+    if (other && f % 2 == 1) other_ms = timed(*other, f, cam);
+    const double ms = timed(r, f, cam);
+    const raster::RasterStats work = st.raster;
+    if (other && f % 2 == 0) other_ms = timed(*other, f, cam);
     if (f >= o.warmup) {
       res.ms.push_back(ms);
-      res.fragments_blended += st.raster.fragments_blended;
-      res.lanes_shaded += st.raster.lanes_shaded;
-      res.pixels_shaded += st.raster.pixels_shaded;
+      res.fragments_blended += work.fragments_blended;
+      res.lanes_shaded += work.lanes_shaded;
+      res.pixels_shaded += work.pixels_shaded;
+      if (other) {
+        res.versus_ms.push_back(other_ms);
+        res.versus_ratio.push_back(other_ms / ms);
+      }
     }
   }
   return res;
 }
 
+// --versus's figures for JSON, or null without it: the other setting's knobs and FPS, and the
+// per-frame ratio of its time to the run's (median and quartiles).
+nlohmann::json versus_json(const Result& r, const io::Quality& run, const io::Quality* versus) {
+  if (!versus || r.versus_ratio.empty()) return nlohmann::json();
+  nlohmann::json knobs = nlohmann::json::object();
+  for (std::string_view knob : io::kKnobs) {
+    const std::string v = io::knob_value(*versus, knob);
+    if (v != io::knob_value(run, knob)) knobs[std::string(knob)] = v;
+  }
+  return {{"knobs", knobs},
+          {"fps_median", 1000.0 / percentile(r.versus_ms, 0.5)},
+          {"time_ratio_median", percentile(r.versus_ratio, 0.5)},
+          {"time_ratio_q25", percentile(r.versus_ratio, 0.25)},
+          {"time_ratio_q75", percentile(r.versus_ratio, 0.75)}};
+}
+
 void write_json(const std::string& path, const std::vector<Result>& results, const Options& o,
-                const io::Quality& quality) {
+                const io::Quality& quality, const io::Quality* versus) {
   nlohmann::json list = nlohmann::json::array();
   for (const Result& r : results) {
     const fur::FurCounts& c = r.counts;
@@ -250,6 +333,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
                     {"lanes_shaded_mean", r.mean(r.lanes_shaded)},
                     {"pixels_shaded_mean", r.mean(r.pixels_shaded)},
                     {"ns_per_fragment", ns ? nlohmann::json(*ns) : nlohmann::json()},
+                    {"versus", versus_json(r, quality, versus)},
                     {"vertices", {{"base", c.base_vertices}, {"shell", c.shell_vertices}, {"fin", c.fin_vertices}, {"sum", c.total_vertices}}},
                     {"faces", {{"base", c.base_faces}, {"shell", c.shell_faces}, {"fin", c.fin_faces}, {"sum", c.total_faces}}}});
   }
@@ -258,6 +342,8 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
 
 int run_fps(const Options& o) {
   const io::Quality quality = bench_quality(o);
+  std::optional<io::Quality> versus;
+  if (o.versus) versus = versus_quality(*o.versus, quality, o.match_llvmpipe);
   std::vector<const PaperTable*> tables;
   for (const std::string& s : o.scenes) {
     const PaperTable* t = nullptr;
@@ -276,7 +362,7 @@ int run_fps(const Options& o) {
               io::knob_value(quality, "sort").c_str(), io::knob_value(quality, "filter").c_str());
   for (const PaperTable* t : tables) {
     std::vector<Result> rows;
-    for (int th : o.threads) rows.push_back(run_one(*t, th, o, quality));
+    for (int th : o.threads) rows.push_back(run_one(*t, th, o, quality, versus ? &*versus : nullptr));
     const fur::FurCounts& c = rows.front().counts;
     std::printf("\n%s: %s (ours: %s)\n", t->paper, t->name, t->mesh);
     std::printf("%-8s %8s %8s %8s %8s   | paper: %6s %6s %6s %6s\n", "", "Base", "Shell", "Fin", "Sum", "Base", "Shell", "Fin", "Sum");
@@ -289,6 +375,13 @@ int run_fps(const Options& o) {
                   r.threads, r.threads == 1 ? " " : "s", 1000.0 / percentile(r.ms, 0.5),
                   1000.0 / *std::max_element(r.ms.begin(), r.ms.end()),
                   1000.0 / *std::min_element(r.ms.begin(), r.ms.end()), r.ms.size(), t->fps);
+    if (versus)
+      for (const Result& r : rows)
+        std::printf("%-8s %d thread%s: %s takes %.3fx the time (quartiles %.3f-%.3f over %zu frames drawn both ways), "
+                    "median %.1f FPS\n",
+                    "Versus", r.threads, r.threads == 1 ? " " : "s", versus_label(quality, *versus).c_str(),
+                    percentile(r.versus_ratio, 0.5), percentile(r.versus_ratio, 0.25), percentile(r.versus_ratio, 0.75),
+                    r.versus_ratio.size(), 1000.0 / percentile(r.versus_ms, 0.5));
     const Result& w = rows.front();
     std::printf("%-8s %.2f M translucent fragments blended a frame in %.2f M shaded lanes, %.2f M opaque pixels "
                 "(mean of the timed frames);", "Work", w.mean(w.fragments_blended) / 1e6, w.mean(w.lanes_shaded) / 1e6,
@@ -306,7 +399,7 @@ int run_fps(const Options& o) {
     std::fflush(stdout);
     results.insert(results.end(), rows.begin(), rows.end());
   }
-  if (!o.json.empty()) write_json(o.json, results, o, quality);
+  if (!o.json.empty()) write_json(o.json, results, o, quality, versus ? &*versus : nullptr);
   return 0;
 }
 
@@ -330,6 +423,9 @@ Run add_bench_fps(CLI::App& bench) {
   sub->add_option("--framebuffer", o->framebuffer,
                   "Frame in memory: rgba8 (default, as the GPU and the llvmpipe harness) | float (pelt render's)")
       ->check(CLI::IsMember({"rgba8", "float"}));
+  sub->add_option("--versus", o->versus,
+                  "Also draw every frame with these knobs changed, e.g. filter=bilinear_mip,fins=off, and report "
+                  "the per-frame time ratio");
   sub->add_option("--json", o->json, "Also write the results as JSON");
   return [o] { return run_fps(*o); };
 }

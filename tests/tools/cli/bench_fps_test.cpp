@@ -1,10 +1,11 @@
 // `pelt bench fps` on a tiny image: the JSON names the knobs each run used, --fins and
-// --shells change the counts beside the paper's, and a bad knob
-// is an error naming its flag (exit 2, no JSON file). Its timings are not checked: speed is
+// --shells change the counts beside the paper's, --versus reports a second setting beside the
+// run, and a bad knob is an error naming its flag (exit 2, no JSON file). Its timings are not checked: speed is
 // measured by running the benchmark, never in a test.
 #include <gtest/gtest.h>
 
 #include <tuple>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -27,6 +28,19 @@ nlohmann::json run_json(const std::vector<std::string>& extra) {
   EXPECT_EQ(r.code, 0) << r.err;
   if (r.code != 0) return nlohmann::json::array();
   return nlohmann::json::parse(read_text(json));
+}
+
+// A run with `extra` flags is refused: exit 2, `message` on stderr, no JSON file, no table.
+void expect_refused(const std::vector<std::string>& extra, const std::string& message) {
+  TempDir dir;
+  const std::filesystem::path json = dir.path() / "fps.json";
+  std::vector<std::string> args = tiny_run(json);
+  args.insert(args.end(), extra.begin(), extra.end());
+  const Result r = run_pelt(args, dir.path());
+  EXPECT_EQ(r.code, 2) << message;
+  EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(json)) << message;
+  EXPECT_EQ(r.out.find("FPS"), std::string::npos) << r.out;
 }
 
 TEST(BenchFps, JsonRecordsTheKnobsOfTheRun) {
@@ -87,14 +101,8 @@ TEST(BenchFps, FinsAndShellsFlagsChangeTheDrawnFur) {
 }
 
 TEST(BenchFps, MergedFinsAreRefusedInTheHarnessMode) {
-  TempDir dir;
-  const std::filesystem::path json = dir.path() / "fps.json";
-  std::vector<std::string> args = tiny_run(json);
-  args.insert(args.end(), {"--match-llvmpipe", "--fin-quads", "merged"});
-  const Result r = run_pelt(args, dir.path());
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--fin-quads: merged fins are not drawn with --match-llvmpipe"), std::string::npos) << r.err;
-  EXPECT_FALSE(std::filesystem::exists(json));
+  expect_refused({"--match-llvmpipe", "--fin-quads", "merged"},
+                 "--fin-quads: merged fins are not drawn with --match-llvmpipe");
 }
 
 TEST(BenchFps, AnUnknownKnobValueNamesItsFlag) {
@@ -104,16 +112,53 @@ TEST(BenchFps, AnUnknownKnobValueNamesItsFlag) {
         std::tuple{"--fins", "sideways", "--fins: unknown value `sideways`"},
         std::tuple{"--shells", "1", "--shells:"},
         std::tuple{"--fin-quads", "fused", "--fin-quads: unknown value `fused` (layer, merged)"},
-        std::tuple{"--framebuffer", "rgb", "--framebuffer: rgb not in {rgba8,float}"}}) {
-    TempDir dir;
-    const std::filesystem::path json = dir.path() / "fps.json";
-    std::vector<std::string> args = tiny_run(json);
-    args.insert(args.end(), {flag, value});
-    const Result r = run_pelt(args, dir.path());
-    EXPECT_EQ(r.code, 2) << flag;
-    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
-    EXPECT_FALSE(std::filesystem::exists(json)) << flag;
-  }
+        std::tuple{"--framebuffer", "rgb", "--framebuffer: rgb not in {rgba8,float}"}})
+    expect_refused({flag, value}, message);
+}
+
+// --versus draws every frame a second time with the knobs it names and reports the per-frame ratio
+// of the two times; the run's own figures are those of a run without it (the other renderer's
+// work is not counted in), and JSON without --versus says null.
+TEST(BenchFps, VersusDrawsEachFrameBothWays) {
+  const nlohmann::json plain = run_json({});
+  ASSERT_EQ(plain.size(), 1u);
+  EXPECT_TRUE(plain[0]["versus"].is_null());
+  const nlohmann::json both = run_json({"--versus", "filter=bilinear_mip,fins=off"});
+  ASSERT_EQ(both.size(), 1u);
+  EXPECT_EQ(both[0]["filter"], "trilinear");  // the run keeps its own setting
+  EXPECT_EQ(both[0]["fins"], "silhouette");
+  EXPECT_EQ(both[0]["fragments_blended_mean"], plain[0]["fragments_blended_mean"]);
+  EXPECT_EQ(both[0]["lanes_shaded_mean"], plain[0]["lanes_shaded_mean"]);
+  const nlohmann::json& v = both[0]["versus"];
+  ASSERT_TRUE(v.is_object()) << both.dump();
+  EXPECT_EQ(v["knobs"], (nlohmann::json{{"filter", "bilinear_mip"}, {"fins", "off"}}));
+  EXPECT_GT(v["fps_median"].get<double>(), 0.0);
+  EXPECT_GT(v["time_ratio_median"].get<double>(), 0.0);
+  EXPECT_LE(v["time_ratio_q25"].get<double>(), v["time_ratio_median"].get<double>());
+  EXPECT_LE(v["time_ratio_median"].get<double>(), v["time_ratio_q75"].get<double>());
+
+  TempDir dir;
+  std::vector<std::string> args = tiny_run(dir.path() / "fps.json");
+  args.insert(args.end(), {"--versus", "shells=8"});
+  const Result r = run_pelt(args, dir.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("Versus   1 thread : shells=8 takes "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("over 2 frames drawn both ways"), std::string::npos) << r.out;
+}
+
+TEST(BenchFps, AMalformedVersusNamesItsFlag) {
+  for (const auto& [spec, message] :
+       {std::pair{"filter", "--versus: `filter` is not knob=value"},
+        std::pair{"=nearest", "--versus: `=nearest` is not knob=value"},
+        std::pair{"filter=", "--versus: `filter=` is not knob=value"},
+        std::pair{"filter=anisotropic", "--versus: unknown value `anisotropic`"},
+        std::pair{"colour=red", "--versus: unknown quality knob `colour`"},
+        std::pair{"fins=off,fins=all", "--versus: knob `fins` given twice"},
+        std::pair{"filter=trilinear", "--versus: `filter=trilinear` is the run's own setting"},
+        std::pair{"", "--versus: no knob=value given"}})
+    expect_refused({"--versus", spec}, message);
+  expect_refused({"--match-llvmpipe", "--versus", "fin_quads=merged"},
+                 "--versus: merged fins are not drawn with --match-llvmpipe");
 }
 
 // A --json path that cannot be written is refused before the first frame, not after the

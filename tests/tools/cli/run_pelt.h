@@ -1,5 +1,5 @@
-// Runs the built `pelt` binary (${PELT_BINARY_DIR}/pelt) as a child process with its
-// stdout and stderr captured, for tests of the command line.
+// Runs the built `pelt` binary (${PELT_BINARY_DIR}/pelt), or another program, as a child
+// process with its stdout and stderr captured, for tests of the command line and its scripts.
 #pragma once
 
 #include "tests/tools/io/temp_dir.h"
@@ -38,19 +38,21 @@ inline std::string read_text(const std::filesystem::path& p) {
 
 using pelt::io::TempDir;  // a fresh folder removed with its contents at scope exit
 
-// A started `pelt` process; output goes to files in `log_dir`.
+// A started process; output goes to files in `log_dir`.
 struct Child {
   pid_t pid = -1;
   std::filesystem::path out, err;
 };
 
-inline Child start_pelt(const std::vector<std::string>& args, const std::filesystem::path& log_dir) {
+// Starts `program` (a path) with `args`.
+inline Child start_program(const std::filesystem::path& program, const std::vector<std::string>& args,
+                           const std::filesystem::path& log_dir) {
   static std::atomic<int> counter{0};
   const int n = counter++;
   Child c;
   c.out = log_dir / ("stdout_" + std::to_string(n) + ".txt");
   c.err = log_dir / ("stderr_" + std::to_string(n) + ".txt");
-  const std::string bin = pelt_binary().string();
+  const std::string bin = program.string();
   std::vector<std::string> argv_s{bin};
   argv_s.insert(argv_s.end(), args.begin(), args.end());
   c.pid = ::fork();
@@ -73,6 +75,10 @@ struct Result {
   std::string out, err;
 };
 
+inline Child start_pelt(const std::vector<std::string>& args, const std::filesystem::path& log_dir) {
+  return start_program(pelt_binary(), args, log_dir);
+}
+
 inline Result wait_pelt(const Child& c) {
   int status = 0;
   ::waitpid(c.pid, &status, 0);
@@ -85,6 +91,11 @@ inline Result wait_pelt(const Child& c) {
 
 inline Result run_pelt(const std::vector<std::string>& args, const std::filesystem::path& log_dir) {
   return wait_pelt(start_pelt(args, log_dir));
+}
+
+inline Result run_program(const std::filesystem::path& program, const std::vector<std::string>& args,
+                          const std::filesystem::path& log_dir) {
+  return wait_pelt(start_program(program, args, log_dir));
 }
 
 }  // namespace pelt::cli_test

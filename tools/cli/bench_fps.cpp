@@ -220,13 +220,18 @@ io::Quality versus_quality(const std::string& spec, const io::Quality& base, boo
   return q;
 }
 
+// The knobs whose value in `other` differs from the run's, with that value, in kKnobs order.
+std::vector<std::pair<std::string, std::string>> differing_knobs(const io::Quality& run, const io::Quality& other) {
+  std::vector<std::pair<std::string, std::string>> knobs;
+  for (std::string_view knob : io::kKnobs)
+    if (std::string v = io::knob_value(other, knob); v != io::knob_value(run, knob)) knobs.emplace_back(knob, std::move(v));
+  return knobs;
+}
+
 // One line of the setting that differs: "filter=bilinear_mip fins=off".
 std::string versus_label(const io::Quality& run, const io::Quality& other) {
   std::string label;
-  for (std::string_view knob : io::kKnobs) {
-    const std::string v = io::knob_value(other, knob);
-    if (v != io::knob_value(run, knob)) label += (label.empty() ? "" : " ") + std::string(knob) + "=" + v;
-  }
+  for (const auto& [knob, value] : differing_knobs(run, other)) label += (label.empty() ? "" : " ") + knob + "=" + value;
   return label;
 }
 
@@ -296,10 +301,7 @@ Result run_one(const PaperTable& t, int threads, const Options& o, const io::Qua
 nlohmann::json versus_json(const Result& r, const io::Quality& run, const io::Quality* versus) {
   if (!versus || r.versus_ratio.empty()) return nlohmann::json();
   nlohmann::json knobs = nlohmann::json::object();
-  for (std::string_view knob : io::kKnobs) {
-    const std::string v = io::knob_value(*versus, knob);
-    if (v != io::knob_value(run, knob)) knobs[std::string(knob)] = v;
-  }
+  for (const auto& [knob, value] : differing_knobs(run, *versus)) knobs[knob] = value;
   return {{"knobs", knobs},
           {"fps_median", 1000.0 / percentile(r.versus_ms, 0.5)},
           {"time_ratio_median", percentile(r.versus_ratio, 0.5)},

@@ -1,7 +1,8 @@
 // tools/bench/against_llvmpipe.sh, with a stand-in for the llvmpipe harness (a script that
 // records how it was called and prints a RESULT line as the harness does): each round runs
 // both, the ratio is pelt's median FPS over the harness's, the harness gets the image size,
-// the scene and llvmpipe's environment, and what the script cannot run is an error (exit 2).
+// the scene, pelt's teapot patches and llvmpipe's environment, and what the script cannot run is
+// an error (exit 2).
 // No timing is checked: the figures come from running the script.
 #include <gtest/gtest.h>
 
@@ -70,8 +71,10 @@ TEST(AgainstLlvmpipe, PrintsEachRoundAndTheMedianRatio) {
   size_t lines = 0;
   for (char c : calls) lines += c == '\n';
   EXPECT_EQ(lines, 2u) << calls;
-  for (const char* part : {"bench --scene box --width 64 --height 48", "--frames 2", "LP_NUM_THREADS=1",
-                           "GALLIUM_DRIVER=llvmpipe", "LIBGL_ALWAYS_SOFTWARE=1"})
+  const std::string bpt = "--bpt " + (source_dir() / "tools" / "data" / "teapot.bpt").string();
+  for (const std::string& part : {std::string("bench --scene box --width 64 --height 48"), std::string("--frames 2"),
+                                  bpt, std::string("LP_NUM_THREADS=1"), std::string("GALLIUM_DRIVER=llvmpipe"),
+                                  std::string("LIBGL_ALWAYS_SOFTWARE=1")})
     EXPECT_NE(calls.find(part), std::string::npos) << part << " in " << calls;
 }
 

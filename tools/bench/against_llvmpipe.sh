@@ -43,6 +43,7 @@ while [[ $# -gt 0 ]]; do
   shift 2
 done
 IFS=, read -r -a scene_list <<<"$scenes"
+[[ ${#scene_list[@]} -gt 0 ]] || fail "--scenes: no scene given (box, teapot, teapot2)"
 for s in "${scene_list[@]}"; do
   [[ $s == box || $s == teapot || $s == teapot2 ]] || fail "--scenes: unknown scene \`$s\` (box, teapot, teapot2)"
 done

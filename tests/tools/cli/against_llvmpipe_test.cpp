@@ -90,6 +90,7 @@ TEST(AgainstLlvmpipe, RefusesWhatItCannotRun) {
       {{good.string(), "--rounds", "0"}, "--rounds: `0` is not a positive integer"},
       {{good.string(), "--threads", "two"}, "--threads: `two` is not a positive integer"},
       {{good.string(), "--scenes", "box,sphere"}, "--scenes: unknown scene `sphere`"},
+      {{good.string(), "--scenes", ""}, "--scenes: no scene given"},
       {{good.string(), "--colour", "red"}, "unknown option `--colour`"},
       {{good.string(), "--frames"}, "--frames: needs a value"},
       {{good.string(), "--pelt", (dir.path() / "no-pelt").string()}, "no pelt binary"},

@@ -84,6 +84,7 @@ llvmpipe_fps() {
   local fps
   fps=$(sed -n 's/^RESULT .*median_fps=\([0-9.]*\).*$/\1/p' "$tmp/gl.out" | tail -n 1)
   [[ -n $fps ]] || { cat "$tmp/gl.out" >&2; fail "$bench printed no RESULT line with median_fps"; }
+  awk -v g="$fps" 'BEGIN { exit !(g > 0) }' || { cat "$tmp/gl.out" >&2; fail "$bench reported $fps FPS on $1"; }
   echo "$fps"
 }
 

@@ -101,7 +101,7 @@ TEST(AgainstLlvmpipe, RefusesWhatItCannotRun) {
     EXPECT_NE(r.err.find("against_llvmpipe: "), std::string::npos) << r.err;
     EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
   }
-  // A harness that fails, or prints no result, stops the run with its output shown.
+  // A harness that fails, prints no result or no speed stops the run with its output shown.
   TempDir failing_dir, silent_dir;
   const Result failing =
       run_script(small_run(fake_harness(failing_dir, "echo 'EGL: no llvmpipe here' >&2; exit 1\n")), failing_dir);
@@ -111,6 +111,11 @@ TEST(AgainstLlvmpipe, RefusesWhatItCannotRun) {
   const Result silent = run_script(small_run(fake_harness(silent_dir, "echo 'GL_RENDERER: llvmpipe'\n")), silent_dir);
   EXPECT_EQ(silent.code, 2);
   EXPECT_NE(silent.err.find("printed no RESULT line with median_fps"), std::string::npos) << silent.err;
+  TempDir stalled_dir;  // no division by zero: a harness at 0 FPS is a failed run
+  const Result stalled =
+      run_script(small_run(fake_harness(stalled_dir, "echo 'RESULT scene=box fps=0,0,0 median_fps=0.00'\n")), stalled_dir);
+  EXPECT_EQ(stalled.code, 2);
+  EXPECT_NE(stalled.err.find("reported 0.00 FPS on box"), std::string::npos) << stalled.err;
 }
 
 }  // namespace

@@ -52,25 +52,42 @@ struct Measured {
   tradeoff::DisplayImage image;
 };
 
-// The reference is slow (64 samples a pixel in double precision): one timed frame, the
-// first, is enough to place it on the plot.
-Measured measure(const io::Scene& scene, const io::Quality& q, const io::Budget& budget, int threads, int width,
-                 int height, int runs, bool warm_up) {
+render::RenderSettings settings(const io::Quality& q, const io::Budget& budget, int threads, int width, int height) {
   render::RenderSettings rs;
   rs.budget = budget;
   rs.width = width;
   rs.height = height;
   rs.threads = threads;
   rs.quality = q;
-  render::SceneRenderer renderer(scene, rs);
-  render::FrameImage img;
+  return rs;
+}
+
+double timed_frame(render::SceneRenderer& renderer, render::FrameImage& img) {
   render::FrameStats stats;
-  if (warm_up) renderer.render(0, img, stats);
+  const auto start = std::chrono::steady_clock::now();
+  renderer.render(0, img, stats);
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The reference is slow (64 samples a pixel in double precision): one timed frame, the
+// first, is enough to place it on the plot. With `baseline` (the default's renderer, warmed
+// up), each timed frame is drawn right beside one of the baseline's, the two taking turns at
+// going first, and `ratios` gets the frame's time over the baseline's.
+Measured measure(const io::Scene& scene, const render::RenderSettings& rs, int runs, bool warm_up,
+                 render::SceneRenderer* baseline = nullptr, std::vector<double>* ratios = nullptr) {
+  render::SceneRenderer renderer(scene, rs);
+  render::FrameImage img, baseline_img;
+  if (warm_up) timed_frame(renderer, img);
+  // The baseline's own warm-up after this renderer's: the first baseline frame after another
+  // setting's frames finds its data evicted (one read a third of its time in a first sweep).
+  if (baseline) timed_frame(*baseline, baseline_img);
   std::vector<double> ms;
   for (int i = 0; i < runs; ++i) {
-    const auto start = std::chrono::steady_clock::now();
-    renderer.render(0, img, stats);
-    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    double base_ms = 0.0;
+    if (baseline && i % 2 == 1) base_ms = timed_frame(*baseline, baseline_img);
+    ms.push_back(timed_frame(renderer, img));
+    if (baseline && i % 2 == 0) base_ms = timed_frame(*baseline, baseline_img);
+    if (baseline) ratios->push_back(ms.back() / base_ms);
   }
   return {std::move(ms), tradeoff::to_display(img.width, img.height, img.color)};
 }
@@ -124,7 +141,8 @@ int run_tradeoff(const TradeoffOptions& o) {
       const bool is_reference = i == 0;
       std::fprintf(stderr, "pelt tradeoff: [%d/%d] %s (%s)...\n", ++rendered, to_render, label(s).c_str(),
                    io::describe(s.quality).c_str());
-      Measured m = measure(scene, s.quality, o.budget, threads, o.width, o.height, is_reference ? 1 : o.runs, !is_reference);
+      Measured m = measure(scene, settings(s.quality, o.budget, threads, o.width, o.height), is_reference ? 1 : o.runs,
+                           !is_reference);
       if (is_reference) reference = m.image;
       row.time = tradeoff::summarize(m.ms, !is_reference);
       row.error = tradeoff::compare(m.image, reference);
@@ -139,12 +157,26 @@ int run_tradeoff(const TradeoffOptions& o) {
   }
 
   // The way back: every row timed again in reverse order (tradeoff::second_pass_order), its
-  // time the faster pass's median. The image must come out the same, bit for bit.
+  // time the faster pass's median, and each of its frames drawn beside one of the default's
+  // for the paired ratio. The image must come out the same, bit for bit.
   const std::vector<size_t> back = tradeoff::second_pass_order(plan);
+  const auto is_default = [&](size_t i) { return plan[i].knob == tradeoff::kDefaultKnob; };
+  const size_t default_row = size_t(std::find_if(plan.begin(), plan.end(), [&](const tradeoff::Setting& s) {
+                                      return s.knob == tradeoff::kDefaultKnob;
+                                    }) - plan.begin());
+  render::SceneRenderer baseline(scene, settings(plan.at(default_row).quality, o.budget, threads, o.width, o.height));
+  {
+    render::FrameImage warm;
+    timed_frame(baseline, warm);
+  }
+  rows.at(default_row).baseline = true;
   for (size_t k = 0; k < back.size(); ++k) {
     const size_t i = back[k];
     std::fprintf(stderr, "pelt tradeoff: [way back %zu/%zu] %s...\n", k + 1, back.size(), label(plan[i]).c_str());
-    Measured m = measure(scene, plan[i].quality, o.budget, threads, o.width, o.height, o.runs, true);
+    std::vector<double> ratios;
+    Measured m = measure(scene, settings(plan[i].quality, o.budget, threads, o.width, o.height), o.runs, true,
+                         is_default(i) ? nullptr : &baseline, &ratios);
+    if (!ratios.empty()) rows[i].vs_default = tradeoff::summarize_ratios(ratios);
     if (image_hash(m.image) != first[i].image_hash)
       throw std::logic_error("tradeoff: " + label(plan[i]) + " rendered a different image on the way back (a " +
                              "render that is not deterministic is a bug)");
@@ -155,7 +187,11 @@ int run_tradeoff(const TradeoffOptions& o) {
                  tradeoff::format_ms(first_median, true).c_str());
   }
   for (size_t i = 0; i < plan.size(); ++i)
-    if (plan[i].same_as) rows[i].time = rows[*plan[i].same_as].time;
+    if (plan[i].same_as) {
+      rows[i].time = rows[*plan[i].same_as].time;
+      rows[i].vs_default = rows[*plan[i].same_as].vs_default;
+      rows[i].baseline = rows[*plan[i].same_as].baseline;
+    }
 
   std::vector<tradeoff::CostPoint> points;
   for (const tradeoff::Row& r : rows) points.push_back({r.time.median, r.error.rmse});
@@ -164,12 +200,14 @@ int run_tradeoff(const TradeoffOptions& o) {
   std::ostringstream csv;
   tradeoff::write_csv(csv, rows);
   const std::string table = tradeoff::markdown_table(rows, front);
-  char about[1024];
+  char about[2048];
   std::snprintf(about, sizeof about,
                 "`pelt tradeoff %s`: %dx%d, %d thread(s). Every row but the reference is timed twice, on the "
                 "way through the sweep and again on the way back, each time %d frames after one warm-up frame; "
-                "its time is the faster pass's median, its range covers both. The reference: one timed frame, "
-                "its first, no warm-up. Error against the reference on the 8-bit sRGB RGB image `pelt render` "
+                "its time is the faster pass's median, its range covers both. On the way back each of a row's "
+                "frames is drawn right beside one of the default's, taking turns at going first: `vs default, "
+                "paired` is the median (and range) of those frames' time ratios, steadier than the milliseconds "
+                "on a shared machine. The reference: one timed frame, its first, no warm-up. Error against the reference on the 8-bit sRGB RGB image `pelt render` "
                 "writes. `pareto` = no other row is both faster and closer.\n\n",
                 fs::path(o.scene).filename().string().c_str(), reference.width, reference.height, threads, o.runs);
   const std::string markdown = std::string(about) + table;

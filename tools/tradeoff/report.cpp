@@ -21,6 +21,12 @@ Timing summarize(std::span<const double> ms, bool warmed_up) {
   return t;
 }
 
+PairedRatio summarize_ratios(std::span<const double> ratios) {
+  if (ratios.empty()) throw std::invalid_argument("summarize_ratios: no pairs");
+  const Timing t = summarize(ratios);
+  return {t.median, t.min, t.max, t.runs};
+}
+
 Timing combine_passes(std::span<const double> first, std::span<const double> second) {
   if (first.size() != second.size())
     throw std::invalid_argument("combine_passes: " + std::to_string(first.size()) + " and " +
@@ -63,10 +69,19 @@ void write_csv(std::ostream& out, std::span<const Row> rows) {
   for (const Row& r : rows)
     out << csv_field(r.knob) << ',' << csv_field(r.setting) << ',' << format_ms(r.time.median, false) << ','
         << format_number(r.error.rmse, 6) << ',' << format_number(r.error.psnr_db, 6) << ','
-        << format_number(r.error.max_abs, 6) << ',' << format_number(r.error.share_over_1_255, 6) << "\n";
+        << format_number(r.error.max_abs, 6) << ',' << format_number(r.error.share_over_1_255, 6) << ','
+        << (r.baseline ? std::string("1") : r.vs_default.pairs > 0 ? format_number(r.vs_default.median, 4) : std::string())
+        << "\n";
 }
 
 namespace {
+
+std::string paired(const Row& r) {
+  if (r.baseline) return "1x";
+  if (r.vs_default.pairs == 0) return "-";
+  return format_number(r.vs_default.median, 3) + "x (" + format_number(r.vs_default.min, 3) + "-" +
+         format_number(r.vs_default.max, 3) + ")";
+}
 
 std::string spread(const Row& r) {
   const int per_pass = r.time.runs / std::max(1, r.time.passes);
@@ -85,12 +100,13 @@ std::string markdown_table(std::span<const Row> rows, const std::vector<bool>& f
     throw std::invalid_argument("markdown_table: " + std::to_string(front.size()) + " Pareto flags for " +
                                 std::to_string(rows.size()) + " rows");
   std::string t =
-      "| knob | setting | ms_median | rmse | psnr_db | max_abs | share_over_1_255 | runs (min-max ms) | pareto |\n"
-      "|---|---|---:|---:|---:|---:|---:|---|---|\n";
+      "| knob | setting | ms_median | vs default, paired | rmse | psnr_db | max_abs | share_over_1_255 | runs (min-max "
+      "ms) | pareto |\n"
+      "|---|---|---:|---|---:|---:|---:|---:|---|---|\n";
   for (size_t i = 0; i < rows.size(); ++i) {
     const Row& r = rows[i];
     t += "| " + r.knob + " | " + r.setting + " | " + format_ms(r.time.median, true) + " | " +
-         format_number(r.error.rmse, 4) + " | " + format_number(r.error.psnr_db, 4) + " | " +
+         paired(r) + " | " + format_number(r.error.rmse, 4) + " | " + format_number(r.error.psnr_db, 4) + " | " +
          format_number(r.error.max_abs, 4) + " | " + format_number(r.error.share_over_1_255, 4) + " | " +
          spread(r) + " | " + (front[i] ? "yes" : "no") + " |\n";
   }

@@ -1,5 +1,5 @@
 // The report writers: the CSV's exact header and row format, the markdown table's columns
-// and Pareto flags, and the timing summary of one and of two passes.
+// and Pareto flags, the timing summary of one and of two passes, and the paired ratios.
 #include "tools/tradeoff/report.h"
 
 #include <algorithm>
@@ -17,13 +17,25 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 std::vector<Row> sample_rows() {
-  Row ref{"reference", "reference", summarize(std::vector<double>{1234.5678}, false), {0, kInf, 0, 0}, "", false};
+  Row ref{"reference", "reference", summarize(std::vector<double>{1234.5678}, false), {0, kInf, 0, 0}, "", false, {}, false};
   Row sort{"sort", "none", summarize(std::vector<double>{12.0, 13.5, 12.25, 14.0, 12.5}),
-           {0.0123456789, 38.17, 0.25, 0.125}, "", false};
+           {0.0123456789, 38.17, 0.25, 0.125}, "", false, {}, false};
   Row fast{"preset", "fast", summarize(std::vector<double>{3.0, 3.5, 2.5, 3.25, 3.125}),
-           {0.05, 26.0206, 0.5, 0.75}, "", true};
-  Row again{"spp", "1", sort.time, sort.error, "default=scene", false};
+           {0.05, 26.0206, 0.5, 0.75}, "", true, {}, false};
+  sort.vs_default = summarize_ratios(std::vector<double>{0.875, 0.9, 0.8125, 0.95, 0.925});
+  fast.vs_default = summarize_ratios(std::vector<double>{0.25, 0.5, 0.25, 0.3});
+  // The scene's own setting, as the default row: the baseline.
+  Row again{"spp", "1", sort.time, sort.error, "default=scene", false, {}, true};
   return {ref, sort, fast, again};
+}
+
+TEST(TradeoffReport, PairedRatiosGiveMedianMinMax) {
+  const PairedRatio r = summarize_ratios(std::vector<double>{1.25, 0.75, 1.0, 2.0});
+  EXPECT_EQ(r.median, 1.125);
+  EXPECT_EQ(r.min, 0.75);
+  EXPECT_EQ(r.max, 2.0);
+  EXPECT_EQ(r.pairs, 4);
+  EXPECT_THROW(summarize_ratios(std::vector<double>{}), std::invalid_argument);
 }
 
 TEST(TradeoffReport, SummarizeGivesMedianMinMax) {
@@ -56,7 +68,7 @@ TEST(TradeoffReport, TwoPassesGiveTheFasterMedianAndTheRangeOfBoth) {
   EXPECT_THROW(combine_passes(std::vector<double>{1, 2}, std::vector<double>{}), std::invalid_argument);
   EXPECT_THROW(combine_passes(std::vector<double>{1, 2}, std::vector<double>{1, 2, 3}), std::invalid_argument);
 
-  Row row{"filter", "nearest", t, {0.01, 40, 0.1, 0.01}, "", false};
+  Row row{"filter", "nearest", t, {0.01, 40, 0.1, 0.01}, "", false, {}, false};
   const std::string md = markdown_table(std::vector<Row>{row}, {true});
   EXPECT_NE(md.find("| 19.5 |"), std::string::npos) << md;
   EXPECT_NE(md.find("| 2 x 5 runs (18.0-30.0) |"), std::string::npos) << md;
@@ -66,11 +78,11 @@ TEST(TradeoffReport, CsvHeaderAndRowsExactly) {
   std::ostringstream out;
   write_csv(out, sample_rows());
   EXPECT_EQ(out.str(),
-            "knob,setting,ms_median,rmse,psnr_db,max_abs,share_over_1_255\n"
-            "reference,reference,1234.568,0,inf,0,0\n"
-            "sort,none,12.500,0.0123457,38.17,0.25,0.125\n"
-            "preset,fast,3.125,0.05,26.0206,0.5,0.75\n"
-            "spp,1,12.500,0.0123457,38.17,0.25,0.125\n");
+            "knob,setting,ms_median,rmse,psnr_db,max_abs,share_over_1_255,time_vs_default\n"
+            "reference,reference,1234.568,0,inf,0,0,\n"
+            "sort,none,12.500,0.0123457,38.17,0.25,0.125,0.9\n"
+            "preset,fast,3.125,0.05,26.0206,0.5,0.75,0.275\n"
+            "spp,1,12.500,0.0123457,38.17,0.25,0.125,1\n");
 }
 
 TEST(TradeoffReport, CsvFieldsAreQuotedOnlyWhenNeeded) {
@@ -99,13 +111,16 @@ TEST(TradeoffReport, MarkdownTableHasTheColumnsSpreadAndParetoFlags) {
   for (std::string l; std::getline(in, l);) lines.push_back(l);
   ASSERT_EQ(lines.size(), 2 + rows.size());
   EXPECT_EQ(lines[0],
-            "| knob | setting | ms_median | rmse | psnr_db | max_abs | share_over_1_255 | runs (min-max ms) | pareto |");
-  EXPECT_EQ(lines[2], "| reference | reference | 1235 | 0 | inf | 0 | 0 | 1 run, no warm-up | yes |");
-  EXPECT_EQ(lines[3], "| sort | none | 12.5 | 0.01235 | 38.17 | 0.25 | 0.125 | 5 runs (12.0-14.0) | no |");
-  EXPECT_EQ(lines[4], "| preset | fast | 3.12 | 0.05 | 26.02 | 0.5 | 0.75 | 5 runs (2.50-3.50) | yes |");
+            "| knob | setting | ms_median | vs default, paired | rmse | psnr_db | max_abs | share_over_1_255 | runs "
+            "(min-max ms) | pareto |");
+  EXPECT_EQ(lines[2], "| reference | reference | 1235 | - | 0 | inf | 0 | 0 | 1 run, no warm-up | yes |");
+  EXPECT_EQ(lines[3],
+            "| sort | none | 12.5 | 0.9x (0.812-0.95) | 0.01235 | 38.17 | 0.25 | 0.125 | 5 runs (12.0-14.0) | no |");
+  EXPECT_EQ(lines[4], "| preset | fast | 3.12 | 0.275x (0.25-0.5) | 0.05 | 26.02 | 0.5 | 0.75 | 5 runs (2.50-3.50) | yes |");
+  EXPECT_NE(lines[5].find("| 1x |"), std::string::npos) << lines[5];
   EXPECT_NE(lines[5].find("same settings as default=scene"), std::string::npos) << lines[5];
   // Every line has the same number of cells.
-  for (const std::string& l : lines) EXPECT_EQ(std::count(l.begin(), l.end(), '|'), 10) << l;
+  for (const std::string& l : lines) EXPECT_EQ(std::count(l.begin(), l.end(), '|'), 11) << l;
 }
 
 TEST(TradeoffReport, MarkdownTableRefusesMismatchedFlags) {

@@ -33,6 +33,7 @@ std::vector<std::vector<std::string>> read_csv(const fs::path& p) {
     std::vector<std::string> cells;
     std::istringstream l(line);
     for (std::string c; std::getline(l, c, ',');) cells.push_back(c);
+    if (!line.empty() && line.back() == ',') cells.push_back("");  // an empty last field
     rows.push_back(cells);
   }
   return rows;
@@ -58,7 +59,7 @@ TEST(TradeoffCommand, SweepsSortAndSppAgainstTheReference) {
   ASSERT_EQ(csv.size(), 1 + expected.size());
   for (size_t i = 0; i < expected.size(); ++i) {
     const auto& row = csv[i + 1];
-    ASSERT_EQ(row.size(), 7u) << i;
+    ASSERT_EQ(row.size(), 8u) << i;
     EXPECT_EQ(row[0] + "=" + row[1], expected[i]);
     EXPECT_GT(std::stod(row[2]), 0.0) << expected[i];  // a frame time was measured
     const double rmse = std::stod(row[3]);
@@ -74,11 +75,18 @@ TEST(TradeoffCommand, SweepsSortAndSppAgainstTheReference) {
   EXPECT_EQ(csv[5][2], csv[2][2]);
   EXPECT_EQ(csv[5][3], csv[2][3]);
   EXPECT_EQ(csv[7][3], csv[2][3]);
+  // Paired with the default frame by frame: the reference is not, the default and its copies
+  // are the baseline, every other row has a ratio.
+  EXPECT_EQ(csv[1][7], "");
+  for (size_t i : {2u, 5u, 7u}) EXPECT_EQ(csv[i][7], "1") << expected[i - 1];
+  for (size_t i : {3u, 4u, 6u, 8u, 9u, 10u, 11u, 12u}) EXPECT_GT(std::stod(csv[i][7]), 0.0) << expected[i - 1];
 
   // The markdown file holds the table printed on stdout, with the Pareto column.
   const std::string md = read_text(out / "tradeoff.md");
   EXPECT_NE(md.find(r.out), std::string::npos);
-  EXPECT_NE(r.out.find("| knob | setting | ms_median |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| knob | setting | ms_median | vs default, paired |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| default | scene | "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" | 1x | "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("| reference | reference |"), std::string::npos);
   EXPECT_NE(r.out.find("same settings as default=scene"), std::string::npos);
   // Every row but the reference was timed on the way through the sweep and on the way back.

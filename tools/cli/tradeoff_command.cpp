@@ -79,7 +79,7 @@ Measured measure(const io::Scene& scene, const render::RenderSettings& rs, int r
   render::FrameImage img, baseline_img;
   if (warm_up) timed_frame(renderer, img);
   // The baseline's own warm-up after this renderer's: the first baseline frame after another
-  // setting's frames finds its data evicted (one read a third of its time in a first sweep).
+  // setting's frames finds its data evicted (in a first sweep one such frame took three times as long).
   if (baseline) timed_frame(*baseline, baseline_img);
   std::vector<double> ms;
   for (int i = 0; i < runs; ++i) {

@@ -5,11 +5,11 @@
 // --versus prices a quality knob on a shared, noisy machine: every frame is drawn with both
 // settings, one right after the other, and the per-frame ratio of their times is reported.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <optional>
 #include <sstream>
+#include <tuple>
 #include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -20,6 +20,7 @@
 #include "tools/io/builtin_meshes.h"
 #include "tools/io/input_error.h"
 #include "tools/io/output_file.h"
+#include "tools/render/frame_timing.h"
 #include "tools/render/scene_renderer.h"
 
 namespace pelt::cli {
@@ -152,15 +153,15 @@ double percentile(std::vector<double> v, double q) {
 }
 
 struct Result {
-  const PaperTable* table;
-  int threads;
-  std::vector<double> ms;
-  fur::FurCounts counts;
+  const PaperTable* table = nullptr;
+  int threads = 0;
+  std::vector<double> ms{};
+  fur::FurCounts counts{};
   // The work of the timed frames, summed (raster::RasterStats): what a frame's time buys.
   uint64_t fragments_blended = 0, lanes_shaded = 0, pixels_shaded = 0;
   // With --versus: the other setting's time for each timed frame (same camera, same frame),
   // and per frame its time over this run's.
-  std::vector<double> versus_ms, versus_ratio;
+  std::vector<double> versus_ms{}, versus_ratio{};
 
   double mean(uint64_t sum) const { return double(sum) / double(ms.size()); }
   // Nanoseconds per blended fragment at the median frame time, on all of the run's threads;
@@ -266,27 +267,21 @@ Result run_one(const PaperTable& t, int threads, const Options& o, const io::Qua
   }
   render::SceneRenderer r(scene, std::move(meshes), rs);
   render::FrameImage img;
-  render::FrameStats st;
-  Result res{&t, threads, {}, *r.fur_counts(0)};
-  auto timed = [&](render::SceneRenderer& renderer, int f, const io::Camera& cam) {
-    const auto t0 = std::chrono::steady_clock::now();
-    renderer.render(f, img, st, &cam);
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  };
+  render::FrameStats st, other_st;
+  Result res{.table = &t, .threads = threads, .counts = *r.fur_counts(0)};
   for (int f = 0; f < o.warmup + o.frames; ++f) {
     const io::Camera cam = orbit_camera(distance, radius, azimuth(f, o.match_llvmpipe));
-    // With --versus, the two settings take turns at going first, so neither is always the one
-    // that finds the caches holding the other's data.
-    double other_ms = 0.0;
-    if (other && f % 2 == 1) other_ms = timed(*other, f, cam);
-    const double ms = timed(r, f, cam);
-    const raster::RasterStats work = st.raster;
-    if (other && f % 2 == 0) other_ms = timed(*other, f, cam);
+    auto draw = [&] { r.render(f, img, st, &cam); };
+    double ms = 0.0, other_ms = 0.0;
+    if (other)
+      std::tie(ms, other_ms) = render::time_side_by_side(f, draw, [&] { other->render(f, img, other_st, &cam); });
+    else
+      ms = render::time_ms(draw);
     if (f >= o.warmup) {
       res.ms.push_back(ms);
-      res.fragments_blended += work.fragments_blended;
-      res.lanes_shaded += work.lanes_shaded;
-      res.pixels_shaded += work.pixels_shaded;
+      res.fragments_blended += st.raster.fragments_blended;
+      res.lanes_shaded += st.raster.lanes_shaded;
+      res.pixels_shaded += st.raster.pixels_shaded;
       if (other) {
         res.versus_ms.push_back(other_ms);
         res.versus_ratio.push_back(other_ms / ms);

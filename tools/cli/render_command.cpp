@@ -6,7 +6,9 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -49,15 +51,22 @@ struct RenderOptions {
   bool quiet = false;
 };
 
+// The AOVs by name, in the order --help and the error for an unknown one list them.
+constexpr std::pair<std::string_view, render::Aov> kAovs[] = {
+    {"color", render::Aov::color},       {"depth", render::Aov::depth}, {"id", render::Aov::id},
+    {"overdraw", render::Aov::overdraw}, {"sebum", render::Aov::sebum}, {"epidermis", render::Aov::epidermis},
+    {"dermis", render::Aov::dermis}};
+
+std::string aov_names(std::string_view separator) {
+  std::string names;
+  for (const auto& [name, aov] : kAovs) names += (names.empty() ? "" : std::string(separator)) + std::string(name);
+  return names;
+}
+
 render::Aov parse_aov(const std::string& s) {
-  if (s == "color") return render::Aov::color;
-  if (s == "depth") return render::Aov::depth;
-  if (s == "id") return render::Aov::id;
-  if (s == "overdraw") return render::Aov::overdraw;
-  if (s == "sebum") return render::Aov::sebum;
-  if (s == "epidermis") return render::Aov::epidermis;
-  if (s == "dermis") return render::Aov::dermis;
-  throw io::InputError("", "--aov", "unknown AOV `" + s + "` (color, depth, id, overdraw, sebum, epidermis, dermis)");
+  for (const auto& [name, aov] : kAovs)
+    if (s == name) return aov;
+  throw io::InputError("", "--aov", "unknown AOV `" + s + "` (" + aov_names(", ") + ")");
 }
 
 void write_frame(const std::filesystem::path& path, const render::FrameImage& img, render::Aov aov,
@@ -276,7 +285,7 @@ Run add_render_command(CLI::App& app) {
                       std::to_string(io::kDefaultPngCompression) + ")")
       ->check(CLI::Range(0, 9));
   sub->add_option("--stats", o->stats, "Write per-frame stage statistics as JSON");
-  sub->add_option("--aov", o->aov, "color | depth | id | overdraw | sebum | epidermis | dermis");
+  sub->add_option("--aov", o->aov, aov_names(" | "));
   add_quality_options(*sub, o->quality);
   add_budget_options(*sub, o->budget);
   CLI::Option* frame = sub->add_option("--frame", o->frame, "One frame of the animation (0-based)");

@@ -4,7 +4,6 @@
 // through the sweep and back), measures its error against the reference and writes a CSV, a
 // markdown table and a plot of error against time.
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -21,6 +20,7 @@
 #include "tools/io/input_error.h"
 #include "tools/io/output_file.h"
 #include "tools/io/scene.h"
+#include "tools/render/frame_timing.h"
 #include "tools/render/scene_renderer.h"
 #include "tools/tradeoff/image_compare.h"
 #include "tools/tradeoff/pareto.h"
@@ -46,9 +46,10 @@ struct TradeoffOptions {
   io::Budget budget;
 };
 
-// One setting's measurement: its timed runs (ms) and the image it made.
+// One setting's measurement: its timed runs (ms), with a baseline each run's time over the
+// baseline's frame drawn beside it, and the image it made.
 struct Measured {
-  std::vector<double> ms;
+  std::vector<double> ms, ratios;
   tradeoff::DisplayImage image;
 };
 
@@ -62,34 +63,36 @@ render::RenderSettings settings(const io::Quality& q, const io::Budget& budget, 
   return rs;
 }
 
-double timed_frame(render::SceneRenderer& renderer, render::FrameImage& img) {
+// Frame 0 of `renderer` into `img`.
+void draw(render::SceneRenderer& renderer, render::FrameImage& img) {
   render::FrameStats stats;
-  const auto start = std::chrono::steady_clock::now();
   renderer.render(0, img, stats);
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 // The reference is slow (64 samples a pixel in double precision): one timed frame, the
-// first, is enough to place it on the plot. With `baseline` (the default's renderer, warmed
-// up), each timed frame is drawn right beside one of the baseline's, the two taking turns at
-// going first, and `ratios` gets the frame's time over the baseline's.
+// first, is enough to place it on the plot. With `baseline` (the default's renderer), each
+// timed frame is drawn right beside one of the baseline's (render::time_side_by_side).
 Measured measure(const io::Scene& scene, const render::RenderSettings& rs, int runs, bool warm_up,
-                 render::SceneRenderer* baseline = nullptr, std::vector<double>* ratios = nullptr) {
+                 render::SceneRenderer* baseline = nullptr) {
   render::SceneRenderer renderer(scene, rs);
   render::FrameImage img, baseline_img;
-  if (warm_up) timed_frame(renderer, img);
+  if (warm_up) draw(renderer, img);
   // The baseline's own warm-up after this renderer's: the first baseline frame after another
   // setting's frames finds its data evicted (in a first sweep one such frame took three times as long).
-  if (baseline) timed_frame(*baseline, baseline_img);
-  std::vector<double> ms;
+  if (baseline) draw(*baseline, baseline_img);
+  Measured m;
   for (int i = 0; i < runs; ++i) {
-    double base_ms = 0.0;
-    if (baseline && i % 2 == 1) base_ms = timed_frame(*baseline, baseline_img);
-    ms.push_back(timed_frame(renderer, img));
-    if (baseline && i % 2 == 0) base_ms = timed_frame(*baseline, baseline_img);
-    if (baseline) ratios->push_back(ms.back() / base_ms);
+    auto frame = [&] { draw(renderer, img); };
+    if (!baseline) {
+      m.ms.push_back(render::time_ms(frame));
+      continue;
+    }
+    const auto [ms, base_ms] = render::time_side_by_side(i, frame, [&] { draw(*baseline, baseline_img); });
+    m.ms.push_back(ms);
+    m.ratios.push_back(ms / base_ms);
   }
-  return {std::move(ms), tradeoff::to_display(img.width, img.height, img.color)};
+  m.image = tradeoff::to_display(img.width, img.height, img.color);
+  return m;
 }
 
 size_t image_hash(const tradeoff::DisplayImage& image) {
@@ -160,23 +163,17 @@ int run_tradeoff(const TradeoffOptions& o) {
   // time the faster pass's median, and each of its frames drawn beside one of the default's
   // for the paired ratio. The image must come out the same, bit for bit.
   const std::vector<size_t> back = tradeoff::second_pass_order(plan);
-  const auto is_default = [&](size_t i) { return plan[i].knob == tradeoff::kDefaultKnob; };
   const size_t default_row = size_t(std::find_if(plan.begin(), plan.end(), [&](const tradeoff::Setting& s) {
                                       return s.knob == tradeoff::kDefaultKnob;
                                     }) - plan.begin());
   render::SceneRenderer baseline(scene, settings(plan.at(default_row).quality, o.budget, threads, o.width, o.height));
-  {
-    render::FrameImage warm;
-    timed_frame(baseline, warm);
-  }
   rows.at(default_row).baseline = true;
   for (size_t k = 0; k < back.size(); ++k) {
     const size_t i = back[k];
     std::fprintf(stderr, "pelt tradeoff: [way back %zu/%zu] %s...\n", k + 1, back.size(), label(plan[i]).c_str());
-    std::vector<double> ratios;
     Measured m = measure(scene, settings(plan[i].quality, o.budget, threads, o.width, o.height), o.runs, true,
-                         is_default(i) ? nullptr : &baseline, &ratios);
-    if (!ratios.empty()) rows[i].vs_default = tradeoff::summarize_ratios(ratios);
+                         i == default_row ? nullptr : &baseline);
+    if (!m.ratios.empty()) rows[i].vs_default = tradeoff::summarize_ratios(m.ratios);
     if (image_hash(m.image) != first[i].image_hash)
       throw std::logic_error("tradeoff: " + label(plan[i]) + " rendered a different image on the way back (a " +
                              "render that is not deterministic is a bug)");
@@ -200,17 +197,18 @@ int run_tradeoff(const TradeoffOptions& o) {
   std::ostringstream csv;
   tradeoff::write_csv(csv, rows);
   const std::string table = tradeoff::markdown_table(rows, front);
-  char about[2048];
-  std::snprintf(about, sizeof about,
-                "`pelt tradeoff %s`: %dx%d, %d thread(s). Every row but the reference is timed twice, on the "
-                "way through the sweep and again on the way back, each time %d frames after one warm-up frame; "
-                "its time is the faster pass's median, its range covers both. On the way back each of a row's "
-                "frames is drawn right beside one of the default's, taking turns at going first: `vs default, "
-                "paired` is the median (and range) of those frames' time ratios, steadier than the milliseconds "
-                "on a shared machine. The reference: one timed frame, its first, no warm-up. Error against the reference on the 8-bit sRGB RGB image `pelt render` "
-                "writes. `pareto` = no other row is both faster and closer.\n\n",
-                fs::path(o.scene).filename().string().c_str(), reference.width, reference.height, threads, o.runs);
-  const std::string markdown = std::string(about) + table;
+  // Composed as a string: a fixed buffer would cut the text short without a word as it grows.
+  const std::string about =
+      "`pelt tradeoff " + fs::path(o.scene).filename().string() + "`: " + std::to_string(reference.width) + "x" +
+      std::to_string(reference.height) + ", " + std::to_string(threads) +
+      " thread(s). Every row but the reference is timed twice, on the way through the sweep and again on the way "
+      "back, each time " + std::to_string(o.runs) +
+      " frames after one warm-up frame; its time is the faster pass's median, its range covers both. On the way back "
+      "each of a row's frames is drawn right beside one of the default's, taking turns at going first: `vs default, "
+      "paired` is the median (and range) of those frames' time ratios, steadier than the milliseconds on a shared "
+      "machine. The reference: one timed frame, its first, no warm-up. Error against the reference on the 8-bit sRGB "
+      "RGB image `pelt render` writes. `pareto` = no other row is both faster and closer.\n\n";
+  const std::string markdown = about + table;
 
   io::write_text_atomic(dir / "tradeoff.csv", csv.str(), "-o");
   io::write_text_atomic(dir / "tradeoff.md", markdown, "-o");

@@ -1,7 +1,6 @@
 // `pelt bench skin`: the skin paper's Table 1 (render time of its skin shader against
 // Blinn and Lambert on a face and two bodies) measured with our renderer.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -19,6 +18,7 @@
 #include "tools/io/input_error.h"
 #include "tools/io/output_file.h"
 #include "tools/io/scene.h"
+#include "tools/render/frame_timing.h"
 #include "tools/render/scene_renderer.h"
 
 namespace pelt::cli {
@@ -141,9 +141,7 @@ std::vector<Measurement> measure_mesh(const bench::SkinBenchMesh& m, const SkinB
     for (Column& col : columns) col.renderer->render(0, img, col.stats);
   for (int i = 0; i < o.frames; ++i)
     for (Column& col : columns) {
-      const auto t0 = std::chrono::steady_clock::now();
-      col.renderer->render(0, img, col.stats);
-      col.ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      col.ms.push_back(render::time_ms([&] { col.renderer->render(0, img, col.stats); }));
       col.front.push_back(col.stats.stage("raster_front").ms);
       col.tiles.push_back(col.stats.stage("raster_tiles").ms);
     }

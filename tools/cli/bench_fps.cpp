@@ -163,6 +163,15 @@ struct Result {
   // and per frame its time over this run's.
   std::vector<double> versus_ms{}, versus_ratio{};
 
+  // --versus's figures, read by the printed line and the JSON alike.
+  struct Versus {
+    double ratio_median, ratio_q25, ratio_q75, fps_median;
+  };
+  Versus versus() const {
+    return {percentile(versus_ratio, 0.5), percentile(versus_ratio, 0.25), percentile(versus_ratio, 0.75),
+            1000.0 / percentile(versus_ms, 0.5)};
+  }
+
   double mean(uint64_t sum) const { return double(sum) / double(ms.size()); }
   // Nanoseconds per blended fragment at the median frame time, on all of the run's threads;
   // none when no fragment was blended (a frame too small to show the fur).
@@ -297,11 +306,12 @@ nlohmann::json versus_json(const Result& r, const io::Quality& run, const io::Qu
   if (!versus || r.versus_ratio.empty()) return nlohmann::json();
   nlohmann::json knobs = nlohmann::json::object();
   for (const auto& [knob, value] : differing_knobs(run, *versus)) knobs[knob] = value;
+  const Result::Versus v = r.versus();
   return {{"knobs", knobs},
-          {"fps_median", 1000.0 / percentile(r.versus_ms, 0.5)},
-          {"time_ratio_median", percentile(r.versus_ratio, 0.5)},
-          {"time_ratio_q25", percentile(r.versus_ratio, 0.25)},
-          {"time_ratio_q75", percentile(r.versus_ratio, 0.75)}};
+          {"fps_median", v.fps_median},
+          {"time_ratio_median", v.ratio_median},
+          {"time_ratio_q25", v.ratio_q25},
+          {"time_ratio_q75", v.ratio_q75}};
 }
 
 void write_json(const std::string& path, const std::vector<Result>& results, const Options& o,
@@ -373,12 +383,13 @@ int run_fps(const Options& o) {
                   1000.0 / *std::max_element(r.ms.begin(), r.ms.end()),
                   1000.0 / *std::min_element(r.ms.begin(), r.ms.end()), r.ms.size(), t->fps);
     if (versus)
-      for (const Result& r : rows)
+      for (const Result& r : rows) {
+        const Result::Versus v = r.versus();
         std::printf("%-8s %d thread%s: %s takes %.3fx the time (quartiles %.3f-%.3f over %zu frames drawn both ways), "
                     "median %.1f FPS\n",
                     "Versus", r.threads, r.threads == 1 ? " " : "s", versus_label(quality, *versus).c_str(),
-                    percentile(r.versus_ratio, 0.5), percentile(r.versus_ratio, 0.25), percentile(r.versus_ratio, 0.75),
-                    r.versus_ratio.size(), 1000.0 / percentile(r.versus_ms, 0.5));
+                    v.ratio_median, v.ratio_q25, v.ratio_q75, r.versus_ratio.size(), v.fps_median);
+      }
     const Result& w = rows.front();
     std::printf("%-8s %.2f M translucent fragments blended a frame in %.2f M shaded lanes, %.2f M opaque pixels "
                 "(mean of the timed frames);", "Work", w.mean(w.fragments_blended) / 1e6, w.mean(w.lanes_shaded) / 1e6,

@@ -132,10 +132,8 @@ int run_tradeoff(const TradeoffOptions& o) {
     row.knob = s.knob;
     row.setting = s.setting;
     row.preset = s.knob == tradeoff::kPresetKnob;
-    if (s.same_as) {
+    if (s.same_as) {  // its measurement is copied from the earlier row once both passes are done
       const tradeoff::Row& earlier = rows[*s.same_as];
-      row.time = earlier.time;
-      row.error = earlier.error;
       row.same_as = earlier.knob + "=" + earlier.setting;
       std::fprintf(stderr, "pelt tradeoff: %s: same settings as %s, measurement reused\n", label(s).c_str(),
                    row.same_as.c_str());
@@ -184,11 +182,7 @@ int run_tradeoff(const TradeoffOptions& o) {
                  tradeoff::format_ms(first_median, true).c_str());
   }
   for (size_t i = 0; i < plan.size(); ++i)
-    if (plan[i].same_as) {
-      rows[i].time = rows[*plan[i].same_as].time;
-      rows[i].vs_default = rows[*plan[i].same_as].vs_default;
-      rows[i].baseline = rows[*plan[i].same_as].baseline;
-    }
+    if (plan[i].same_as) tradeoff::reuse_measurement(rows[i], rows[*plan[i].same_as]);
 
   std::vector<tradeoff::CostPoint> points;
   for (const tradeoff::Row& r : rows) points.push_back({r.time.median, r.error.rmse});

@@ -27,6 +27,13 @@ PairedRatio summarize_ratios(std::span<const double> ratios) {
   return {t.median, t.min, t.max, t.runs};
 }
 
+void reuse_measurement(Row& row, const Row& earlier) {
+  row.time = earlier.time;
+  row.error = earlier.error;
+  row.vs_default = earlier.vs_default;
+  row.baseline = earlier.baseline;
+}
+
 Timing combine_passes(std::span<const double> first, std::span<const double> second) {
   if (first.size() != second.size())
     throw std::invalid_argument("combine_passes: " + std::to_string(first.size()) + " and " +

@@ -50,6 +50,10 @@ struct Row {
   bool baseline = false;  // the default row: the denominator of every vs_default (1 by definition)
 };
 
+// A row with the same settings as `earlier` takes its measurement: time, error, paired ratio
+// and whether it is the baseline. Its own labels (knob, setting, same_as, preset) stay.
+void reuse_measurement(Row& row, const Row& earlier);
+
 // The CSV's first line, exactly.
 inline constexpr const char* kCsvHeader =
     "knob,setting,ms_median,rmse,psnr_db,max_abs,share_over_1_255,time_vs_default";

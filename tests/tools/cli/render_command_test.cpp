@@ -153,7 +153,7 @@ TEST_F(RenderCommand, CtrlCStopsAfterTheFrameInFlight) {
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   ASSERT_EQ(ended, 0) << "pelt ended before its first frame: " << read_text(c.err);
   ::kill(c.pid, SIGINT);
-  const Result r = wait_pelt(c);
+  const Result r = wait_child(c);
   EXPECT_EQ(r.code, 130) << r.err;
   EXPECT_NE(r.err.find("interrupted after frame"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;

@@ -79,7 +79,8 @@ inline Child start_pelt(const std::vector<std::string>& args, const std::filesys
   return start_program(pelt_binary(), args, log_dir);
 }
 
-inline Result wait_pelt(const Child& c) {
+// Waits for a started process (pelt or another program) and reads what it wrote.
+inline Result wait_child(const Child& c) {
   int status = 0;
   ::waitpid(c.pid, &status, 0);
   Result r;
@@ -90,12 +91,12 @@ inline Result wait_pelt(const Child& c) {
 }
 
 inline Result run_pelt(const std::vector<std::string>& args, const std::filesystem::path& log_dir) {
-  return wait_pelt(start_pelt(args, log_dir));
+  return wait_child(start_pelt(args, log_dir));
 }
 
 inline Result run_program(const std::filesystem::path& program, const std::vector<std::string>& args,
                           const std::filesystem::path& log_dir) {
-  return wait_pelt(start_program(program, args, log_dir));
+  return wait_child(start_program(program, args, log_dir));
 }
 
 }  // namespace pelt::cli_test

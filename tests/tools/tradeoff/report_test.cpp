@@ -1,5 +1,6 @@
 // The report writers: the CSV's exact header and row format, the markdown table's columns
-// and Pareto flags, the timing summary of one and of two passes, and the paired ratios.
+// and Pareto flags, the timing summary of one and of two passes, the paired ratios, and a
+// reused row's measurement.
 #include "tools/tradeoff/report.h"
 
 #include <algorithm>
@@ -36,6 +37,25 @@ TEST(TradeoffReport, PairedRatiosGiveMedianMinMax) {
   EXPECT_EQ(r.max, 2.0);
   EXPECT_EQ(r.pairs, 4);
   EXPECT_THROW(summarize_ratios(std::vector<double>{}), std::invalid_argument);
+}
+
+TEST(TradeoffReport, AReusedRowTakesTheMeasurementAndKeepsItsLabels) {
+  const std::vector<Row> rows = sample_rows();
+  Row earlier = rows[1];
+  earlier.baseline = true;
+  Row row{"spp", "1", {}, {}, "sort=none", false, {}, false};
+  reuse_measurement(row, earlier);
+  EXPECT_EQ(row.knob, "spp");
+  EXPECT_EQ(row.setting, "1");
+  EXPECT_EQ(row.same_as, "sort=none");
+  EXPECT_FALSE(row.preset);
+  EXPECT_EQ(row.time.median, earlier.time.median);
+  EXPECT_EQ(row.time.runs, earlier.time.runs);
+  EXPECT_EQ(row.error.rmse, earlier.error.rmse);
+  EXPECT_EQ(row.error.psnr_db, earlier.error.psnr_db);
+  EXPECT_EQ(row.vs_default.median, earlier.vs_default.median);
+  EXPECT_EQ(row.vs_default.pairs, earlier.vs_default.pairs);
+  EXPECT_TRUE(row.baseline);
 }
 
 TEST(TradeoffReport, SummarizeGivesMedianMinMax) {

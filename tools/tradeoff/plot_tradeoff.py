@@ -4,8 +4,11 @@
 #   python3 -c SCRIPT TRADEOFF.csv OUT.png TITLE FRONT
 # FRONT lists the CSV's data-row indices (0-based) on the Pareto front, comma-separated.
 # Exit codes: 0 plot written, 3 matplotlib missing, 4 bad arguments or CSV.
+# With PELT_PLOT_LABEL_BOXES=FILE, each label's box (display pixels: x0 y0 x1 y1, one a line)
+# is also written to FILE, so a test can check that no two labels overlap.
 import csv
 import math
+import os
 import sys
 
 try:
@@ -76,27 +79,103 @@ def main(argv):
 
     # Settings with the same measurement share one label, so stacked points stay readable.
     labels = {}
-    for ms, e, knob, setting in pts:
-        labels.setdefault((ms, y(e)), []).append(f"{knob}={setting}")
-    # Settings that leave the image unchanged line up at one error: their labels are
-    # staggered above and below the line, in time order.
-    at_error = {}
-    for (ms, e), names in sorted(labels.items()):
-        k = at_error.get(e, 0)
-        at_error[e] = k + 1
-        dy = (3 + 8 * (k // 2)) * (1 if k % 2 == 0 else -1.6)
-        text = ", ".join(names) if len(names) <= 3 else ", ".join(names[:3]) + f" +{len(names) - 3}"
-        ax.annotate(text, (ms, e), xytext=(4, dy), textcoords="offset points", fontsize=6.5,
-                    arrowprops=dict(arrowstyle="-", color="0.6", linewidth=0.4) if k else None)
+    for i, (ms, e, knob, setting) in enumerate(pts):
+        labels.setdefault((ms, y(e)), []).append((i, f"{knob}={setting}"))
 
+    # Room around the points for their labels (most settings sit near the top, at the
+    # default's error).
+    xs = [p[0] for p in pts]
+    ys = [y(p[1]) for p in pts]
+    ax.set_xlim(min(xs) / 1.5, max(xs) * 1.5)
+    ax.set_ylim(min(ys) / 1.5, max(ys) * 2.5)
     ax.set_xlabel("median frame time (ms, log)")
     ax.set_ylabel("RMSE against the reference (8-bit sRGB, log)")
     ax.set_title(title, fontsize=10)
     ax.grid(True, which="both", linewidth=0.3, alpha=0.5)
     ax.legend(fontsize=8, loc="upper right")
     fig.tight_layout()
+    place_labels(fig, ax, labels, front)
     fig.savefig(png_path, format="png")
     return 0
+
+
+def place_labels(fig, ax, labels, front):
+    """Puts each label where it overlaps no other label, no marker and not the legend.
+
+    A sweep's settings that leave the image unchanged pile up at one error within a few
+    milliseconds, so labels at fixed offsets covered each other. Greedy placement in
+    display coordinates: the Pareto front's labels first, then the others in time order;
+    each tries offsets on rings of growing radius around its point and takes the first
+    free one, with a leader line when it had to move away. A label with no free spot
+    within the largest ring is drawn at its point anyway (readable beats missing)."""
+    renderer = fig.canvas.get_renderer()
+    to_px = ax.transData.transform
+    points_px = fig.dpi / 72.0
+    axes_box = ax.get_window_extent(renderer)
+    taken = []
+    placed = []
+    # Markers as small boxes, so labels do not cover them.
+    for (ms, e) in labels:
+        cx, cy = to_px((ms, e))
+        r = 4 * points_px
+        taken.append((cx - r, cy - r, cx + r, cy + r))
+    legend = ax.get_legend()
+    if legend is not None:
+        lb = legend.get_window_extent(renderer)
+        taken.append((lb.x0, lb.y0, lb.x1, lb.y1))
+
+    def free(box):
+        x0, y0, x1, y1 = box
+        if x0 < axes_box.x0 or x1 > axes_box.x1 or y0 < axes_box.y0 or y1 > axes_box.y1:
+            return False
+        return all(x1 <= t[0] or x0 >= t[2] or y1 <= t[1] or y0 >= t[3] for t in taken)
+
+    rings = [5, 12, 20, 30, 42, 56, 72, 90, 110]
+    angles = [0, 30, -30, 60, -60, 90, -90, 150, -150, 180, 120, -120]
+
+    def order(item):
+        (ms, e), names = item
+        return (0 if any(i in front for i, _ in names) else 1, ms, e)
+
+    for (ms, e), names in sorted(labels.items(), key=order):
+        texts = [n for _, n in names]
+        text = ", ".join(texts) if len(texts) <= 3 else ", ".join(texts[:3]) + f" +{len(texts) - 3}"
+        ann = ax.annotate(text, (ms, e), xytext=(5, 0), textcoords="offset points", fontsize=6.5,
+                          va="center", ha="left")
+        w = ann.get_window_extent(renderer)
+        tw, th = w.width, w.height
+        cx, cy = to_px((ms, e))
+        chosen = None
+        for r in rings:
+            for a in angles:
+                dx = r * math.cos(math.radians(a))
+                dy = r * math.sin(math.radians(a))
+                # The text starts at the offset on the right, ends there on the left.
+                left = dx >= 0
+                x0 = cx + dx * points_px if left else cx + dx * points_px - tw
+                y0 = cy + dy * points_px - th / 2
+                box = (x0, y0, x0 + tw, y0 + th)
+                if free(box):
+                    chosen = (dx, dy, left, box)
+                    break
+            if chosen:
+                break
+        if chosen is None:
+            chosen = (5, 0, True, (cx, cy - th / 2, cx + tw, cy + th / 2))
+        dx, dy, left, box = chosen
+        ann.set_position((dx, dy))
+        ann.set_ha("left" if left else "right")
+        if math.hypot(dx, dy) > 6:
+            ax.annotate("", (ms, e), xytext=(dx, dy), textcoords="offset points",
+                        arrowprops=dict(arrowstyle="-", color="0.6", linewidth=0.4, shrinkA=0, shrinkB=2))
+        taken.append(box)
+        drawn = ann.get_window_extent(renderer)  # where the text really is, for the test
+        placed.append((drawn.x0, drawn.y0, drawn.x1, drawn.y1))
+    boxes_path = os.environ.get("PELT_PLOT_LABEL_BOXES")
+    if boxes_path:
+        with open(boxes_path, "w") as f:
+            for b in placed:
+                f.write(" ".join(f"{v:.2f}" for v in b) + "\n")
 
 
 if __name__ == "__main__":

@@ -3,9 +3,11 @@
 // leaving no file behind.
 #include "tools/tradeoff/plot.h"
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -61,6 +63,43 @@ TEST(TradeoffPlot, DrawsAPngFromTheCsv) {
   EXPECT_GT(in->spec().width, 300);
   EXPECT_GT(in->spec().height, 200);
   EXPECT_EQ(files_in(dir.path()), 2u);  // the CSV and the PNG: no temporary left
+}
+
+// A sweep whose settings leave the image unchanged puts many points at one error within a
+// few milliseconds: every label must still land where no other label is (the script
+// reports where its texts were drawn, in display pixels, when asked).
+TEST(TradeoffPlot, LabelsOfACrowdedSweepDoNotOverlap) {
+  io::TempDir dir;
+  std::ostringstream s;
+  s << kCsvHeader << "\n"
+    << "reference,reference,900.5,0,inf,0,0\n"
+    << "default,scene,10.2,0.02,33.98,0.3,0.2\n";
+  const int crowd = 30;
+  for (int i = 0; i < crowd; ++i) s << "knob" << i << ",setting_" << i << "," << 10.0 + 0.15 * i << ",0.02,33.98,0.3,0.2\n";
+  const fs::path csv = dir.write("tradeoff.csv", s.str());
+  const fs::path boxes_file = dir.path() / "boxes.txt";
+  std::vector<bool> front(size_t(crowd) + 2, false);
+  front[0] = front[1] = true;
+  ::setenv("PELT_PLOT_LABEL_BOXES", boxes_file.c_str(), 1);
+  const PlotOutcome r = make_plot(csv, dir.path() / "tradeoff.png", "crowd", front);
+  ::unsetenv("PELT_PLOT_LABEL_BOXES");
+  ASSERT_TRUE(r.made) << r.problem;
+
+  struct Box {
+    double x0, y0, x1, y1;
+  };
+  std::vector<Box> boxes;
+  std::ifstream in(boxes_file);
+  for (Box b; in >> b.x0 >> b.y0 >> b.x1 >> b.y1;) boxes.push_back(b);
+  ASSERT_EQ(boxes.size(), size_t(crowd) + 2);  // one label per position
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    EXPECT_GT(boxes[i].x1 - boxes[i].x0, 10.0) << i;  // a real text, not an empty box
+    for (size_t j = 0; j < i; ++j) {
+      const Box &a = boxes[i], &b = boxes[j];
+      const bool apart = a.x1 <= b.x0 || a.x0 >= b.x1 || a.y1 <= b.y0 || a.y0 >= b.y1;
+      EXPECT_TRUE(apart) << "labels " << i << " and " << j << " overlap";
+    }
+  }
 }
 
 TEST(TradeoffPlot, MissingInterpreterIsReportedAndLeavesNoFile) {

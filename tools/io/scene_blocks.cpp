@@ -1,9 +1,13 @@
 #include "tools/io/scene_blocks.h"
 
+#include <limits>
+
 namespace pelt::io::detail {
 namespace {
 
 using nlohmann::json;
+
+constexpr long long kIntMin = std::numeric_limits<int>::min(), kIntMax = std::numeric_limits<int>::max();
 
 float num(const JsonFields& js, const json& obj, const std::string& path, const char* key, float fallback) {
   const json* v = JsonFields::find(obj, key);
@@ -38,12 +42,14 @@ fur::FurParams parse_fur_block(const JsonFields& js, const json& j, const std::s
                    {"shells", "length", "density", "texture_size", "seed", "fins", "root_color",
                     "tip_color", "gravity", "wind", "comb"});
   fur::FurParams p;
+  // Counts are read over int's whole range, so that a value out of theirs gets
+  // FurParams::validate's message (its range and why), not a generic bound.
   if (const json* v = JsonFields::find(j, "shells"))
-    p.shells = static_cast<int>(js.integer(*v, json_child(path, "shells"), -1000000, 1000000));
+    p.shells = static_cast<int>(js.integer(*v, json_child(path, "shells"), kIntMin, kIntMax));
   p.length = num(js, j, path, "length", p.length);
   p.density = num(js, j, path, "density", p.density);
   if (const json* v = JsonFields::find(j, "texture_size"))
-    p.texture_size = static_cast<int>(js.integer(*v, json_child(path, "texture_size"), -1000000, 1000000));
+    p.texture_size = static_cast<int>(js.integer(*v, json_child(path, "texture_size"), kIntMin, kIntMax));
   if (const json* v = JsonFields::find(j, "seed"))
     p.seed = static_cast<uint32_t>(js.integer(*v, json_child(path, "seed"), 0, 4294967295ll));
   if (const json* v = JsonFields::find(j, "fins")) {
@@ -150,7 +156,7 @@ Quality parse_quality_block(const JsonFields& js, const json& j, const std::stri
     const std::string field = json_child(path, knob);
     // shells and spp are counts, the others names.
     const std::string text = knob == "shells" || knob == "spp"
-                                 ? std::to_string(js.integer(*v, field, -1000000, 1000000))
+                                 ? std::to_string(js.integer(*v, field, kIntMin, kIntMax))
                                  : js.string(*v, field);
     if (auto e = set_knob(q, knob, text)) js.fail(field, *e);
   }

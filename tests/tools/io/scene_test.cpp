@@ -216,6 +216,8 @@ TEST_F(SceneFixture, QualityBlockErrorsNameTheKnob) {
   expect_error(with(R"({"spp": 3})"), "quality.spp", "must be a square number of samples from 1 to 64");
   expect_error(with(R"({"spp": 81})"), "quality.spp", "must be a square number");
   expect_error(with(R"({"shells": 1})"), "quality.shells", "must be an integer in [2, 128]");
+  expect_error(with(R"({"shells": 2000000})"), "quality.shells", "must be an integer in [2, 128]");
+  expect_error(with(R"({"spp": 1048576})"), "quality.spp", "must be a square number of samples from 1 to 64");
   expect_error(with(R"({"sort": "depth"})"), "quality.sort", "unknown value `depth` (none, layer, tile, exact)");
   expect_error(with(R"({"filter": "anisotropic"})"), "quality.filter", "(nearest, bilinear, bilinear_mip, trilinear)");
   expect_error(with(R"({"precision": "half"})"), "quality.precision", "(simd, double)");
@@ -251,6 +253,11 @@ TEST_F(SceneFixture, OutOfRange) {
   expect_error(edited("\"color\": [0.5, 0.5, 0.5]", "\"color\": [0.5, 1.5, 0.5]"), "objects[0].material.color[1]",
                "must be in [0, 1], got 1.5");
   expect_error(edited("\"shells\": 12", "\"shells\": 1"), "objects[1].fur.shells", "must be an integer in [2, 128]");
+  // Counts far out of range still get their own field's range and reason, not a parser bound.
+  expect_error(edited("\"shells\": 12", "\"shells\": 2000000"), "objects[1].fur.shells",
+               "must be an integer in [2, 128] (layer 0 sits on the base surface");
+  expect_error(edited("\"shells\": 12", "\"shells\": 12, \"texture_size\": 1048576"), "objects[1].fur.texture_size",
+               "must be a power of two in [16, 4096], got 1048576");
   expect_error(edited("\"Eta\": 1.3", "\"Eta\": 9"), "objects[3].material.skin.Eta", "must be in [0.25, 4]");
 }
 

@@ -38,14 +38,19 @@ const char* non_finite(const float* v, int n) {
   return nullptr;
 }
 
+// Names a face for error messages: its 1-based number among the file's faces, as a user
+// counting `f` lines would.
+std::string face_name(size_t face) { return "f " + std::to_string(face + 1); }
+
 // What one pass over the file finds before tinyobjloader sees it.
 struct ObjPrescan {
   // Triangles the faces make, each `f` line of k corners fan-triangulated into k - 2 (as
   // tinyobjloader's triangulation does); saturating.
   uint64_t triangles = 0;
-  // The first malformed or non-finite number (see below), thrown only after the budget
-  // check so that an oversized file is refused for its size whatever follows.
-  std::optional<InputError> bad_number;
+  // The first malformed or non-finite number, or face of fewer than three corners (see
+  // below), thrown only after the budget check so that an oversized file is refused for its
+  // size whatever follows.
+  std::optional<InputError> bad_record;
 };
 
 // tinyobjloader reads a malformed number ("nan", "1.2.3", "abc") as 0 without a word,
@@ -53,26 +58,33 @@ struct ObjPrescan {
 // (`v 3` is the third `v` record). Each value must be a complete number; NaN and
 // infinities (including overflow such as 1e999) are reported by name. The same pass
 // counts the triangles, one line in memory at a time, so the face budget is checked
-// before anything proportional to the file is allocated.
+// before anything proportional to the file is allocated. A face of one or two corners is
+// reported too: tinyobjloader drops it without a word, leaving a hole in the mesh.
 ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& file) {
   ObjPrescan out;
   std::ifstream in(path, std::ios::binary);
   std::string line, tok;
   size_t counts[3] = {0, 0, 0};  // v, vt, vn
   static const char* kWhat[3] = {"position", "texture coordinate", "normal"};
-  size_t line_number = 0;
+  size_t line_number = 0, faces = 0;
   while (std::getline(in, line)) {
     ++line_number;
     size_t i = line.find_first_not_of(" \t");
     if (i == std::string::npos) continue;
-    if (line[i] == 'f' && i + 1 < line.size() && (line[i + 1] == ' ' || line[i + 1] == '\t')) {
+    if (line[i] == 'f' && (i + 1 == line.size() || line[i + 1] == ' ' || line[i + 1] == '\t' || line[i + 1] == '\r')) {
       uint64_t corners = 0;
       std::istringstream tokens(line.substr(i + 1));
       while (tokens >> tok && tok[0] != '#') ++corners;
-      if (corners >= 3) out.triangles = sat_add(out.triangles, corners - 2);
+      ++faces;
+      if (corners >= 3)
+        out.triangles = sat_add(out.triangles, corners - 2);
+      else if (!out.bad_record)
+        out.bad_record.emplace(file, face_name(faces - 1),
+                               "a face needs at least 3 vertices, this one has " + std::to_string(corners) +
+                                   " (line " + std::to_string(line_number) + ")");
       continue;
     }
-    if (out.bad_number || line[i] != 'v') continue;
+    if (out.bad_record || line[i] != 'v') continue;
     int kind;
     if (i + 1 < line.size() && (line[i + 1] == ' ' || line[i + 1] == '\t')) kind = 0, i += 1;
     else if (line.compare(i, 3, "vt ") == 0 || line.compare(i, 3, "vt\t") == 0) kind = 1, i += 2;
@@ -86,25 +98,21 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
       char* end = nullptr;
       const double v = std::strtod(tok.c_str(), &end);
       if (end != tok.c_str() + tok.size()) {
-        out.bad_number.emplace(file, record, "`" + tok + "` is not a number (line " + std::to_string(line_number) + ")");
+        out.bad_record.emplace(file, record, "`" + tok + "` is not a number (line " + std::to_string(line_number) + ")");
         break;
       }
       if (std::isnan(v)) {
-        out.bad_number.emplace(file, record, std::string(kWhat[kind]) + " is NaN");
+        out.bad_record.emplace(file, record, std::string(kWhat[kind]) + " is NaN");
         break;
       }
       if (std::isinf(v) || std::abs(v) > 3.4028234663852886e38) {
-        out.bad_number.emplace(file, record, std::string(kWhat[kind]) + " is infinite");
+        out.bad_record.emplace(file, record, std::string(kWhat[kind]) + " is infinite");
         break;
       }
     }
   }
   return out;
 }
-
-// Names a face for error messages: its 1-based number among the file's faces, as a user
-// counting `f` lines would.
-std::string face_name(size_t face) { return "f " + std::to_string(face + 1); }
 
 }  // namespace
 
@@ -116,7 +124,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   }
   const ObjPrescan pre = prescan_obj(path, file);
   check_face_budget(pre.triangles, budget, file, "");
-  if (pre.bad_number) throw *pre.bad_number;
+  if (pre.bad_record) throw *pre.bad_record;
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;

@@ -175,6 +175,18 @@ TEST(MeshLoader, ObjIndexOutOfRange) {
   expect_load_error(f, "f 2", "vertex index 9 out of range (3 vertices)");
 }
 
+// tinyobjloader drops a face of one or two corners without a word; the mesh would have a
+// hole where the file meant something.
+TEST(MeshLoader, ObjFaceOfFewerThanThreeCorners) {
+  TempDir dir;
+  const auto two = dir.write("two.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2\n");
+  expect_load_error(two, "f 2", "a face needs at least 3 vertices, this one has 2 (line 5)");
+  const auto none = dir.write("none.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf\nf 1 2 3\n");
+  expect_load_error(none, "f 1", "a face needs at least 3 vertices, this one has 0 (line 4)");
+  const auto comment = dir.write("comment.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 3 # 1 2\n");
+  expect_load_error(comment, "f 2", "this one has 1 (line 5)");
+}
+
 TEST(MeshLoader, ObjNoFaces) {
   TempDir dir;
   const auto f = dir.write("empty.obj", "v 0 0 0\nv 1 0 0\n");

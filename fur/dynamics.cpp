@@ -31,10 +31,13 @@ glm::dvec3 unit_or_zero(const glm::dvec3& v) {
 }  // namespace
 
 void apply_gravity(std::span<const glm::vec3> rest, uint32_t base_vertex_count, uint32_t layers,
-                   const GravityParams& gravity, GravityLaw law, std::span<glm::vec3> out,
-                   uint32_t begin, uint32_t end) {
+                   uint32_t authored_layers, const GravityParams& gravity, GravityLaw law,
+                   std::span<glm::vec3> out, uint32_t begin, uint32_t end) {
   const size_t N = base_vertex_count;
   const uint32_t S = std::min(layers, kMaxChain);
+  const uint32_t A = std::min(authored_layers, kMaxChain);
+  // Sum of RN over a chain of n nodes: n (n - 1) / 2; the ratio keeps the authored total.
+  const double rn_scale = A >= 2 && A != S && S >= 2 ? double(A) * double(A - 1) / (double(S) * double(S - 1)) : 1.0;
   const glm::dvec3 G = unit_or_zero(glm::dvec3(gravity.direction));
   const double strength = std::isfinite(gravity.strength) ? std::max(0.0, double(gravity.strength)) : 0.0;
   const double stability = double(gravity.stability);
@@ -54,7 +57,7 @@ void apply_gravity(std::span<const glm::vec3> rest, uint32_t base_vertex_count, 
         const double cos_a = glm::dot(V, G);
         const double to_g = std::atan2(sin_a, cos_a);  // angle from V to G, (0, pi)
         const double factor = law == GravityLaw::lever ? sin_a : cos_a;
-        const double rn = double(S - 1 - k);
+        const double rn = double(S - 1 - k) * rn_scale;
         double theta;
         if (stability > 0.0) {
           theta = strength * factor * rn / stability;

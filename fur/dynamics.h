@@ -38,9 +38,16 @@ enum class GravityLaw { lever, seed_dot };
 // parallel or antiparallel to G, or when stability is huge. `rest` and `out` have
 // S*N entries; out may equal rest (in place). Chains longer than 128 nodes (beyond
 // FurParams' range) bend their first 128 nodes only.
+// `authored_layers` (FurParams::authored_shells; 0 or S: the formula as printed) is the
+// node count the gravity parameters were chosen for. Eq. 2's theta grows with RN, so a
+// chain of S nodes turns its tip by sum theta ~ S^2 / 2 in all: the same fur re-sliced into
+// 64 layers instead of 16 would hang 16 times as far. With A = authored_layers != S every
+// theta is scaled by A (A - 1) / (S (S - 1)), the ratio of the two counts' sums of RN, so the
+// chain's total bend is the authored chain's (before the clamp below) whatever S is, and
+// more layers resolve the same curve more finely. With A = S the scale is exactly 1.
 void apply_gravity(std::span<const glm::vec3> rest, uint32_t base_vertex_count, uint32_t layers,
-                   const GravityParams& gravity, GravityLaw law, std::span<glm::vec3> out,
-                   uint32_t begin, uint32_t end);
+                   uint32_t authored_layers, const GravityParams& gravity, GravityLaw law,
+                   std::span<glm::vec3> out, uint32_t begin, uint32_t end);
 
 // Wind force field: one force per base vertex, a travelling gust wave,
 //   F_i(t) = d * strength * (1 + gust_scale * sin(2 pi (gust_frequency * t - (q_i.d) / L)))

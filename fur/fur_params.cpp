@@ -51,8 +51,8 @@ std::optional<ParamError> validate(const FurParams& p) {
                                 "surface, so fur needs at least 2), got " +
                                     std::to_string(p.shells)};
   }
-  if (p.opacity_shells != 0 && (p.opacity_shells < 2 || p.opacity_shells > 128))
-    return ParamError{"opacity_shells", "must be 0 or an integer in [2, 128], got " + std::to_string(p.opacity_shells)};
+  if (p.authored_shells != 0 && (p.authored_shells < 2 || p.authored_shells > 128))
+    return ParamError{"authored_shells", "must be 0 or an integer in [2, 128], got " + std::to_string(p.authored_shells)};
   if (auto e = check_range("length", p.length, 0.0, 2.0, true)) return e;
   if (auto e = check_range("density", p.density, 0.0, 100.0, true)) return e;
   if (p.texture_size < 16 || p.texture_size > 4096 ||

@@ -60,13 +60,18 @@ struct CombParams {
 struct FurParams {
   // "shells": number of layers S including layer 0 on the base surface; in [2, 128].
   int shells = 16;
-  // Not a JSON key: the shell count the strand opacities are authored for, set when a
-  // quality setting re-slices the same fur into `shells` layers (0: `shells` itself). Each
-  // layer's strand alpha a becomes 1 - (1 - a)^((opacity_shells - 1) / (shells - 1)), so the
-  // optical depth per unit of fur height, and with it the look, stays the same as the layer
-  // count changes (Beer-Lambert over the layer spacing): more shells converge to the volume
-  // the authored count samples, instead of stacking ever more opaque layers. 0 or [2, 128].
-  int opacity_shells = 0;
+  // Not a JSON key: the shell count the fur is authored for, set when a quality setting
+  // re-slices the same fur into `shells` layers (0: `shells` itself). Two things are defined
+  // per layer and are rescaled so that the fur, not its slicing, stays the same:
+  // - opacity: each layer's strand alpha a becomes 1 - (1 - a)^((authored_shells - 1) /
+  //   (shells - 1)), so the optical depth per unit of fur height stays the same as the layer
+  //   count changes (Beer-Lambert over the layer spacing): more shells converge to the volume
+  //   the authored count samples, instead of stacking ever more opaque layers;
+  // - gravity: eq. 2 bends a chain by theta per node with RN nodes remaining, so its total
+  //   bend grows with the square of the node count; apply_gravity scales theta to keep the
+  //   authored chain's total bend (fur/dynamics.h).
+  // 0 or [2, 128].
+  int authored_shells = 0;
   // "length": distance of the outermost layer from the base surface, as a FRACTION OF
   // THE BASE MESH'S BOUNDING RADIUS R (largest distance of a vertex from the
   // bounding-box centre), so a scene keeps its look when a mesh is rescaled. In

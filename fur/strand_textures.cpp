@@ -106,9 +106,9 @@ std::optional<ParamError> generate_strand_textures(const FurParams& params, Stra
   lum.la.assign(area * size_t(S) * 2, 0);
   lum.tint.resize(size_t(S));
   const uint8_t no_strand = to8(1.0f / kMaxStrandBrightness);
-  // Opacity per layer for a re-sliced fur (FurParams::opacity_shells); exponent 1 keeps the
+  // Opacity per layer for a re-sliced fur (FurParams::authored_shells); exponent 1 keeps the
   // authored alpha bit for bit.
-  const int authored = params.opacity_shells > 0 ? params.opacity_shells : S;
+  const int authored = params.authored_shells > 0 ? params.authored_shells : S;
   const double exponent = double(authored - 1) / double(S - 1);
   for (int s = 0; s < S; ++s) {
     const float h = float(s) / float(S - 1);

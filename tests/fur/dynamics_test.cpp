@@ -28,7 +28,7 @@ std::vector<glm::vec3> chain(glm::vec3 dir, glm::vec3 root = glm::vec3(0.3f, -0.
 std::vector<glm::vec3> gravity(const std::vector<glm::vec3>& rest, GravityParams g,
                                GravityLaw law = GravityLaw::lever) {
   std::vector<glm::vec3> out(rest.size());
-  apply_gravity(rest, 1, kS, g, law, out, 0, 1);
+  apply_gravity(rest, 1, kS, 0, g, law, out, 0, 1);
   return out;
 }
 
@@ -170,6 +170,41 @@ TEST(Gravity, NoNaNForDegenerateInputs) {
     EXPECT_GT(glm::dot(glm::normalize(out[k + 1] - out[k]), glm::vec3(0, -1, 0)), 0.9999f);
 }
 
+// The tip of a horizontal chain of `layers` nodes spanning `length`, bent by gravity with the
+// parameters authored for `authored` nodes (0: the formula as printed).
+glm::vec3 bent_tip(uint32_t layers, uint32_t authored, float length, const GravityParams& g) {
+  std::vector<glm::vec3> rest(layers), out(layers);
+  for (uint32_t k = 0; k < layers; ++k) rest[k] = glm::vec3(length * float(k) / float(layers - 1), 0.0f, 0.0f);
+  apply_gravity(rest, 1, layers, authored, g, GravityLaw::lever, out, 0, 1);
+  return out.back();
+}
+
+// The same fur re-sliced (a quality setting's shell count) keeps its shape: eq. 2 as printed
+// bends a chain of 64 nodes 16 times as far in all as one of 16, so the fur would hang
+// straight down at 64 shells where it curls at 16; with the authored count the tips of 24,
+// 32, 64 and 128 nodes lie within 2 % of the fur's length of the 16-node tip, and the finer
+// chains agree ever more closely (they resolve one curve).
+TEST(Gravity, ReslicedChainKeepsTheAuthoredBend) {
+  GravityParams g;
+  g.direction = {0.0f, -1.0f, 0.0f};
+  g.strength = 1.0f;
+  g.stability = 400.0f;  // a 16-node chain curls: its tip drops by 10-50 % of its length (asserted)
+  const float length = 1.0f;
+  const glm::vec3 authored = bent_tip(16, 0, length, g);
+  const float drop = -authored.y;
+  ASSERT_GT(drop, 0.1f * length);  // a real bend, and not hanging straight down
+  ASSERT_LT(drop, 0.5f * length);
+  EXPECT_EQ(bent_tip(16, 16, length, g), authored);  // the authored count itself: the same bits
+  for (uint32_t layers : {24u, 32u, 64u, 128u}) {
+    EXPECT_LT(glm::length(bent_tip(layers, 16, length, g) - authored), 0.02f * length) << layers << " layers";
+    // As printed, the finer chain bends far more: the reason for the scale.
+    EXPECT_GT(glm::length(bent_tip(layers, 0, length, g) - authored), 0.1f * length) << layers << " layers";
+  }
+  const float coarse_step = glm::length(bent_tip(32, 16, length, g) - bent_tip(24, 16, length, g));
+  const float fine_step = glm::length(bent_tip(128, 16, length, g) - bent_tip(64, 16, length, g));
+  EXPECT_LT(fine_step, coarse_step);
+}
+
 TEST(Gravity, RangesAndInPlaceGiveTheSameResult) {
   FurParams p;
   p.length = 0.3f;
@@ -179,12 +214,12 @@ TEST(Gravity, RangesAndInPlaceGiveTheSameResult) {
   GravityParams g;
   g.stability = 50.0f;
   std::vector<glm::vec3> whole(geo.positions.size()), split(geo.positions.size());
-  apply_gravity(geo.positions, N, S, g, GravityLaw::lever, whole, 0, N);
-  apply_gravity(geo.positions, N, S, g, GravityLaw::lever, split, 0, N / 3);
-  apply_gravity(geo.positions, N, S, g, GravityLaw::lever, split, N / 3, N);
+  apply_gravity(geo.positions, N, S, 0, g, GravityLaw::lever, whole, 0, N);
+  apply_gravity(geo.positions, N, S, 0, g, GravityLaw::lever, split, 0, N / 3);
+  apply_gravity(geo.positions, N, S, 0, g, GravityLaw::lever, split, N / 3, N);
   EXPECT_EQ(whole, split);
   std::vector<glm::vec3> in_place = geo.positions;
-  apply_gravity(in_place, N, S, g, GravityLaw::lever, in_place, 0, N);
+  apply_gravity(in_place, N, S, 0, g, GravityLaw::lever, in_place, 0, N);
   EXPECT_EQ(whole, in_place);
   expect_segments_kept(geo.positions, whole, N);
   for (uint32_t i = 0; i < N; ++i) EXPECT_EQ(whole[i], geo.positions[i]);  // roots fixed

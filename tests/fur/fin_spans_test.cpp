@@ -92,7 +92,7 @@ TEST(FinSpans, EverySpanOfABentChainStaysWithinTheTolerance) {
   g.strength = 1.0f;
   g.stability = 8.0f;
   std::vector<glm::vec3> pose(rest.size());
-  apply_gravity(rest, kN, kS, g, GravityLaw::lever, pose, 0, kN);
+  apply_gravity(rest, kN, kS, 0, g, GravityLaw::lever, pose, 0, kN);
 
   const float tol = 0.25f * 0.02f;
   const std::vector<uint64_t> all = breaks(pose, kN, kS, tol, 8);

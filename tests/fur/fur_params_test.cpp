@@ -72,7 +72,7 @@ TEST(FurParams, EachBadFieldIsNamedByItsKeyPath) {
             "comb.direction");
   EXPECT_EQ(bad_field(with([](FurParams& p) { p.comb->uv_direction = {0, 0}; })), "comb.uv_direction");
   EXPECT_EQ(bad_field(with([](FurParams& p) { p.comb->uv_direction = {NAN, 1}; })), "comb.uv_direction");
-  EXPECT_EQ(bad_field(with([](FurParams& p) { p.opacity_shells = 1; })), "opacity_shells");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.authored_shells = 1; })), "authored_shells");
   EXPECT_EQ(bad_field(with([](FurParams& p) { p.comb->weight = -0.25f; })), "comb.weight");
 }
 

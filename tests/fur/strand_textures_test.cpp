@@ -270,11 +270,11 @@ TEST(StrandTextures, ResliceKeepsEachStrandsOpticalDepth) {
   FurParams fine = p;
   fine.shells = 64;
   const double stacked = depth_per_strand(fine);
-  fine.opacity_shells = p.shells;
+  fine.authored_shells = p.shells;
   const double resliced = depth_per_strand(fine);
   FurParams coarse = p;
   coarse.shells = 8;
-  coarse.opacity_shells = p.shells;
+  coarse.authored_shells = p.shells;
   const double coarser = depth_per_strand(coarse);
   std::printf("optical depth per strand: 16 layers %.4f, 64 resliced %.4f, 8 resliced %.4f, "
               "64 stacked %.4f\n", authored, resliced, coarser, stacked);
@@ -288,7 +288,7 @@ TEST(StrandTextures, ResliceKeepsEachStrandsOpticalDepth) {
   EXPECT_GT(stacked / authored, 3.0);
   // The authored count itself is untouched, byte for byte.
   FurParams same = p;
-  same.opacity_shells = p.shells;
+  same.authored_shells = p.shells;
   EXPECT_EQ(grow(same).shells.rgba, grow(p).shells.rgba);
 }
 

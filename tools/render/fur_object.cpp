@@ -321,7 +321,10 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
     if (!gravity_in_ || !same(*gravity_in_, f.gravity)) {
       if (f.gravity) {
         StageTimer st(stats, "gravity");
-        fur::apply_gravity(geo_.positions, n, s, *f.gravity, fur::GravityLaw::lever, gravity_pose_, 0, n);
+        // The authored count keeps the bend of the scene's fur when a quality setting
+        // re-slices it (fur/dynamics.h).
+        fur::apply_gravity(geo_.positions, n, s, uint32_t(params_.authored_shells), *f.gravity,
+                           fur::GravityLaw::lever, gravity_pose_, 0, n);
       } else {
         gravity_pose_ = geo_.positions;
       }

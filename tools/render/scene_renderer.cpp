@@ -105,7 +105,7 @@ io::Scene apply_quality(const io::Scene& scene, const io::Quality& q) {
     if (o.fur) {
       if (q.shells && *q.shells != o.fur->shells) {
         // The same fur sliced into more or fewer layers: opacities rescaled to match.
-        if (o.fur->opacity_shells == 0) o.fur->opacity_shells = o.fur->shells;
+        if (o.fur->authored_shells == 0) o.fur->authored_shells = o.fur->shells;
         o.fur->shells = *q.shells;
       }
       if (q.fins) o.fur->fins = *q.fins;

@@ -139,6 +139,28 @@ std::string layer_object(double z, const double rgb[3], double opacity) {
   return buf;
 }
 
+// The shells knob re-slices the scene's fur, it does not make another fur: gravity's bend
+// (eq. 2, whose total grows with the square of the node count as printed) and the strand
+// opacity are scaled to the authored 16 layers (FurParams::authored_shells), so 48 shells
+// draw the same drooping fur more finely. Without the gravity scale the 48-shell fur hung
+// straight down the box's sides and stood ten times as far from the 16-shell image (RMSE
+// 0.046 against 0.0048 here).
+TEST(Quality, TheShellsKnobKeepsTheGravityPose) {
+  std::string text = knob_scene();
+  const std::string fur = R"("fins": "silhouette"})";
+  const size_t at = text.find(fur);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, fur.size(), R"("fins": "silhouette", "gravity": {"strength": 1.0}})");
+  const io::Scene scene = io::parse_scene(text, "knobs_gravity.json");
+  const std::vector<float> authored = render_at(scene, io::Quality{}).color;
+  io::Quality q;
+  ASSERT_FALSE(io::set_knob(q, "shells", "48"));
+  const double resliced = image_rmse(render_at(scene, q).color, authored);
+  std::printf("RMSE between 48 and the scene's 16 shells, with gravity: %.5f\n", resliced);
+  EXPECT_GT(resliced, 0.0);  // a finer slicing is a different image
+  EXPECT_LT(resliced, 0.012);
+}
+
 TEST(Quality, ReferenceCompositesTranslucentLayersToTheClosedFormInAnyOrder) {
   const double rgb[4][3] = {{0.9, 0.2, 0.1}, {0.1, 0.8, 0.3}, {0.2, 0.3, 0.9}, {0.7, 0.7, 0.2}};
   const double opacity[4] = {0.35, 0.6, 0.25, 0.8};

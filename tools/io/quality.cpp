@@ -143,7 +143,7 @@ std::optional<Quality> quality_preset(std::string_view name) {
   if (name == "default") return q;
   // Chosen from `pelt tradeoff` on the fur box and the skin head (README, "What accuracy
   // costs"): each lies on or next to the measured Pareto front of both.
-  if (name == "fast") {  // half the layers, one mip level; the scene's fins and sort
+  if (name == "fast") {  // 8 layers, one mip level; the scene's fins and sort
     q.shells = 8;
     // The nearest level costs what level 0 costs and does not alias minified fur (README).
     q.filter = raster::Filter::BilinearMip;

@@ -25,10 +25,11 @@ std::vector<glm::vec3> chain(glm::vec3 dir, glm::vec3 root = glm::vec3(0.3f, -0.
   return p;
 }
 
+// `authored`: the node count the parameters were chosen for (0: kS, the formula as printed).
 std::vector<glm::vec3> gravity(const std::vector<glm::vec3>& rest, GravityParams g,
-                               GravityLaw law = GravityLaw::lever) {
+                               GravityLaw law = GravityLaw::lever, uint32_t authored = 0) {
   std::vector<glm::vec3> out(rest.size());
-  apply_gravity(rest, 1, kS, 0, g, law, out, 0, 1);
+  apply_gravity(rest, 1, kS, authored, g, law, out, 0, 1);
   return out;
 }
 
@@ -132,35 +133,38 @@ TEST(Gravity, SeedDotLawFollowsTheFormulaAsPrinted) {
 }
 
 TEST(Gravity, NoNaNForDegenerateInputs) {
-  for (GravityLaw law : {GravityLaw::lever, GravityLaw::seed_dot}) {
-    for (glm::vec3 dir : {glm::vec3(0, -1, 0), glm::vec3(0, 1, 0), glm::vec3(1, 0, 0),
-                          glm::normalize(glm::vec3(1, -1e-8f, 0))}) {
-      const auto rest = chain(dir);
+  // Also with a re-slicing scale far from 1 either way (authored 2 or 128 nodes for 16).
+  for (uint32_t authored : {0u, 2u, 128u}) {
+    for (GravityLaw law : {GravityLaw::lever, GravityLaw::seed_dot}) {
+      for (glm::vec3 dir : {glm::vec3(0, -1, 0), glm::vec3(0, 1, 0), glm::vec3(1, 0, 0),
+                            glm::normalize(glm::vec3(1, -1e-8f, 0))}) {
+        const auto rest = chain(dir);
+        GravityParams g;
+        g.stability = 0.0f;  // no restoring force: hangs straight down
+        auto out = gravity(rest, g, law, authored);
+        ASSERT_TRUE(all_finite(out));
+        expect_segments_kept(rest, out);
+        g.direction = glm::vec3(0.0f);  // G = 0: no force
+        g.stability = 10.0f;
+        out = gravity(rest, g, law, authored);
+        EXPECT_EQ(out, rest);
+        g.direction = {0, -1, 0};
+        g.strength = 1e30f;
+        out = gravity(rest, g, law, authored);
+        ASSERT_TRUE(all_finite(out));
+        expect_segments_kept(rest, out);
+        g.stability = kNaN;
+        ASSERT_TRUE(all_finite(gravity(rest, g, law, authored)));
+        g.stability = 1.0f;
+        g.strength = kNaN;
+        EXPECT_EQ(gravity(rest, g, law, authored), rest);
+      }
+      // Zero-length chain (fur length 0).
+      const std::vector<glm::vec3> point(kS, glm::vec3(1, 2, 3));
       GravityParams g;
-      g.stability = 0.0f;  // no restoring force: hangs straight down
-      auto out = gravity(rest, g, law);
-      ASSERT_TRUE(all_finite(out));
-      expect_segments_kept(rest, out);
-      g.direction = glm::vec3(0.0f);  // G = 0: no force
-      g.stability = 10.0f;
-      out = gravity(rest, g, law);
-      EXPECT_EQ(out, rest);
-      g.direction = {0, -1, 0};
-      g.strength = 1e30f;
-      out = gravity(rest, g, law);
-      ASSERT_TRUE(all_finite(out));
-      expect_segments_kept(rest, out);
-      g.stability = kNaN;
-      ASSERT_TRUE(all_finite(gravity(rest, g, law)));
-      g.stability = 1.0f;
-      g.strength = kNaN;
-      EXPECT_EQ(gravity(rest, g, law), rest);
+      g.stability = 0.0f;
+      EXPECT_EQ(gravity(point, g, law, authored), point);
     }
-    // Zero-length chain (fur length 0).
-    const std::vector<glm::vec3> point(kS, glm::vec3(1, 2, 3));
-    GravityParams g;
-    g.stability = 0.0f;
-    EXPECT_EQ(gravity(point, g, law), point);
   }
   // With stability 0 a sideways strand hangs along G.
   GravityParams g;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates the "What accuracy costs" section of README.md: rebuilds pelt (Release), runs
-# `pelt tradeoff` on the fur benchmark box and the skin head into docs/tradeoff/<scene>/,
+# `pelt tradeoff` on the fur benchmark box and teapot2 and the skin head into docs/tradeoff/<scene>/,
 # and splices each tradeoff.md between its marker lines in README.md.
 #   tools/tradeoff/regenerate.sh [extra pelt tradeoff options, e.g. --width 512 --height 384]
 # PELT_BUILD_DIR picks the build folder (default: build). Takes minutes: the reference
@@ -21,14 +21,14 @@ else
 fi
 cmake --build "$build" -j"$(nproc)" --target pelt
 
-for scene in box_fur head_skin; do
+for scene in box_fur teapot2_fur head_skin; do
   grep -qx "<!-- tradeoff:$scene -->" README.md && grep -qx "<!-- /tradeoff:$scene -->" README.md || {
     echo "regenerate.sh: README.md lacks the marker lines <!-- tradeoff:$scene --> / <!-- /tradeoff:$scene -->" >&2
     exit 2
   }
 done
 
-for scene in box_fur head_skin; do
+for scene in box_fur teapot2_fur head_skin; do
   echo "regenerate.sh: pelt tradeoff tools/scenes/$scene.json" >&2
   "$build/pelt" tradeoff "tools/scenes/$scene.json" -o "docs/tradeoff/$scene" "$@" > /dev/null
 done
@@ -59,4 +59,4 @@ awk '
 chmod --reference=README.md "$tmp"
 mv "$tmp" README.md
 trap - EXIT
-echo "regenerate.sh: README.md updated from docs/tradeoff/box_fur and docs/tradeoff/head_skin" >&2
+echo "regenerate.sh: README.md updated from docs/tradeoff/box_fur, teapot2_fur and head_skin" >&2

@@ -18,18 +18,20 @@ constexpr uint32_t kS = 16;
 constexpr float kSeg = 0.1f;
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-// One chain (N = 1) from `root` along unit `dir`, kS nodes kSeg apart.
-std::vector<glm::vec3> chain(glm::vec3 dir, glm::vec3 root = glm::vec3(0.3f, -0.2f, 0.5f)) {
-  std::vector<glm::vec3> p(kS);
-  for (uint32_t k = 0; k < kS; ++k) p[k] = root + dir * (kSeg * float(k));
+// One chain (N = 1) from `root` along unit `dir`, `nodes` nodes `seg` apart.
+std::vector<glm::vec3> chain(glm::vec3 dir, glm::vec3 root = glm::vec3(0.3f, -0.2f, 0.5f), uint32_t nodes = kS,
+                             float seg = kSeg) {
+  std::vector<glm::vec3> p(nodes);
+  for (uint32_t k = 0; k < nodes; ++k) p[k] = root + dir * (seg * float(k));
   return p;
 }
 
-// `authored`: the node count the parameters were chosen for (0: kS, the formula as printed).
+// One chain bent by gravity; its node count is rest's. `authored`: the node count the
+// parameters were chosen for (0: the chain's own, the formula as printed).
 std::vector<glm::vec3> gravity(const std::vector<glm::vec3>& rest, GravityParams g,
                                GravityLaw law = GravityLaw::lever, uint32_t authored = 0) {
   std::vector<glm::vec3> out(rest.size());
-  apply_gravity(rest, 1, kS, authored, g, law, out, 0, 1);
+  apply_gravity(rest, 1, uint32_t(rest.size()), authored, g, law, out, 0, 1);
   return out;
 }
 
@@ -177,10 +179,8 @@ TEST(Gravity, NoNaNForDegenerateInputs) {
 // The tip of a horizontal chain of `layers` nodes spanning `length`, bent by gravity with the
 // parameters authored for `authored` nodes (0: the formula as printed).
 glm::vec3 bent_tip(uint32_t layers, uint32_t authored, float length, const GravityParams& g) {
-  std::vector<glm::vec3> rest(layers), out(layers);
-  for (uint32_t k = 0; k < layers; ++k) rest[k] = glm::vec3(length * float(k) / float(layers - 1), 0.0f, 0.0f);
-  apply_gravity(rest, 1, layers, authored, g, GravityLaw::lever, out, 0, 1);
-  return out.back();
+  const auto rest = chain({1.0f, 0.0f, 0.0f}, glm::vec3(0.0f), layers, length / float(layers - 1));
+  return gravity(rest, g, GravityLaw::lever, authored).back();
 }
 
 // The same fur re-sliced (a quality setting's shell count) keeps its shape: eq. 2 as printed
@@ -359,7 +359,9 @@ TEST(Animation, LerpKeepsWhatBothPosesShare) {
     for (size_t k = 0; k < a.size(); ++k) {
       ASSERT_EQ(out[k].x, a[k].x) << k << " t " << t;
       ASSERT_EQ(out[k].z, a[k].z) << k << " t " << t;
-      if (k % 2) ASSERT_EQ(out[k].y, a[k].y) << k << " t " << t;
+      if (k % 2) {
+        ASSERT_EQ(out[k].y, a[k].y) << k << " t " << t;
+      }
       off_by_the_old_formula += a[k].x * (1.0f - t) + a[k].x * t != a[k].x;
     }
   }

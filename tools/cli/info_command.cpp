@@ -33,6 +33,7 @@ int run_info(const InfoOptions& o) {
   rs.quality = resolve_quality(file_scene, o.quality);
   rs.budget = o.budget;
   render::SceneRenderer r(file_scene, rs);
+  for (const std::string& w : r.warnings()) std::fprintf(stderr, "pelt: warning: %s\n", w.c_str());
   // Shells, fins and skin models as the quality draws them.
   const io::Scene scene = render::apply_quality(file_scene, r.quality());
   std::printf("scene      %s\n", path.c_str());

@@ -174,6 +174,7 @@ int run_render(const RenderOptions& o) {
   rs.budget = o.budget;
   rs.aov = aov;
   render::SceneRenderer renderer(scene, rs);
+  for (const std::string& w : renderer.warnings()) std::fprintf(stderr, "pelt: warning: %s\n", w.c_str());
   // The destinations are proven writable before the first frame, so a bad path fails now
   // instead of after a whole sequence has rendered.
   if (!o.stats.empty()) io::prepare_output(o.stats, "--stats");

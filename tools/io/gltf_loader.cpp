@@ -51,7 +51,7 @@ class GltfReader {
       if (any_uvs_) out_.warnings.push_back("some primitives have no TEXCOORD_0: uvs dropped");
       out_.mesh.uvs.clear();
     }
-    finish_normals(out_, all_normals_);
+    finish_normals(out_, all_normals_, any_normals_);
     return std::move(out_);
   }
 
@@ -264,6 +264,7 @@ class GltfReader {
         const View nv = view_of(it->second, nw);
         if (nv.components != 3 || nv.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || nv.count != pos.count)
           throw InputError(file_, nw, "must be VEC3 of FLOAT with one normal per position");
+        any_normals_ = true;
         for (size_t i = 0; i < nv.count; ++i) {
           const glm::dvec3 n(component(nv, i, 0), component(nv, i, 1), component(nv, i, 2));
           if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z))
@@ -384,7 +385,7 @@ class GltfReader {
   std::string file_;
   std::filesystem::path dir_;
   LoadedMesh out_;
-  bool all_normals_ = true, all_uvs_ = true, any_uvs_ = false;
+  bool all_normals_ = true, any_normals_ = false, all_uvs_ = true, any_uvs_ = false;
 };
 
 std::string trim(std::string s) {

@@ -25,7 +25,7 @@ const char* non_finite_name(float a, float b, float c = 0.0f) {
 
 namespace detail {
 
-void finish_normals(LoadedMesh& out, bool has_normals) {
+void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals) {
   Mesh& m = out.mesh;
   if (has_normals && m.normals.size() == m.positions.size()) {
     for (auto& n : m.normals) {
@@ -38,8 +38,10 @@ void finish_normals(LoadedMesh& out, bool has_normals) {
     }
     if (has_normals) return;
     out.warnings.push_back("some normals have zero length: all normals computed from the triangles");
+  } else if (any_normals) {
+    out.warnings.push_back("not every vertex has a normal: all normals computed from the triangles");
   } else {
-    out.warnings.push_back("not every vertex has a normal: normals computed from the triangles");
+    out.warnings.push_back("the file has no normals: computed from the triangles");
   }
   compute_vertex_normals(m);
 }

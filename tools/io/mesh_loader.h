@@ -34,7 +34,9 @@ struct LoadedMesh {
 // vertex has one, otherwise computed with pelt::compute_vertex_normals (and a warning);
 // UVs are kept when every vertex has one.
 //
-// OBJ: triangulated; one vertex per distinct (v, vt, vn) triple, in first-use order.
+// OBJ: each `f` record split into triangles by triangulate_polygon (faces of 3 to 255
+// corners); one vertex per distinct (v, vt, vn) triple, in first-use order. Errors name a
+// face as the file numbers its `f` records (`f 3`), with its line where the prescan finds it.
 // glTF: every mesh instance of the default scene (scene 0 when none is set), with its
 // node's world transform baked into positions and normals (normals by the inverse
 // transpose; triangles flipped under mirroring transforms); triangle lists, strips and

@@ -17,7 +17,8 @@ void check_face_budget(uint64_t triangles, const Budget& budget, const std::stri
                        const std::string& field);
 
 // Fills in normals when the loader had none for some vertex (has_normals false), or when
-// a given normal has zero length; normalises the rest. Adds a warning when it computes.
-void finish_normals(LoadedMesh& out, bool has_normals);
+// a given normal has zero length; normalises the rest. Adds a warning when it computes,
+// saying whether the file gave some normals (any_normals) that were not used.
+void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals);
 
 }  // namespace pelt::io::detail

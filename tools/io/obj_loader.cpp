@@ -1,4 +1,6 @@
 // Wavefront OBJ through tinyobjloader.
+#include <charconv>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -11,6 +13,7 @@
 
 #include "tools/io/input_error.h"
 #include "tools/io/mesh_loader_detail.h"
+#include "tools/io/polygon_triangulation.h"
 
 namespace pelt::io::detail {
 namespace {
@@ -42,10 +45,49 @@ const char* non_finite(const float* v, int n) {
 // counting `f` lines would.
 std::string face_name(size_t face) { return "f " + std::to_string(face + 1); }
 
+// tinyobjloader keeps a face's corner count in a byte.
+constexpr uint64_t kMaxCorners = 255;
+
+constexpr const char* kIndexOf[3] = {"vertex", "texture coordinate", "normal"};
+constexpr const char* kCountOf[3] = {"vertices", "texture coordinates", "normals"};
+
+// Checks one corner of an `f` record (v, v/vt, v//vn or v/vt/vn) against the records read
+// so far (`counts`: v, vt, vn). tinyobjloader reads an index with atoi, so a word becomes
+// 0 and a number past int's range is undefined, and it resolves a negative (relative)
+// index when it reads it: an index that reaches before the first record would be taken
+// for "none" (texture coordinates, normals) or fail later under another number. Indices
+// past the end are checked after parsing, against the whole file (load_obj). Returns the
+// reason, or an empty string.
+std::string check_corner(const std::string& tok, const size_t counts[3]) {
+  const std::string malformed = "`" + tok + "` is not a corner (v, v/vt, v//vn or v/vt/vn)";
+  size_t start = 0;
+  for (int kind = 0; kind < 3; ++kind) {
+    const size_t slash = tok.find('/', start);
+    const size_t end = slash == std::string::npos ? tok.size() : slash;
+    if (!(kind == 1 && end == start && slash != std::string::npos)) {  // v//vn has no vt
+      const std::string part = tok.substr(start, end - start);
+      const char* b = part.data();
+      const char* e = b + part.size();
+      if (b != e && *b == '+') ++b;
+      long long value = 0;
+      const auto [ptr, ec] = std::from_chars(b, e, value);
+      if (b == e || ptr != e || (ec != std::errc() && ec != std::errc::result_out_of_range)) return malformed;
+      const std::string index = std::string(kIndexOf[kind]) + " index " + part;
+      if (ec == std::errc::result_out_of_range || value > INT_MAX || value < INT_MIN) return index + " out of range";
+      if (value == 0) return index + ": OBJ numbers its records from 1";
+      if (value < 0 && static_cast<unsigned long long>(-value) > counts[kind])
+        return index + " out of range (" + std::to_string(counts[kind]) + " " + kCountOf[kind] + " before this face)";
+    }
+    if (slash == std::string::npos) return {};
+    start = slash + 1;
+  }
+  return malformed;  // a fourth part
+}
+
 // What one pass over the file finds before tinyobjloader sees it.
 struct ObjPrescan {
-  // Triangles the faces make, each `f` line of k corners fan-triangulated into k - 2 (as
-  // tinyobjloader's triangulation does); saturating.
+  // Triangles the faces make, each `f` line of k corners split into k - 2 (as
+  // triangulate_polygon does); saturating.
   uint64_t triangles = 0;
   // The first malformed or non-finite number, or face of fewer than three corners (see
   // below), thrown only after the budget check so that an oversized file is refused for its
@@ -59,7 +101,9 @@ struct ObjPrescan {
 // infinities (including overflow such as 1e999) are reported by name. The same pass
 // counts the triangles, one line in memory at a time, so the face budget is checked
 // before anything proportional to the file is allocated. A face of one or two corners is
-// reported too: tinyobjloader drops it without a word, leaving a hole in the mesh.
+// reported too: tinyobjloader drops it without a word, leaving a hole in the mesh; so is a
+// face of more corners than tinyobjloader can count, and a corner it would misread
+// (check_corner).
 ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& file) {
   ObjPrescan out;
   std::ifstream in(path, std::ios::binary);
@@ -74,14 +118,23 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
     if (line[i] == 'f' && (i + 1 == line.size() || line[i + 1] == ' ' || line[i + 1] == '\t' || line[i + 1] == '\r')) {
       uint64_t corners = 0;
       std::istringstream tokens(line.substr(i + 1));
-      while (tokens >> tok && tok[0] != '#') ++corners;
+      const std::string where = " (line " + std::to_string(line_number) + ")";
+      while (tokens >> tok && tok[0] != '#') {
+        ++corners;
+        if (out.bad_record) continue;
+        if (std::string reason = check_corner(tok, counts); !reason.empty())
+          out.bad_record.emplace(file, face_name(faces), reason + where);
+      }
       ++faces;
-      if (corners >= 3)
-        out.triangles = sat_add(out.triangles, corners - 2);
-      else if (!out.bad_record)
+      if (corners >= 3) out.triangles = sat_add(out.triangles, corners - 2);
+      if (out.bad_record) continue;
+      if (corners < 3)
         out.bad_record.emplace(file, face_name(faces - 1),
-                               "a face needs at least 3 vertices, this one has " + std::to_string(corners) +
-                                   " (line " + std::to_string(line_number) + ")");
+                               "a face needs at least 3 vertices, this one has " + std::to_string(corners) + where);
+      else if (corners > kMaxCorners)
+        out.bad_record.emplace(file, face_name(faces - 1),
+                               "a face has at most " + std::to_string(kMaxCorners) + " vertices here, this one has " +
+                                   std::to_string(corners) + where);
       continue;
     }
     if (out.bad_record || line[i] != 'v') continue;
@@ -126,7 +179,9 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   check_face_budget(pre.triangles, budget, file, "");
   if (pre.bad_record) throw *pre.bad_record;
   tinyobj::ObjReaderConfig config;
-  config.triangulate = true;
+  // pelt splits polygons itself (triangulate_polygon): tinyobjloader's triangulation drops
+  // a quad with an index past the end and part of some valid polygons, without a word.
+  config.triangulate = false;
   config.vertex_color = false;
   config.mtl_search_path = path.parent_path().string();
   tinyobj::ObjReader reader;
@@ -162,16 +217,19 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   Mesh& m = out.mesh;
   size_t face_number = 0;
   int material = -1;
+  std::vector<glm::vec3> corner_positions;
+  std::vector<uint32_t> corner_vertices, triangles;
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     const auto& mesh = shape.mesh;
     size_t offset = 0;
     for (size_t f = 0; f < mesh.num_face_vertices.size(); ++f, ++face_number) {
       const unsigned corners = mesh.num_face_vertices[f];
-      if (corners != 3)
-        throw InputError(file, face_name(face_number),
-                         "face has " + std::to_string(corners) + " vertices after triangulation");
+      if (corners < 3)  // the prescan refuses such faces; tinyobjloader skips them
+        throw InputError(file, face_name(face_number), "face has " + std::to_string(corners) + " vertices");
       if (material < 0 && f < mesh.material_ids.size()) material = mesh.material_ids[f];
-      for (unsigned c = 0; c < 3; ++c) {
+      corner_positions.clear();
+      corner_vertices.clear();
+      for (unsigned c = 0; c < corners; ++c) {
         const tinyobj::index_t idx = mesh.indices[offset + c];
         if (idx.vertex_index < 0 || static_cast<size_t>(idx.vertex_index) >= nv)
           throw InputError(file, face_name(face_number),
@@ -204,8 +262,12 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
             m.normals.emplace_back(0.0f);
           }
         }
-        m.indices.push_back(it->second);
+        corner_vertices.push_back(it->second);
+        corner_positions.push_back(m.positions[it->second]);
       }
+      triangles.clear();
+      triangulate_polygon(corner_positions, triangles);
+      for (uint32_t corner : triangles) m.indices.push_back(corner_vertices[corner]);
       offset += corners;
     }
   }
@@ -214,7 +276,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     if (nt > 0) out.warnings.push_back("some vertices have no texture coordinate: uvs dropped");
     m.uvs.clear();
   }
-  finish_normals(out, all_normals);
+  finish_normals(out, all_normals, nn > 0);
 
   const auto& materials = reader.GetMaterials();
   if (material >= 0 && static_cast<size_t>(material) < materials.size()) {

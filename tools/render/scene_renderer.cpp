@@ -190,6 +190,8 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
   uint32_t id_base = 0;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const io::SceneObject& so = scene.objects[i];
+    for (const std::string& w : meshes[i].loaded.warnings)
+      warnings_.push_back(so.mesh + " (objects[" + std::to_string(i) + "].mesh): " + w);
     auto obj = std::make_unique<Object>();
     obj->mesh = std::move(meshes[i].loaded.mesh);
     io::bake_transform(obj->mesh, meshes[i].model);

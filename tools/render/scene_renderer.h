@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -92,6 +93,10 @@ class SceneRenderer {
   // Estimated bytes for rendering a frame: meshes, varyings, fur arrays and textures,
   // colour maps, the output image and the rasterizer's per-worker tile scratch.
   size_t memory_estimate() const;
+  // What the mesh loaders accepted but changed or ignored (normals computed, uvs dropped,
+  // a loader's own warning), one line each naming the object's mesh field and file: for
+  // the commands to show the user.
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
   struct Object;
@@ -112,6 +117,7 @@ class SceneRenderer {
                 const RenderSettings& settings);
   void build(std::vector<io::SceneMesh> meshes);
   FrameStats setup_stats_;  // stages run by the constructor, reported once
+  std::vector<std::string> warnings_;
   bool setup_reported_ = false;
 };
 

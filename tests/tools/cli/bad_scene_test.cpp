@@ -60,11 +60,36 @@ INSTANTIATE_TEST_SUITE_P(
                  "v 2: ", {{"bad.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"}}},
         BadScene{"IndexOutOfRange", scene_with_object(R"({"mesh": "idx.obj", "material": {"type": "lambert"}})"),
                  "idx.obj", {{"idx.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"}}},
+        // tinyobjloader's triangulation used to drop this quad, and the frame rendered with a hole.
+        BadScene{"QuadIndexPastTheEnd", scene_with_object(R"({"mesh": "quad.obj", "material": {"type": "lambert"}})"),
+                 "quad.obj: f 2: vertex index 99 out of range (4 vertices)",
+                 {{"quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 2 3 99\n"}}},
         BadScene{"BadFurField", scene_with_object(R"({"mesh": "box:2", "material": {"type": "lambert"}, "fur": {"shells": 1}})"),
                  "objects[0].fur.shells"},
         BadScene{"BadSkinField", scene_with_object(R"({"mesh": "box:2", "material": {"type": "skin", "skin": {"Eta": 0}}})"),
                  "objects[0].material.skin.Eta"}),
     [](const ::testing::TestParamInfo<BadScene>& info) { return std::string(info.param.name); });
+
+// What a loader accepted but changed reaches the user, on stderr even with --quiet, and the
+// frame renders: here normals computed for a file that has none.
+TEST(RenderMeshWarnings, AreShownAndTheFrameStillRenders) {
+  TempDir dir;
+  dir.write("quad.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n");
+  const fs::path scene = dir.write(
+      "shot.json", scene_with_object(R"({"mesh": "quad.obj", "material": {"type": "lambert"}})"));
+  const fs::path out = dir.path() / "image.png";
+  for (const char* command : {"render", "info"}) {
+    std::vector<std::string> args = {command, scene.string()};
+    if (std::string(command) == "render") args.insert(args.end(), {"-o", out.string(), "--quiet"});
+    const Result r = run_pelt(args, dir.path());
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("pelt: warning: quad.obj (objects[0].mesh): the file has no normals: computed from the "
+                         "triangles"),
+              std::string::npos)
+        << command << ": " << r.err;
+  }
+  EXPECT_TRUE(fs::exists(out));
+}
 
 }  // namespace
 }  // namespace pelt::cli_test

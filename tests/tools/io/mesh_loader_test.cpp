@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -31,7 +32,8 @@ TEST(MeshLoader, BunnyObj) {
   EXPECT_EQ(l.mesh.triangle_count(), 3674u);
   EXPECT_TRUE(l.mesh.uvs.empty());
   expect_unit_normals(l.mesh);
-  EXPECT_FALSE(l.warnings.empty());  // normals were computed, and the user is told so
+  // Normals were computed, and the user is told so.
+  EXPECT_EQ(l.warnings, std::vector<std::string>{"the file has no normals: computed from the triangles"});
   for (const auto& [edge, uses] : testing::edge_use(l.mesh)) ASSERT_EQ(uses, 2);
   EXPECT_EQ(testing::winding_conflicts(l.mesh), 0);
   EXPECT_GT(testing::signed_volume(l.mesh), 0.0);
@@ -175,6 +177,78 @@ TEST(MeshLoader, ObjIndexOutOfRange) {
   expect_load_error(f, "f 2", "vertex index 9 out of range (3 vertices)");
 }
 
+// Faces are numbered as the file's `f` records, whatever polygons come before: the third
+// record here is `f 3`, not the fourth triangle.
+TEST(MeshLoader, ObjErrorsNameTheFaceRecordAfterPolygons) {
+  TempDir dir;
+  const auto f = dir.write("after_quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 2 3 4\nf 1 2 99\n");
+  expect_load_error(f, "f 3", "vertex index 99 out of range (4 vertices)");
+  const auto g = dir.write("after_hexagon.obj",
+                           "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4 5 6\nf 1 2 3/7\n");
+  expect_load_error(g, "f 2", "texture coordinate index 7 out of range (0 texture coordinates)");
+}
+
+// tinyobjloader's own triangulation dropped a quad with an index past the end without a
+// word (the render exited 0 with a hole); pelt triangulates itself and refuses the file.
+TEST(MeshLoader, ObjQuadWithAnIndexPastTheEnd) {
+  TempDir dir;
+  const auto f = dir.write("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 2 3 99\n");
+  expect_load_error(f, "f 2", "vertex index 99 out of range (4 vertices)");
+}
+
+// Corners tinyobjloader would misread: a word (read as 0), 0, a relative index reaching
+// before the first record (a texture coordinate's would become "none"), past int's range.
+TEST(MeshLoader, ObjCornersThatAreNotIndices) {
+  TempDir dir;
+  const std::string v = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n";
+  expect_load_error(dir.write("word.obj", v + "f 1 2 x\n"), "f 1",
+                    "`x` is not a corner (v, v/vt, v//vn or v/vt/vn) (line 5)");
+  expect_load_error(dir.write("slash.obj", v + "f 1 2 3/\n"), "f 1", "`3/` is not a corner");
+  expect_load_error(dir.write("four.obj", v + "f 1 2 3/1/1/1\n"), "f 1", "`3/1/1/1` is not a corner");
+  expect_load_error(dir.write("zero.obj", v + "f 1 2 3\nf 0 1 2\n"), "f 2",
+                    "vertex index 0: OBJ numbers its records from 1 (line 6)");
+  expect_load_error(dir.write("rel.obj", v + "f -1 -2 -4\n"), "f 1",
+                    "vertex index -4 out of range (3 vertices before this face) (line 5)");
+  expect_load_error(dir.write("relvt.obj", v + "f 1/-2 2/-1 3/-1\n"), "f 1",
+                    "texture coordinate index -2 out of range (1 texture coordinates before this face)");
+  expect_load_error(dir.write("huge.obj", v + "f 1 2 99999999999\n"), "f 1", "vertex index 99999999999 out of range");
+  // Valid forms still load: relative indices, v//vn, a leading +.
+  const auto ok = dir.write("ok.obj", v + "vn 0 0 1\nf -3//1 +2//1 -1//-1\nf 1/1 2/1 3/-1\n");
+  EXPECT_EQ(load_mesh_file(ok).mesh.triangle_count(), 2u);
+}
+
+// tinyobjloader counts a face's corners in a byte.
+TEST(MeshLoader, ObjFaceOfMoreCornersThanTinyobjloaderCounts) {
+  TempDir dir;
+  std::string text, f255 = "f";
+  for (int i = 0; i < 256; ++i) {
+    const double a = 6.283185307179586 * i / 256;
+    text += "v " + std::to_string(std::cos(a)) + " " + std::to_string(std::sin(a)) + " 0\n";
+    if (i < 255) f255.append(1, ' ').append(std::to_string(i + 1));
+  }
+  expect_load_error(dir.write("big.obj", text + f255 + " 256\n"), "f 1",
+                    "a face has at most 255 vertices here, this one has 256 (line 257)");
+  EXPECT_EQ(load_mesh_file(dir.write("ok.obj", text + f255 + "\n")).mesh.triangle_count(), 253u);
+}
+
+// An L-shaped hexagon that tinyobjloader's triangulation left with 1 of its 4 triangles
+// (at this offset): all four, covering its area of 5 once.
+TEST(MeshLoader, ObjPolygonIsTriangulatedWithoutHoles) {
+  TempDir dir;
+  const auto f = dir.write("l.obj", "v -4 1 0\nv -1 1 0\nv -1 2 0\nv -3 2 0\nv -3 4 0\nv -4 4 0\nf 1 2 3 4 5 6\n");
+  const LoadedMesh l = load_mesh_file(f);
+  ASSERT_EQ(l.mesh.triangle_count(), 4u);
+  double area = 0.0;
+  for (size_t k = 0; k < l.mesh.indices.size(); k += 3) {
+    const glm::vec3 a = l.mesh.positions[l.mesh.indices[k]], b = l.mesh.positions[l.mesh.indices[k + 1]],
+                    c = l.mesh.positions[l.mesh.indices[k + 2]];
+    const float z = glm::cross(b - a, c - a).z;
+    EXPECT_GT(z, 0.0f);  // the file's winding
+    area += 0.5 * z;
+  }
+  EXPECT_DOUBLE_EQ(area, 5.0);
+}
+
 // tinyobjloader drops a face of one or two corners without a word; the mesh would have a
 // hole where the file meant something.
 TEST(MeshLoader, ObjFaceOfFewerThanThreeCorners) {
@@ -185,6 +259,13 @@ TEST(MeshLoader, ObjFaceOfFewerThanThreeCorners) {
   expect_load_error(none, "f 1", "a face needs at least 3 vertices, this one has 0 (line 4)");
   const auto comment = dir.write("comment.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 3 # 1 2\n");
   expect_load_error(comment, "f 2", "this one has 1 (line 5)");
+}
+
+TEST(MeshLoader, ObjSomeNormalsMissing) {
+  TempDir dir;
+  const auto f = dir.write("some.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3\n");
+  EXPECT_EQ(load_mesh_file(f).warnings,
+            std::vector<std::string>{"not every vertex has a normal: all normals computed from the triangles"});
 }
 
 TEST(MeshLoader, ObjNoFaces) {

@@ -147,11 +147,6 @@ io::Scene bench_scene(const PaperTable& t, bool match) {
   return s;
 }
 
-double percentile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, size_t(q * (v.size() - 1) + 0.5))];
-}
-
 struct Result {
   const PaperTable* table = nullptr;
   int threads = 0;
@@ -168,8 +163,8 @@ struct Result {
     double ratio_median, ratio_q25, ratio_q75, fps_median;
   };
   Versus versus() const {
-    return {percentile(versus_ratio, 0.5), percentile(versus_ratio, 0.25), percentile(versus_ratio, 0.75),
-            1000.0 / percentile(versus_ms, 0.5)};
+    return {render::quantile(versus_ratio, 0.5), render::quantile(versus_ratio, 0.25), render::quantile(versus_ratio, 0.75),
+            1000.0 / render::quantile(versus_ms, 0.5)};
   }
 
   double mean(uint64_t sum) const { return double(sum) / double(ms.size()); }
@@ -177,7 +172,7 @@ struct Result {
   // none when no fragment was blended (a frame too small to show the fur).
   std::optional<double> ns_per_fragment() const {
     if (fragments_blended == 0) return std::nullopt;
-    return percentile(ms, 0.5) * 1e6 / mean(fragments_blended);
+    return render::quantile(ms, 0.5) * 1e6 / mean(fragments_blended);
   }
 };
 
@@ -332,7 +327,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
                     {"fins", io::knob_value(quality, "fins")},
                     {"fin_quads", io::knob_value(quality, "fin_quads")},
                     {"shells", *quality.shells},
-                    {"fps_median", 1000.0 / percentile(r.ms, 0.5)},
+                    {"fps_median", 1000.0 / render::quantile(r.ms, 0.5)},
                     {"fps_min", 1000.0 / *std::max_element(r.ms.begin(), r.ms.end())},
                     {"fps_max", 1000.0 / *std::min_element(r.ms.begin(), r.ms.end())},
                     {"frames", r.ms.size()},
@@ -379,7 +374,7 @@ int run_fps(const Options& o) {
                 c.total_faces, t->face[0], t->face[1], t->face[2], t->face[3]);
     for (const Result& r : rows)
       std::printf("%-8s %d thread%s: median %.1f FPS (%.1f-%.1f, %zu frames)   | paper: ~%.0f (GeForce 7600GT)\n", "FPS",
-                  r.threads, r.threads == 1 ? " " : "s", 1000.0 / percentile(r.ms, 0.5),
+                  r.threads, r.threads == 1 ? " " : "s", 1000.0 / render::quantile(r.ms, 0.5),
                   1000.0 / *std::max_element(r.ms.begin(), r.ms.end()),
                   1000.0 / *std::min_element(r.ms.begin(), r.ms.end()), r.ms.size(), t->fps);
     if (versus)

@@ -66,12 +66,6 @@ void check_options(const SkinBenchOptions& o) {
   range("--warmup", o.warmup, 0, 100000);
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // One object framed by bench::skin_bench_view; a key and a fill light and an ambient term.
 io::Scene bench_scene(const Mesh& mesh, const ShaderColumn& shader, int width, int height) {
   const bench::SkinBenchView view = bench::skin_bench_view(mesh, width, height);
@@ -152,11 +146,11 @@ std::vector<Measurement> measure_mesh(const bench::SkinBenchMesh& m, const SkinB
     r.mesh = std::string(m.row->name);
     r.triangles = m.mesh.triangle_count();
     r.shader = kShaders[c].name;
-    r.ms_median = median(col.ms);
+    r.ms_median = render::quantile(col.ms, 0.5);
     r.ms_min = *std::min_element(col.ms.begin(), col.ms.end());
     r.ms_max = *std::max_element(col.ms.begin(), col.ms.end());
-    r.front_median = median(col.front);
-    r.tiles_median = median(col.tiles);
+    r.front_median = render::quantile(col.front, 0.5);
+    r.tiles_median = render::quantile(col.tiles, 0.5);
     r.raster = col.stats.raster;
     out.push_back(std::move(r));
   }

@@ -5,18 +5,18 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "tools/render/frame_timing.h"
+
 namespace pelt::tradeoff {
 
 Timing summarize(std::span<const double> ms, bool warmed_up) {
   if (ms.empty()) throw std::invalid_argument("summarize: no timed runs");
-  std::vector<double> s(ms.begin(), ms.end());
-  std::sort(s.begin(), s.end());
-  const size_t n = s.size();
+  const std::vector<double> s(ms.begin(), ms.end());
   Timing t;
-  t.median = n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
-  t.min = s.front();
-  t.max = s.back();
-  t.runs = int(n);
+  t.median = render::quantile(s, 0.5);
+  t.min = *std::min_element(s.begin(), s.end());
+  t.max = *std::max_element(s.begin(), s.end());
+  t.runs = int(s.size());
   t.warmed_up = warmed_up;
   return t;
 }

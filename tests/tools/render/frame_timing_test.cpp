@@ -3,6 +3,7 @@
 #include "tools/render/frame_timing.h"
 
 #include <chrono>
+#include <stdexcept>
 #include <string>
 #include <thread>
 
@@ -26,6 +27,18 @@ TEST(FrameTiming, EachTimeBelongsToItsOwnDraw) {
     EXPECT_GE(time_side_by_side(turn, [] {}, nap).second, 5.0) << turn;
   }
   EXPECT_GE(time_ms(nap), 5.0);
+}
+
+// One rule for every benchmark's median and quartiles: linear between the nearest ranks.
+TEST(FrameTiming, QuantileInterpolatesBetweenTheNearestRanks) {
+  EXPECT_EQ(quantile({7.0}, 0.5), 7.0);
+  EXPECT_EQ(quantile({3.0, 1.0, 2.0}, 0.5), 2.0);
+  EXPECT_EQ(quantile({4.0, 1.0, 3.0, 2.0}, 0.5), 2.5);  // the mean of the middle two
+  EXPECT_EQ(quantile({4.0, 1.0, 3.0, 2.0, 5.0}, 0.25), 2.0);
+  EXPECT_EQ(quantile({4.0, 1.0, 3.0, 2.0}, 0.25), 1.75);
+  EXPECT_EQ(quantile({4.0, 1.0, 3.0, 2.0}, 0.0), 1.0);
+  EXPECT_EQ(quantile({4.0, 1.0, 3.0, 2.0}, 1.0), 4.0);
+  EXPECT_THROW(quantile({}, 0.5), std::invalid_argument);
 }
 
 }  // namespace

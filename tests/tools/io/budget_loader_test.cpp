@@ -81,13 +81,13 @@ TEST(BudgetObj, OneOverTheLimitIsRefusedWithBothNumbersAndTheFlag) {
   EXPECT_EQ(what.rfind(f.string(), 0), 0u) << what;  // the message starts with the file
 }
 
-// tinyobjloader rejects a face index of 0; the file is refused for its size before
-// tinyobjloader sees it, and the same file within budget reaches tinyobjloader.
+// A face index of 0 is refused by the corner check, but the file is refused for its size
+// first; within budget, the face's own error.
 TEST(BudgetObj, RefusedBeforeTinyobjloaderParses) {
   TempDir dir;
   const auto f = dir.write("garbage_after.obj", kObjFaces + "f 0 0 0\n");
   expect_refused([&] { load_mesh_file(f, faces(6)); }, "", {"7 triangles", "--max-faces"});
-  expect_refused([&] { load_mesh_file(f, faces(7)); }, "", {"malformed OBJ"});
+  expect_refused([&] { load_mesh_file(f, faces(7)); }, "f 4", {"vertex index 0: OBJ numbers its records from 1"});
 }
 
 // A malformed number after the faces would stop the number check; the budget is still

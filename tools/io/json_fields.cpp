@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <unordered_set>
 
 #include <glm/geometric.hpp>
 
@@ -25,6 +26,76 @@ std::string json_child(const std::string& path, std::string_view key) {
 
 std::string json_index(const std::string& path, size_t i) {
   return path + "[" + std::to_string(i) + "]";
+}
+
+namespace {
+
+// Walks the document as nlohmann's SAX events, keeping each open container's path, its keys
+// so far (objects) or its next index (arrays); stops at the first repeated key.
+class RepeatedKeyFinder : public nlohmann::json_sax<nlohmann::json> {
+ public:
+  std::optional<std::string> repeated;
+
+  bool null() override { return element(); }
+  bool boolean(bool) override { return element(); }
+  bool number_integer(number_integer_t) override { return element(); }
+  bool number_unsigned(number_unsigned_t) override { return element(); }
+  bool number_float(number_float_t, const string_t&) override { return element(); }
+  bool string(string_t&) override { return element(); }
+  bool binary(binary_t&) override { return element(); }
+  bool start_object(std::size_t) override { return open(false); }
+  bool start_array(std::size_t) override { return open(true); }
+  bool end_object() override { return close(); }
+  bool end_array() override { return close(); }
+  bool key(string_t& k) override {
+    Open& o = open_.back();
+    if (!o.keys.insert(k).second) {
+      repeated = json_child(o.path, k);
+      return false;
+    }
+    o.key = k;
+    return true;
+  }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+
+ private:
+  struct Open {
+    std::string path, key;
+    bool array = false;
+    size_t index = 0;
+    std::unordered_set<std::string> keys;
+  };
+  std::vector<Open> open_;
+
+  // The path of the value that starts now, counting it if its container is an array.
+  std::string next_path() {
+    if (open_.empty()) return {};
+    Open& o = open_.back();
+    return o.array ? json_index(o.path, o.index++) : json_child(o.path, o.key);
+  }
+  bool element() {
+    next_path();
+    return true;
+  }
+  bool open(bool array) {
+    Open o;
+    o.path = next_path();
+    o.array = array;
+    open_.push_back(std::move(o));
+    return true;
+  }
+  bool close() {
+    open_.pop_back();
+    return true;
+  }
+};
+
+}  // namespace
+
+std::optional<std::string> find_repeated_key(const std::string& text) {
+  RepeatedKeyFinder finder;
+  nlohmann::json::sax_parse(text, &finder);
+  return finder.repeated;
 }
 
 std::string json_type_name(const nlohmann::json& j) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -16,6 +17,11 @@ namespace pelt::io {
 std::string json_child(const std::string& path, std::string_view key);
 // "a[3]".
 std::string json_index(const std::string& path, size_t i);
+// The first key given twice in one object of `text` (well-formed JSON), as the field path of
+// its second appearance (`image.width`), or nullopt. nlohmann::json keeps a repeated key's
+// last value without a word, so a copy-pasted key would silently override the one the user
+// reads first; the scene parser refuses such a file instead.
+std::optional<std::string> find_repeated_key(const std::string& text);
 // "a number", "a string", "an array", ... for "expected X, got Y" messages.
 std::string json_type_name(const nlohmann::json& j);
 

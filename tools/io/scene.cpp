@@ -247,6 +247,8 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     if (const size_t bracket = what.find("] "); bracket != std::string::npos) what = what.substr(bracket + 2);
     js.fail("", "malformed JSON: " + what + " (numbers must be finite)");
   }
+  if (const std::optional<std::string> repeated = find_repeated_key(text))
+    js.fail(*repeated, "given twice in the same object; keep one (a JSON reader takes the later without a word)");
   js.expect_object(root, "", {"pelt", "image", "camera", "lights", "objects", "animation", "quality"});
   const json& version = js.require(root, "", "pelt");
   if (!version.is_number_integer() && !version.is_number_unsigned())

@@ -75,6 +75,23 @@ struct SceneFixture : ::testing::Test {
   }
 };
 
+// A key given twice: the JSON reader would keep the later value without a word.
+TEST_F(SceneFixture, RepeatedKeyNamesItsPlace) {
+  const std::string reason = "given twice in the same object";
+  expect_error(edited(R"("height": 480)", R"("height": 480, "width": 320)"), "image.width", reason);
+  expect_error(edited(R"("shininess": 64)", R"("shininess": 64, "type": "lambert")"), "objects[1].material.type",
+               reason);
+  expect_error(edited(R"("intensity": 10})", R"("intensity": 10, "intensity": 1})"), "lights[1].intensity", reason);
+  expect_error(edited(R"("animation": {"frames": 48, "fps": 24})",
+                      R"("animation": {"frames": 48, "fps": 24}, "animation": {"frames": 2})"),
+               "animation", reason);
+  // Arrays of objects count their elements whatever they hold, and the same key in two
+  // objects is no repeat.
+  expect_error(edited(R"("lights": [)", R"("lights": [[1, {"a": 1}], {"a": 1, "b": 2, "b": 3}, )"), "lights[1].b",
+               reason);
+  EXPECT_NO_THROW(load_scene(write_scene(full_scene(data_dir()))));
+}
+
 TEST_F(SceneFixture, FullSceneRoundTrip) {
   const Scene s = load_scene(write_scene(full_scene(data_dir())));
   EXPECT_EQ(s.image.width, 640);

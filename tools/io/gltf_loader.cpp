@@ -337,16 +337,37 @@ class GltfReader {
     }
   }
 
+  // A texture kind's first texture, where it was named, and whether another was warned of.
+  struct Taken {
+    int texture = -1;
+    std::string where;
+    bool warned = false;
+  };
+
   void take_textures(int material) {
     if (material < 0 || material >= static_cast<int>(model_.materials.size())) return;
     const tinygltf::Material& mat = model_.materials[material];
     const std::string mw = "materials[" + std::to_string(material) + "]";
-    if (!out_.color_map.present())
-      resolve_texture(mat.pbrMetallicRoughness.baseColorTexture.index, ColorEncoding::srgb,
-                      mw + ".pbrMetallicRoughness.baseColorTexture", out_.color_map);
-    if (!out_.normal_map.present())
-      resolve_texture(mat.normalTexture.index, ColorEncoding::linear, mw + ".normalTexture",
-                      out_.normal_map);
+    take_texture(mat.pbrMetallicRoughness.baseColorTexture.index, ColorEncoding::srgb,
+                 mw + ".pbrMetallicRoughness.baseColorTexture", out_.color_map, color_texture_, "base colour");
+    take_texture(mat.normalTexture.index, ColorEncoding::linear, mw + ".normalTexture", out_.normal_map,
+                 normal_texture_, "normal");
+  }
+
+  // The first texture of its kind is the mesh's (pelt draws one material per object); a
+  // primitive naming another gets one warning per kind.
+  void take_texture(int texture, ColorEncoding encoding, const std::string& where, TextureRef& ref, Taken& taken,
+                    const char* kind) {
+    if (texture < 0) return;
+    if (taken.texture < 0) {
+      resolve_texture(texture, encoding, where, ref);
+      taken.texture = texture;
+      taken.where = where;
+    } else if (texture != taken.texture && !taken.warned) {
+      taken.warned = true;
+      out_.warnings.push_back(std::string("primitives use more than one ") + kind + " texture: " + taken.where +
+                              " is used for the whole mesh");
+    }
   }
 
   void resolve_texture(int texture, ColorEncoding encoding, const std::string& where, TextureRef& ref) {
@@ -386,6 +407,7 @@ class GltfReader {
   std::filesystem::path dir_;
   LoadedMesh out_;
   bool all_normals_ = true, any_normals_ = false, all_uvs_ = true, any_uvs_ = false;
+  Taken color_texture_, normal_texture_;
 };
 
 std::string trim(std::string s) {

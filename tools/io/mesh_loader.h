@@ -41,7 +41,8 @@ struct LoadedMesh {
 // node's world transform baked into positions and normals (normals by the inverse
 // transpose; triangles flipped under mirroring transforms); triangle lists, strips and
 // fans; indices of any type; TEXCOORD_0. Textures come from the first primitive that has
-// a material with them.
+// a material with them; a later primitive (glTF) or face (OBJ) whose material names other
+// maps adds a warning.
 //
 // Throws InputError naming the file and the first bad element: unreadable or malformed
 // file, unsupported extension, non-finite values (`v 12: position is NaN`, or a glTF

@@ -1,4 +1,5 @@
 // Wavefront OBJ through tinyobjloader.
+#include <algorithm>
 #include <charconv>
 #include <climits>
 #include <cmath>
@@ -217,6 +218,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   Mesh& m = out.mesh;
   size_t face_number = 0;
   int material = -1;
+  std::vector<int> materials_used;  // each material id that some face names, once
   std::vector<glm::vec3> corner_positions;
   std::vector<uint32_t> corner_vertices, triangles;
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
@@ -226,7 +228,12 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
       const unsigned corners = mesh.num_face_vertices[f];
       if (corners < 3)  // the prescan refuses such faces; tinyobjloader skips them
         throw InputError(file, face_name(face_number), "face has " + std::to_string(corners) + " vertices");
-      if (material < 0 && f < mesh.material_ids.size()) material = mesh.material_ids[f];
+      if (f < mesh.material_ids.size()) {
+        const int id = mesh.material_ids[f];
+        if (material < 0) material = id;
+        if (id >= 0 && std::find(materials_used.begin(), materials_used.end(), id) == materials_used.end())
+          materials_used.push_back(id);
+      }
       corner_positions.clear();
       corner_vertices.clear();
       for (unsigned c = 0; c < corners; ++c) {
@@ -281,6 +288,18 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   const auto& materials = reader.GetMaterials();
   if (material >= 0 && static_cast<size_t>(material) < materials.size()) {
     const tinyobj::material_t& mat = materials[material];
+    // An object has one material in pelt: faces whose material names other maps are drawn
+    // with these, which the user should hear about.
+    const auto maps = [](const tinyobj::material_t& t) {
+      return std::make_pair(t.diffuse_texname, t.normal_texname.empty() ? t.bump_texname : t.normal_texname);
+    };
+    size_t others = 0;
+    for (int id : materials_used)
+      if (static_cast<size_t>(id) < materials.size() && maps(materials[id]) != maps(mat)) ++others;
+    if (others > 0)
+      out.warnings.push_back("faces use " + std::to_string(others + 1) +
+                             " materials with different texture maps: the maps of `" + mat.name +
+                             "` (the first face's) are used for the whole mesh");
     const std::filesystem::path dir = path.parent_path();
     if (!mat.diffuse_texname.empty()) out.color_map.path = dir / mat.diffuse_texname;
     if (!mat.normal_texname.empty()) out.normal_map.path = dir / mat.normal_texname;

@@ -1,5 +1,6 @@
 #include "tools/io/mesh_loader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -310,6 +311,24 @@ TEST(MeshLoader, ObjMaterialTexturesResolvedRelativeToTheFile) {
   EXPECT_EQ(l.normal_map.path, dir.path() / "tex/normal.png");
 }
 
+// pelt draws one material per object: faces naming other maps are drawn with the first
+// face's, and the user hears of it; materials that differ in other ways are no warning.
+TEST(MeshLoader, ObjFacesOfMaterialsWithOtherMapsAreAWarning) {
+  TempDir dir;
+  dir.write("m.mtl", "newmtl skin\nmap_Kd skin.png\nnewmtl eyes\nmap_Kd eyes.png\nnewmtl skin2\nmap_Kd skin.png\n"
+                     "Kd 1 0 0\n");
+  const std::string v = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n";
+  const LoadedMesh two = load_mesh_file(dir.write("two.obj", v + "usemtl skin\nf 1 2 3\nusemtl eyes\nf 2 4 3\n"));
+  EXPECT_EQ(two.color_map.path, dir.path() / "skin.png");
+  EXPECT_NE(std::find(two.warnings.begin(), two.warnings.end(),
+                      "faces use 2 materials with different texture maps: the maps of `skin` (the first face's) are "
+                      "used for the whole mesh"),
+            two.warnings.end())
+      << ::testing::PrintToString(two.warnings);
+  const LoadedMesh same = load_mesh_file(dir.write("same.obj", v + "usemtl skin\nf 1 2 3\nusemtl skin2\nf 2 4 3\n"));
+  for (const std::string& w : same.warnings) EXPECT_EQ(w.find("materials"), std::string::npos) << w;
+}
+
 TEST(MeshLoader, MissingAndUnsupportedFiles) {
   TempDir dir;
   expect_load_error(dir.path() / "nope.obj", "", "file not found");
@@ -339,6 +358,34 @@ std::string tiny_gltf(float x0, uint16_t i2) {
   "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],
   "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},
                {"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
+}
+
+// Two primitives of one triangle each, with materials naming different colour textures:
+// the first is the mesh's, and the user hears of the second.
+TEST(MeshLoader, GltfSecondColourTextureIsAWarning) {
+  TempDir dir;
+  const auto png = data_dir() / "BoxTextured-glTF" / "CesiumLogoFlat.png";
+  std::filesystem::copy_file(png, dir.path() / "a.png");
+  std::filesystem::copy_file(png, dir.path() / "b.png");
+  std::string text = tiny_gltf(0.0f, 2);
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    const size_t at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+  };
+  replace(R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)",
+          R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0},
+                                      {"attributes":{"POSITION":0},"indices":1,"material":1}]}],
+  "materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}},
+               {"pbrMetallicRoughness":{"baseColorTexture":{"index":1}}}],
+  "textures":[{"source":0},{"source":1}], "images":[{"uri":"a.png"},{"uri":"b.png"}],)");
+  const LoadedMesh l = load_mesh_file(dir.write("two.gltf", text));
+  EXPECT_EQ(l.color_map.path, dir.path() / "a.png");
+  EXPECT_NE(std::find(l.warnings.begin(), l.warnings.end(),
+                      "primitives use more than one base colour texture: "
+                      "materials[0].pbrMetallicRoughness.baseColorTexture is used for the whole mesh"),
+            l.warnings.end())
+      << ::testing::PrintToString(l.warnings);
 }
 
 TEST(MeshLoader, GltfTrsAndComputedNormals) {

@@ -482,6 +482,13 @@ LoadedMesh load_gltf(const std::filesystem::path& path, bool binary, const Budge
     err = trim(err);
     throw InputError(file, "", "malformed glTF: " + (err.empty() ? std::string("load failed") : err));
   }
+  // glTF 2.0 (section 3.12): a loader that does not support a required extension must not
+  // load the asset. pelt reads none (a compressed or quantized mesh, a texture transform,
+  // another material model would all be drawn wrong).
+  if (!model.extensionsRequired.empty())
+    throw InputError(file, "extensionsRequired[0]",
+                     "the file needs the extension `" + model.extensionsRequired.front() +
+                         "`, which pelt does not read (it reads core glTF 2.0 only)");
   GltfReader reader(model, file, path.parent_path());
   check_face_budget(reader.triangle_count(), budget, file, "");
   LoadedMesh out = reader.read();

@@ -388,6 +388,23 @@ TEST(MeshLoader, GltfSecondColourTextureIsAWarning) {
       << ::testing::PrintToString(l.warnings);
 }
 
+// A required extension pelt does not read must stop the load (glTF 2.0, section 3.12); a
+// used but optional one does not.
+TEST(MeshLoader, GltfRequiredExtensionIsRefused) {
+  TempDir dir;
+  const std::string text = tiny_gltf(0.0f, 2);
+  const std::string asset = R"("asset":{"version":"2.0"},)";
+  ASSERT_EQ(text.find(asset), 1u);
+  const std::string draco =
+      R"("extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"],)";
+  expect_load_error(dir.write("draco.gltf", "{" + asset + draco + text.substr(1 + asset.size())), "extensionsRequired[0]",
+                    "the file needs the extension `KHR_draco_mesh_compression`, which pelt does not read");
+  const std::string used = R"("extensionsUsed":["KHR_materials_emissive_strength"],)";
+  EXPECT_EQ(load_mesh_file(dir.write("used.gltf", "{" + asset + used + text.substr(1 + asset.size())))
+                .mesh.triangle_count(),
+            1u);
+}
+
 TEST(MeshLoader, GltfTrsAndComputedNormals) {
   TempDir dir;
   const LoadedMesh l = load_mesh_file(dir.write("ok.gltf", tiny_gltf(0.0f, 2)));

@@ -40,9 +40,9 @@ void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals) {
     out.warnings.push_back("some normals have zero length: all normals computed from the triangles");
   } else if (any_normals) {
     out.warnings.push_back("not every vertex has a normal: all normals computed from the triangles");
-  } else {
-    out.warnings.push_back("the file has no normals: computed from the triangles");
   }
+  // A file with no normals at all (a scan such as the bunny) gets them computed without a
+  // warning: nothing the file says is replaced, and the README documents it.
   compute_vertex_normals(m);
 }
 

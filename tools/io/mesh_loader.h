@@ -25,13 +25,14 @@ struct LoadedMesh {
   Mesh mesh;               // all triangles of the file in one mesh, in file order
   TextureRef color_map;    // glTF baseColorTexture / OBJ map_Kd
   TextureRef normal_map;   // glTF normalTexture / OBJ norm (or bump)
-  // Things that were accepted but changed or ignored, to be shown to the user (e.g. "the
-  // file has no normals: computed from the triangles").
+  // Things that were accepted but changed or ignored, to be shown to the user (e.g. "not
+  // every vertex has a normal: all normals computed from the triangles").
   std::vector<std::string> warnings;
 };
 
 // Loads .obj, .gltf or .glb (by extension, case-insensitive). Normals are used when every
-// vertex has one, otherwise computed with pelt::compute_vertex_normals (and a warning);
+// vertex has one, otherwise computed with pelt::compute_vertex_normals (with a warning when
+// the file gave some that are replaced);
 // UVs are kept when every vertex has one.
 //
 // OBJ: each `f` record split into triangles by triangulate_polygon (faces of 3 to 255

@@ -17,8 +17,8 @@ void check_face_budget(uint64_t triangles, const Budget& budget, const std::stri
                        const std::string& field);
 
 // Fills in normals when the loader had none for some vertex (has_normals false), or when
-// a given normal has zero length; normalises the rest. Adds a warning when it computes,
-// saying whether the file gave some normals (any_normals) that were not used.
+// a given normal has zero length; normalises the rest. Adds a warning when normals the
+// file gives (any_normals) are replaced by computed ones.
 void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals);
 
 }  // namespace pelt::io::detail

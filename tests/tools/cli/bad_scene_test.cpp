@@ -71,10 +71,10 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<BadScene>& info) { return std::string(info.param.name); });
 
 // What a loader accepted but changed reaches the user, on stderr even with --quiet, and the
-// frame renders: here normals computed for a file that has none.
+// frame renders: here the file's normals replaced, as one corner has none.
 TEST(RenderMeshWarnings, AreShownAndTheFrameStillRenders) {
   TempDir dir;
-  dir.write("quad.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n");
+  dir.write("quad.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\nf 1//1 2//1 3//1 4\n");
   const fs::path scene = dir.write(
       "shot.json", scene_with_object(R"({"mesh": "quad.obj", "material": {"type": "lambert"}})"));
   const fs::path out = dir.path() / "image.png";
@@ -83,8 +83,8 @@ TEST(RenderMeshWarnings, AreShownAndTheFrameStillRenders) {
     if (std::string(command) == "render") args.insert(args.end(), {"-o", out.string(), "--quiet"});
     const Result r = run_pelt(args, dir.path());
     EXPECT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(r.err.find("pelt: warning: quad.obj (objects[0].mesh): the file has no normals: computed from the "
-                         "triangles"),
+    EXPECT_NE(r.err.find("pelt: warning: quad.obj (objects[0].mesh): not every vertex has a normal: all normals "
+                         "computed from the triangles"),
               std::string::npos)
         << command << ": " << r.err;
   }

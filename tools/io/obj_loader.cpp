@@ -8,6 +8,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 
 #include <tiny_obj_loader.h>
@@ -59,30 +60,36 @@ constexpr const char* kCountOf[3] = {"vertices", "texture coordinates", "normals
 // for "none" (texture coordinates, normals) or fail later under another number. Indices
 // past the end are checked after parsing, against the whole file (load_obj). Returns the
 // reason, or an empty string.
-std::string check_corner(const std::string& tok, const size_t counts[3]) {
-  const std::string malformed = "`" + tok + "` is not a corner (v, v/vt, v//vn or v/vt/vn)";
+std::string check_corner(std::string_view tok, const size_t counts[3]) {
+  // Messages are built only on the error path: a large file has millions of corners.
+  const auto malformed = [&] {
+    std::string m = "`";
+    m.append(tok).append("` is not a corner (v, v/vt, v//vn or v/vt/vn)");
+    return m;
+  };
   size_t start = 0;
   for (int kind = 0; kind < 3; ++kind) {
     const size_t slash = tok.find('/', start);
-    const size_t end = slash == std::string::npos ? tok.size() : slash;
-    if (!(kind == 1 && end == start && slash != std::string::npos)) {  // v//vn has no vt
-      const std::string part = tok.substr(start, end - start);
+    const size_t end = slash == std::string_view::npos ? tok.size() : slash;
+    if (!(kind == 1 && end == start && slash != std::string_view::npos)) {  // v//vn has no vt
+      const std::string_view part = tok.substr(start, end - start);
       const char* b = part.data();
       const char* e = b + part.size();
       if (b != e && *b == '+') ++b;
       long long value = 0;
       const auto [ptr, ec] = std::from_chars(b, e, value);
-      if (b == e || ptr != e || (ec != std::errc() && ec != std::errc::result_out_of_range)) return malformed;
-      const std::string index = std::string(kIndexOf[kind]) + " index " + part;
-      if (ec == std::errc::result_out_of_range || value > INT_MAX || value < INT_MIN) return index + " out of range";
-      if (value == 0) return index + ": OBJ numbers its records from 1";
+      if (b == e || ptr != e || (ec != std::errc() && ec != std::errc::result_out_of_range)) return malformed();
+      const auto index = [&] { return std::string(kIndexOf[kind]) + " index " + std::string(part); };
+      if (ec == std::errc::result_out_of_range || value > INT_MAX || value < INT_MIN) return index() + " out of range";
+      if (value == 0) return index() + ": OBJ numbers its records from 1";
       if (value < 0 && static_cast<unsigned long long>(-value) > counts[kind])
-        return index + " out of range (" + std::to_string(counts[kind]) + " " + kCountOf[kind] + " before this face)";
+        return index() + " out of range (" + std::to_string(counts[kind]) + " " + kCountOf[kind] +
+               " before this face)";
     }
-    if (slash == std::string::npos) return {};
+    if (slash == std::string_view::npos) return {};
     start = slash + 1;
   }
-  return malformed;  // a fourth part
+  return malformed();  // a fourth part
 }
 
 // What one pass over the file finds before tinyobjloader sees it.

@@ -190,8 +190,17 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
   uint32_t id_base = 0;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const io::SceneObject& so = scene.objects[i];
-    for (const std::string& w : meshes[i].loaded.warnings)
-      warnings_.push_back(so.mesh + " (objects[" + std::to_string(i) + "].mesh): " + w);
+    const std::string mesh_field = "objects[" + std::to_string(i) + "].mesh";
+    for (const std::string& w : meshes[i].loaded.warnings) warnings_.push_back(so.mesh + " (" + mesh_field + "): " + w);
+    // A mesh file's colour map is drawn when the scene names none; its normal map is not (an
+    // OBJ `bump` is as often a height map as a normal map), so the user hears of it.
+    if (meshes[i].loaded.normal_map.present() && so.material.normal_map.empty()) {
+      const io::TextureRef& n = meshes[i].loaded.normal_map;
+      warnings_.push_back(so.mesh + " (" + mesh_field + "): the file names a normal map" +
+                          (n.path.empty() ? std::string(" (embedded)") : " `" + n.path.string() + "`") +
+                          " that is not drawn: pelt takes normal maps from the scene's `objects[" + std::to_string(i) +
+                          "].material.normal_map`");
+    }
     auto obj = std::make_unique<Object>();
     obj->mesh = std::move(meshes[i].loaded.mesh);
     io::bake_transform(obj->mesh, meshes[i].model);

@@ -201,10 +201,12 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   }
 
   LoadedMesh out;
-  if (!reader.Warning().empty()) {
-    std::string w = reader.Warning();
-    while (!w.empty() && (w.back() == '\n' || w.back() == '\r')) w.pop_back();
-    out.warnings.push_back(w);
+  // tinyobjloader's warnings are lines (a missing .mtl gives two): one warning each, so that
+  // every line the user sees starts with the file it is about.
+  std::istringstream warning_lines(reader.Warning());
+  for (std::string w; std::getline(warning_lines, w);) {
+    while (!w.empty() && (w.back() == '\r' || w.back() == ' ' || w.back() == ':')) w.pop_back();
+    if (!w.empty()) out.warnings.push_back(w);
   }
 
   const tinyobj::attrib_t& attrib = reader.GetAttrib();

@@ -329,6 +329,15 @@ TEST(MeshLoader, ObjFacesOfMaterialsWithOtherMapsAreAWarning) {
   for (const std::string& w : same.warnings) EXPECT_EQ(w.find("materials"), std::string::npos) << w;
 }
 
+// tinyobjloader's own warnings reach the user one line each (a missing .mtl gives two).
+TEST(MeshLoader, ObjMissingMaterialFileIsAWarningPerLine) {
+  TempDir dir;
+  const LoadedMesh l = load_mesh_file(dir.write("m.obj", "mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+  ASSERT_EQ(l.warnings.size(), 2u) << ::testing::PrintToString(l.warnings);
+  EXPECT_NE(l.warnings[0].find("nowhere.mtl"), std::string::npos) << l.warnings[0];
+  for (const std::string& w : l.warnings) EXPECT_EQ(w.find('\n'), std::string::npos) << w;
+}
+
 TEST(MeshLoader, MissingAndUnsupportedFiles) {
   TempDir dir;
   expect_load_error(dir.path() / "nope.obj", "", "file not found");

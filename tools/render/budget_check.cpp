@@ -80,10 +80,12 @@ uint64_t image_texture_bytes(uint64_t texels, uint64_t file_bytes_per_texel) {
 
 // The material's normal map, sized from its header like a colour map, plus the four
 // tangent-frame varyings per vertex it adds; empty field when the object has none.
-MemoryPart normal_map_part(const io::SceneObject& so, const Mesh& m, size_t i) {
+MemoryPart normal_map_part(const io::Scene& scene, const Mesh& m, size_t i) {
+  const io::SceneObject& so = scene.objects[i];
   MemoryPart p;
   if (so.material.normal_map.empty()) return p;
-  const io::ImageHeader h = io::read_image_header(so.material.normal_map);
+  const io::ImageHeader h = asked_by(map_asked_by(scene, i, "normal_map", false),
+                                     [&] { return io::read_image_header(so.material.normal_map); });
   const uint64_t texels = uint64_t(h.width) * uint64_t(h.height);
   p.field = object_field(i) + ".material.normal_map";
   p.what = "normal map " + so.material.normal_map.filename().string() + ", " + std::to_string(h.width) + " x " +
@@ -96,13 +98,15 @@ MemoryPart normal_map_part(const io::SceneObject& so, const Mesh& m, size_t i) {
 
 // The colour map the renderer will load for object i, sized from its header; nullopt-like
 // (bytes 0, empty field) when the object has none.
-MemoryPart color_map_part(const io::SceneObject& so, const io::LoadedMesh& loaded, size_t i) {
+MemoryPart color_map_part(const io::Scene& scene, const io::LoadedMesh& loaded, size_t i) {
+  const io::SceneObject& so = scene.objects[i];
   MemoryPart p;
   uint64_t texels = 0, file_bytes_per_texel = 0;
   if (!so.material.color_map.empty() || !loaded.color_map.path.empty()) {
     const bool material = !so.material.color_map.empty();
     const std::filesystem::path& path = material ? so.material.color_map : loaded.color_map.path;
-    const io::ImageHeader h = io::read_image_header(path);
+    const io::ImageHeader h =
+        asked_by(map_asked_by(scene, i, "color_map", !material), [&] { return io::read_image_header(path); });
     texels = uint64_t(h.width) * uint64_t(h.height);
     file_bytes_per_texel = uint64_t(std::min(h.channels, 4)) * uint64_t(h.bytes_per_channel);
     p.field = object_field(i) + (material ? ".material.color_map" : ".mesh");
@@ -163,6 +167,14 @@ void refuse(const io::Scene& scene, const std::string& field, const std::string&
 }
 
 }  // namespace
+
+std::string map_asked_by(const io::Scene& scene, size_t i, const char* map, bool named_by_mesh) {
+  const std::string object = object_field(i);
+  if (named_by_mesh)
+    return std::string("the ") + map + " that " + scene.objects[i].mesh + " names, in " + object + ".mesh of " +
+           scene.file.string();
+  return "in " + object + ".material." + map + " of " + scene.file.string();
+}
 
 std::string describe_bytes(uint64_t bytes) {
   char rounded[32];
@@ -227,8 +239,8 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
     const io::SceneObject& so = scene.objects[i];
     const Mesh& m = meshes[i].loaded.mesh;
     e.parts.push_back(mesh_part(so, m, i));
-    if (MemoryPart cm = color_map_part(so, meshes[i].loaded, i); !cm.field.empty()) e.parts.push_back(std::move(cm));
-    if (MemoryPart nm = normal_map_part(so, meshes[i].loaded.mesh, i); !nm.field.empty())
+    if (MemoryPart cm = color_map_part(scene, meshes[i].loaded, i); !cm.field.empty()) e.parts.push_back(std::move(cm));
+    if (MemoryPart nm = normal_map_part(scene, meshes[i].loaded.mesh, i); !nm.field.empty())
       e.parts.push_back(std::move(nm));
     if (so.fur) add_fur_parts(scene, m, i, threads, e.parts);
   }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tools/io/budget.h"
+#include "tools/io/input_error.h"
 #include "tools/io/scene.h"
 
 namespace pelt::render {
@@ -75,5 +76,21 @@ void check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh
 
 // "1234567890 bytes (1.1 GiB)": exact for the record, rounded for the reader.
 std::string describe_bytes(uint64_t bytes);
+
+// Who asks for object i's colour or normal map (`map`: "color_map" or "normal_map"), for the
+// message of an image that cannot be read, whose own name may be all a user would see:
+// "in objects[0].material.color_map of s.json", or with named_by_mesh "the color_map that
+// m.obj names, in objects[0].mesh of s.json".
+std::string map_asked_by(const io::Scene& scene, size_t i, const char* map, bool named_by_mesh);
+
+// fn()'s result; an io::InputError it throws gets " (asked_by)" after its reason.
+template <class Fn>
+auto asked_by(const std::string& who, Fn&& fn) -> decltype(fn()) {
+  try {
+    return fn();
+  } catch (const io::InputError& e) {
+    throw io::InputError(e.file, e.field, e.reason + " (" + who + ")");
+  }
+}
 
 }  // namespace pelt::render

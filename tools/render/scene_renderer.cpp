@@ -74,19 +74,22 @@ SkinLayer layer_of(Aov aov) {
   }
 }
 
-// The colour map of an object: the material's `color_map`, else the one the mesh file
+// The colour map of object `index`: the material's `color_map`, else the one the mesh file
 // names (glTF baseColorTexture, OBJ map_Kd), else none.
-void load_color_map(const io::SceneObject& so, const io::LoadedMesh& loaded, const io::Budget& budget,
+void load_color_map(const io::Scene& scene, size_t index, const io::LoadedMesh& loaded, const io::Budget& budget,
                     const raster::ParallelFor& parallel, raster::Texture& out, FrameStats& stats) {
+  const io::SceneObject& so = scene.objects[index];
   if (so.material.color_map.empty() && loaded.color_map.path.empty() && loaded.color_map.pixels.empty()) return;
   StageTimer t(stats, "textures");
   io::ImageRGBA img;
   std::string source;
   if (!so.material.color_map.empty()) {
-    img = io::read_image_rgba(so.material.color_map, io::ColorEncoding::srgb, budget);
+    img = asked_by(map_asked_by(scene, index, "color_map", false),
+                   [&] { return io::read_image_rgba(so.material.color_map, io::ColorEncoding::srgb, budget); });
     source = so.material.color_map.string();
   } else if (!loaded.color_map.path.empty()) {
-    img = io::read_image_rgba(loaded.color_map.path, io::ColorEncoding::srgb, budget);
+    img = asked_by(map_asked_by(scene, index, "color_map", true),
+                   [&] { return io::read_image_rgba(loaded.color_map.path, io::ColorEncoding::srgb, budget); });
     source = loaded.color_map.path.string();
   } else {
     img = loaded.color_map.pixels;
@@ -219,7 +222,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     // Internally v = 0 is the top row of an image (glTF); OBJ files count v from the bottom.
     if (!so.mesh_path.empty() && so.mesh_path.extension() == ".obj")
       for (glm::vec2& uv : obj->mesh.uvs) uv.y = 1.0f - uv.y;
-    load_color_map(so, meshes[i].loaded, settings.budget, parallel, obj->color_map, setup_stats_);
+    load_color_map(scene, i, meshes[i].loaded, settings.budget, parallel, obj->color_map, setup_stats_);
     if (!obj->color_map.empty()) obj->material.color_map = &obj->color_map;
 
     if (!so.material.normal_map.empty()) {
@@ -228,8 +231,9 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       if (obj->mesh.uvs.size() != obj->mesh.vertex_count())
         throw io::InputError(scene.file.string(), field,
                              "a normal map needs texture coordinates, and mesh `" + so.mesh + "` has none");
-      const io::ImageRGBA img =
-          io::read_image_rgba(so.material.normal_map, io::ColorEncoding::linear, settings.budget);
+      const io::ImageRGBA img = asked_by(map_asked_by(scene, i, "normal_map", false), [&] {
+        return io::read_image_rgba(so.material.normal_map, io::ColorEncoding::linear, settings.budget);
+      });
       if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(),
                                                       raster::TexelEncoding::Linear, obj->normal_map, parallel))
         throw io::InputError(so.material.normal_map.string(), e->field, e->reason);

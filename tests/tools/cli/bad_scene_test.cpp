@@ -64,6 +64,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"QuadIndexPastTheEnd", scene_with_object(R"({"mesh": "quad.obj", "material": {"type": "lambert"}})"),
                  "quad.obj: f 2: vertex index 99 out of range (4 vertices)",
                  {{"quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 2 3 99\n"}}},
+        // An image's own name is not enough to find who asked for it (a scene's own
+        // `color_map` is checked when the scene is read).
+        BadScene{"MeshNamesAMissingColourMap", scene_with_object(R"({"mesh": "tex.obj", "material": {"type": "lambert"}})"),
+                 "gone.png: image file not found (the color_map that tex.obj names, in objects[0].mesh of ",
+                 {{"tex.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl a\n"
+                              "f 1/1 2/2 3/3\n"},
+                  {"m.mtl", "newmtl a\nmap_Kd gone.png\n"}}},
         BadScene{"BadFurField", scene_with_object(R"({"mesh": "box:2", "material": {"type": "lambert"}, "fur": {"shells": 1}})"),
                  "objects[0].fur.shells"},
         BadScene{"BadSkinField", scene_with_object(R"({"mesh": "box:2", "material": {"type": "skin", "skin": {"Eta": 0}}})"),

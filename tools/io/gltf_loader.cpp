@@ -492,7 +492,7 @@ LoadedMesh load_gltf(const std::filesystem::path& path, bool binary, const Budge
   GltfReader reader(model, file, path.parent_path());
   check_face_budget(reader.triangle_count(), budget, file, "");
   LoadedMesh out = reader.read();
-  if (!trim(warn).empty()) out.warnings.push_back(trim(warn));
+  add_library_warnings(out, warn);
   return out;
 }
 

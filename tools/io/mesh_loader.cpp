@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <sstream>
 #include <system_error>
 
 #include <glm/geometric.hpp>
@@ -24,6 +25,14 @@ const char* non_finite_name(float a, float b, float c = 0.0f) {
 }  // namespace
 
 namespace detail {
+
+void add_library_warnings(LoadedMesh& out, const std::string& text) {
+  std::istringstream lines(text);
+  for (std::string w; std::getline(lines, w);) {
+    while (!w.empty() && (w.back() == '\r' || w.back() == ' ' || w.back() == ':')) w.pop_back();
+    if (!w.empty()) out.warnings.push_back(w);
+  }
+}
 
 void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals) {
   Mesh& m = out.mesh;

@@ -16,6 +16,10 @@ LoadedMesh load_gltf(const std::filesystem::path& path, bool binary, const Budge
 void check_face_budget(uint64_t triangles, const Budget& budget, const std::string& file,
                        const std::string& field);
 
+// Adds a library's warning text (tinyobjloader's, tinygltf's) to out.warnings, one warning
+// per line, trimmed, so that each line the user sees names the file it is about.
+void add_library_warnings(LoadedMesh& out, const std::string& text);
+
 // Fills in normals when the loader had none for some vertex (has_normals false), or when
 // a given normal has zero length; normalises the rest. Adds a warning when normals the
 // file gives (any_normals) are replaced by computed ones.

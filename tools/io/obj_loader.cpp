@@ -201,13 +201,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   }
 
   LoadedMesh out;
-  // tinyobjloader's warnings are lines (a missing .mtl gives two): one warning each, so that
-  // every line the user sees starts with the file it is about.
-  std::istringstream warning_lines(reader.Warning());
-  for (std::string w; std::getline(warning_lines, w);) {
-    while (!w.empty() && (w.back() == '\r' || w.back() == ' ' || w.back() == ':')) w.pop_back();
-    if (!w.empty()) out.warnings.push_back(w);
-  }
+  add_library_warnings(out, reader.Warning());  // a missing .mtl gives two lines
 
   const tinyobj::attrib_t& attrib = reader.GetAttrib();
   const size_t nv = attrib.vertices.size() / 3, nt = attrib.texcoords.size() / 2,

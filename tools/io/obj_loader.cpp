@@ -305,8 +305,15 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
                              "` (the first face's) are used for the whole mesh");
     const std::filesystem::path dir = path.parent_path();
     if (!mat.diffuse_texname.empty()) out.color_map.path = dir / mat.diffuse_texname;
-    if (!mat.normal_texname.empty()) out.normal_map.path = dir / mat.normal_texname;
-    else if (!mat.bump_texname.empty()) out.normal_map.path = dir / mat.bump_texname;
+    if (!mat.normal_texname.empty()) {
+      out.normal_map.path = dir / mat.normal_texname;
+    } else if (!mat.bump_texname.empty()) {
+      // `bump` is as often a height map as a normal map (Blender writes normal maps there,
+      // Sponza height maps): not drawn, and the user hears why.
+      out.warnings.push_back("material `" + mat.name + "` names a bump map `" + mat.bump_texname +
+                             "` that is not drawn: pelt draws tangent-space normal maps, named by `norm` in the "
+                             "MTL file or by the scene's normal_map");
+    }
   }
   return out;
 }

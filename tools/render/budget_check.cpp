@@ -80,19 +80,31 @@ uint64_t image_texture_bytes(uint64_t texels, uint64_t file_bytes_per_texel) {
 
 // The material's normal map, sized from its header like a colour map, plus the four
 // tangent-frame varyings per vertex it adds; empty field when the object has none.
-MemoryPart normal_map_part(const io::Scene& scene, const Mesh& m, size_t i) {
+// The normal map the renderer will load for object i (the scene's, else the one the mesh file
+// names), sized from its header, with the tangent frames it brings; empty field when none.
+MemoryPart normal_map_part(const io::Scene& scene, const io::LoadedMesh& loaded, size_t i) {
   const io::SceneObject& so = scene.objects[i];
   MemoryPart p;
-  if (so.material.normal_map.empty()) return p;
-  const io::ImageHeader h = asked_by(map_asked_by(scene, i, "normal_map", false),
-                                     [&] { return io::read_image_header(so.material.normal_map); });
-  const uint64_t texels = uint64_t(h.width) * uint64_t(h.height);
-  p.field = object_field(i) + ".material.normal_map";
-  p.what = "normal map " + so.material.normal_map.filename().string() + ", " + std::to_string(h.width) + " x " +
-           std::to_string(h.height) + " texels, and the tangent frames";
-  const uint64_t tangents = sat_mul(uint64_t(m.positions.size()), 2 * 4 * sizeof(float));  // frames + varyings
-  p.bytes = sat_add(image_texture_bytes(texels, uint64_t(std::min(h.channels, 4)) * uint64_t(h.bytes_per_channel)),
-                    tangents);
+  const bool from_scene = !so.material.normal_map.empty();
+  uint64_t texels = 0, file_bytes_per_texel = 0;
+  if (from_scene || !loaded.normal_map.path.empty()) {
+    const std::filesystem::path& path = from_scene ? so.material.normal_map : loaded.normal_map.path;
+    const io::ImageHeader h = asked_by(map_asked_by(scene, i, "normal_map", !from_scene),
+                                       [&] { return io::read_image_header(path); });
+    texels = uint64_t(h.width) * uint64_t(h.height);
+    file_bytes_per_texel = uint64_t(std::min(h.channels, 4)) * uint64_t(h.bytes_per_channel);
+    p.what = "normal map " + path.filename().string() + ", " + std::to_string(h.width) + " x " +
+             std::to_string(h.height) + " texels, and the tangent frames";
+  } else if (!loaded.normal_map.pixels.empty()) {
+    texels = uint64_t(loaded.normal_map.pixels.width) * uint64_t(loaded.normal_map.pixels.height);
+    p.what = "embedded normal map, " + std::to_string(loaded.normal_map.pixels.width) + " x " +
+             std::to_string(loaded.normal_map.pixels.height) + " texels, and the tangent frames";
+  } else {
+    return p;
+  }
+  p.field = object_field(i) + (from_scene ? ".material.normal_map" : ".mesh");
+  const uint64_t tangents = sat_mul(uint64_t(loaded.mesh.positions.size()), 2 * 4 * sizeof(float));  // frames + varyings
+  p.bytes = sat_add(image_texture_bytes(texels, file_bytes_per_texel), tangents);
   return p;
 }
 
@@ -240,7 +252,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
     const Mesh& m = meshes[i].loaded.mesh;
     e.parts.push_back(mesh_part(so, m, i));
     if (MemoryPart cm = color_map_part(scene, meshes[i].loaded, i); !cm.field.empty()) e.parts.push_back(std::move(cm));
-    if (MemoryPart nm = normal_map_part(scene, meshes[i].loaded.mesh, i); !nm.field.empty())
+    if (MemoryPart nm = normal_map_part(scene, meshes[i].loaded, i); !nm.field.empty())
       e.parts.push_back(std::move(nm));
     if (so.fur) add_fur_parts(scene, m, i, threads, e.parts);
   }

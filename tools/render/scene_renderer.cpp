@@ -100,6 +100,37 @@ void load_color_map(const io::Scene& scene, size_t index, const io::LoadedMesh& 
     throw io::InputError(source, e->field, e->reason);
 }
 
+// The normal map of object `index`, read linear: the material's `normal_map`, else the one
+// the mesh file names (glTF normalTexture, MTL `norm`), else none. A mesh without texture
+// coordinates cannot carry one.
+void load_normal_map(const io::Scene& scene, size_t index, const io::LoadedMesh& loaded, const Mesh& mesh,
+                     const io::Budget& budget, const raster::ParallelFor& parallel, raster::Texture& out,
+                     FrameStats& stats) {
+  const io::SceneObject& so = scene.objects[index];
+  const bool from_scene = !so.material.normal_map.empty();
+  if (!from_scene && !loaded.normal_map.present()) return;
+  StageTimer t(stats, "textures");
+  const std::string object = "objects[" + std::to_string(index) + "]";
+  if (mesh.uvs.size() != mesh.vertex_count())
+    throw io::InputError(scene.file.string(), object + (from_scene ? ".material.normal_map" : ".mesh"),
+                         "a normal map needs texture coordinates, and mesh `" + so.mesh + "` has none" +
+                             (from_scene ? "" : " (the file names the map)"));
+  io::ImageRGBA img;
+  std::string source;
+  if (from_scene || !loaded.normal_map.path.empty()) {
+    const std::filesystem::path& path = from_scene ? so.material.normal_map : loaded.normal_map.path;
+    img = asked_by(map_asked_by(scene, index, "normal_map", !from_scene),
+                   [&] { return io::read_image_rgba(path, io::ColorEncoding::linear, budget); });
+    source = path.string();
+  } else {
+    img = loaded.normal_map.pixels;
+    source = so.mesh;
+  }
+  if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(),
+                                                  raster::TexelEncoding::Linear, out, parallel))
+    throw io::InputError(source, e->field, e->reason);
+}
+
 }  // namespace
 
 io::Scene apply_quality(const io::Scene& scene, const io::Quality& q) {
@@ -195,15 +226,6 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     const io::SceneObject& so = scene.objects[i];
     const std::string mesh_field = "objects[" + std::to_string(i) + "].mesh";
     for (const std::string& w : meshes[i].loaded.warnings) warnings_.push_back(so.mesh + " (" + mesh_field + "): " + w);
-    // A mesh file's colour map is drawn when the scene names none; its normal map is not (an
-    // OBJ `bump` is as often a height map as a normal map), so the user hears of it.
-    if (meshes[i].loaded.normal_map.present() && so.material.normal_map.empty()) {
-      const io::TextureRef& n = meshes[i].loaded.normal_map;
-      warnings_.push_back(so.mesh + " (" + mesh_field + "): the file names a normal map" +
-                          (n.path.empty() ? std::string(" (embedded)") : " `" + n.path.string() + "`") +
-                          " that is not drawn: pelt takes normal maps from the scene's `objects[" + std::to_string(i) +
-                          "].material.normal_map`");
-    }
     auto obj = std::make_unique<Object>();
     obj->mesh = std::move(meshes[i].loaded.mesh);
     io::bake_transform(obj->mesh, meshes[i].model);
@@ -225,20 +247,8 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     load_color_map(scene, i, meshes[i].loaded, settings.budget, parallel, obj->color_map, setup_stats_);
     if (!obj->color_map.empty()) obj->material.color_map = &obj->color_map;
 
-    if (!so.material.normal_map.empty()) {
-      StageTimer t(setup_stats_, "textures");
-      const std::string field = "objects[" + std::to_string(i) + "].material.normal_map";
-      if (obj->mesh.uvs.size() != obj->mesh.vertex_count())
-        throw io::InputError(scene.file.string(), field,
-                             "a normal map needs texture coordinates, and mesh `" + so.mesh + "` has none");
-      const io::ImageRGBA img = asked_by(map_asked_by(scene, i, "normal_map", false), [&] {
-        return io::read_image_rgba(so.material.normal_map, io::ColorEncoding::linear, settings.budget);
-      });
-      if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(),
-                                                      raster::TexelEncoding::Linear, obj->normal_map, parallel))
-        throw io::InputError(so.material.normal_map.string(), e->field, e->reason);
-      obj->material.normal_map = &obj->normal_map;
-    }
+    load_normal_map(scene, i, meshes[i].loaded, obj->mesh, settings.budget, parallel, obj->normal_map, setup_stats_);
+    if (!obj->normal_map.empty()) obj->material.normal_map = &obj->normal_map;
     shading::BlurredNormals blurred;
     const bool blur = obj->material.kind == MaterialKind::skin &&
                       obj->material.skin.multiple_scattering == shading::MultipleScattering::normal_blur;

@@ -98,22 +98,5 @@ TEST(RenderMeshWarnings, AreShownAndTheFrameStillRenders) {
   EXPECT_TRUE(fs::exists(out));
 }
 
-// A normal map the mesh file names is not drawn (only the scene's `normal_map` is): said so.
-TEST(RenderMeshWarnings, AMeshFilesNormalMapIsNamedAsNotDrawn) {
-  TempDir dir;
-  dir.write("m.mtl", "newmtl a\nnorm n.png\n");
-  dir.write("tri.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n");
-  const fs::path scene =
-      dir.write("shot.json", scene_with_object(R"({"mesh": "tri.obj", "material": {"type": "lambert"}})"));
-  const Result r = run_pelt({"info", scene.string()}, dir.path());
-  EXPECT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.err.find("pelt: warning: tri.obj (objects[0].mesh): the file names a normal map `"), std::string::npos)
-      << r.err;
-  EXPECT_NE(r.err.find("n.png` that is not drawn: pelt takes normal maps from the scene's "
-                       "`objects[0].material.normal_map`"),
-            std::string::npos)
-      << r.err;
-}
-
 }  // namespace
 }  // namespace pelt::cli_test

@@ -87,6 +87,71 @@ TEST(NormalMap, CountedInTheMemoryEstimate) {
   EXPECT_GE(e.total, r.memory_estimate());
 }
 
+// A square of two triangles in the y = 0 plane, facing up, with uvs, its material from m.mtl.
+void write_square_obj(const std::filesystem::path& dir, const std::string& mtl) {
+  std::ofstream(dir / "m.mtl") << mtl;
+  std::ofstream(dir / "sq.obj") << "mtllib m.mtl\nv -1.5 0 1.5\nv 1.5 0 1.5\nv 1.5 0 -1.5\nv -1.5 0 -1.5\n"
+                                   "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 1 0\nusemtl a\n"
+                                   "f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n";
+}
+
+std::string square_scene(const std::string& material_extra, glm::vec3 light) {
+  std::string s = plane_scene(material_extra, light);
+  const std::string from = R"("mesh": "plane:2", "transform": {"scale": 3})", to = R"("mesh": "sq.obj")";
+  s.replace(s.find(from), from.size(), to);
+  return s;
+}
+
+// A normal map the mesh file names (MTL `norm`; glTF normalTexture goes the same way) is
+// drawn as the scene's `normal_map` would draw the same image; the scene's wins over it.
+TEST(NormalMap, TheMeshFilesMapIsDrawnWhenTheSceneNamesNone) {
+  SceneDir dir;
+  write_map(dir.path() / "n.png", 210, 90, 200);
+  write_map(dir.path() / "other.png", 128, 128, 255);  // flat: close to no map
+  write_square_obj(dir.path(), "newmtl a\nnorm n.png\n");
+  const glm::vec3 light = glm::normalize(glm::vec3(0.3f, 0.8f, -0.4f));
+  const FrameImage from_mesh = render_at(dir.scene(square_scene("", light)), {});
+  const FrameImage from_scene = render_at(dir.scene(square_scene(R"(, "normal_map": "n.png")", light)), {});
+  const FrameImage other = render_at(dir.scene(square_scene(R"(, "normal_map": "other.png")", light)), {});
+  write_square_obj(dir.path(), "newmtl a\n");
+  const FrameImage none = render_at(dir.scene(square_scene("", light)), {});
+  EXPECT_EQ(from_mesh.color, from_scene.color);
+  EXPECT_GT(image_rmse(from_mesh.color, none.color), 0.05);  // the map was drawn
+  EXPECT_GT(image_rmse(other.color, from_mesh.color), 0.05);  // the scene's map replaced it
+}
+
+// `bump` is as often a height map: not drawn, and said so.
+TEST(NormalMap, AnMtlBumpMapIsNotDrawnButNamed) {
+  SceneDir dir;
+  write_map(dir.path() / "h.png", 210, 90, 200);
+  write_square_obj(dir.path(), "newmtl a\nbump h.png\n");
+  const glm::vec3 light = glm::normalize(glm::vec3(0.3f, 0.8f, -0.4f));
+  const io::Scene s = dir.scene(square_scene("", light));
+  SceneRenderer r(s, RenderSettings{});
+  ASSERT_EQ(r.warnings().size(), 1u);
+  EXPECT_NE(r.warnings()[0].find("material `a` names a bump map `h.png` that is not drawn"), std::string::npos)
+      << r.warnings()[0];
+  const FrameImage with_bump = render_at(s, {});
+  write_square_obj(dir.path(), "newmtl a\n");
+  EXPECT_EQ(with_bump.color, render_at(dir.scene(square_scene("", light)), {}).color);
+}
+
+// The mesh's map is counted like the scene's, under the mesh's field.
+TEST(NormalMap, TheMeshFilesMapIsCountedInTheMemoryEstimate) {
+  SceneDir dir;
+  write_map(dir.path() / "n.png", 128, 128, 255);
+  write_square_obj(dir.path(), "newmtl a\nnorm n.png\n");
+  const io::Scene s = dir.scene(square_scene("", glm::vec3(0, 1, 0)));
+  const MemoryEstimate e = estimate_memory(s, io::load_scene_meshes(s), 0, 0, 1, 1);
+  size_t found = 0;
+  for (const MemoryPart& p : e.parts)
+    if (p.field == "objects[0].mesh" && p.what.find("normal map n.png") != std::string::npos) {
+      ++found;
+      EXPECT_GE(p.bytes, 4u * 4u * 4u * sizeof(float));
+    }
+  EXPECT_EQ(found, 1u);
+}
+
 TEST(NormalMap, MeshWithoutUvsIsRefused) {
   SceneDir dir;
   write_map(dir.path() / "n.png", 128, 128, 255);

@@ -74,60 +74,45 @@ SkinLayer layer_of(Aov aov) {
   }
 }
 
-// The colour map of object `index`: the material's `color_map`, else the one the mesh file
-// names (glTF baseColorTexture, OBJ map_Kd), else none.
-void load_color_map(const io::Scene& scene, size_t index, const io::LoadedMesh& loaded, const io::Budget& budget,
-                    const raster::ParallelFor& parallel, raster::Texture& out, FrameStats& stats) {
-  const io::SceneObject& so = scene.objects[index];
-  if (so.material.color_map.empty() && loaded.color_map.path.empty() && loaded.color_map.pixels.empty()) return;
-  StageTimer t(stats, "textures");
-  io::ImageRGBA img;
-  std::string source;
-  if (!so.material.color_map.empty()) {
-    img = asked_by(map_asked_by(scene, index, "color_map", false),
-                   [&] { return io::read_image_rgba(so.material.color_map, io::ColorEncoding::srgb, budget); });
-    source = so.material.color_map.string();
-  } else if (!loaded.color_map.path.empty()) {
-    img = asked_by(map_asked_by(scene, index, "color_map", true),
-                   [&] { return io::read_image_rgba(loaded.color_map.path, io::ColorEncoding::srgb, budget); });
-    source = loaded.color_map.path.string();
-  } else {
-    img = loaded.color_map.pixels;
-    source = so.mesh;
-  }
-  if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(),
-                                                  raster::TexelEncoding::Srgb, out, parallel))
-    throw io::InputError(source, e->field, e->reason);
-}
+// Which map load_object_map reads, and how.
+struct MapKind {
+  const char* field;  // "color_map" or "normal_map": the material's key, and the messages' word
+  io::ColorEncoding file_encoding;
+  raster::TexelEncoding texels;
+  bool needs_uvs;  // a normal map: its tangent frames come from the uvs
+};
+constexpr MapKind kColorMap{"color_map", io::ColorEncoding::srgb, raster::TexelEncoding::Srgb, false};
+constexpr MapKind kNormalMap{"normal_map", io::ColorEncoding::linear, raster::TexelEncoding::Linear, true};
 
-// The normal map of object `index`, read linear: the material's `normal_map`, else the one
-// the mesh file names (glTF normalTexture, MTL `norm`), else none. A mesh without texture
-// coordinates cannot carry one.
-void load_normal_map(const io::Scene& scene, size_t index, const io::LoadedMesh& loaded, const Mesh& mesh,
+// A map of object `index`: the scene material's (`from_scene`, a path), else the one the mesh
+// file names (`named`: a file, or pixels decoded from inside the file), else none (`out` left
+// empty). Colour maps: glTF baseColorTexture, MTL map_Kd; normal maps: glTF normalTexture,
+// MTL norm, and only on a mesh with texture coordinates.
+void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind,
+                     const std::filesystem::path& from_scene, const io::TextureRef& named, const Mesh& mesh,
                      const io::Budget& budget, const raster::ParallelFor& parallel, raster::Texture& out,
                      FrameStats& stats) {
   const io::SceneObject& so = scene.objects[index];
-  const bool from_scene = !so.material.normal_map.empty();
-  if (!from_scene && !loaded.normal_map.present()) return;
+  const bool scene_map = !from_scene.empty();
+  if (!scene_map && !named.present()) return;
   StageTimer t(stats, "textures");
   const std::string object = "objects[" + std::to_string(index) + "]";
-  if (mesh.uvs.size() != mesh.vertex_count())
-    throw io::InputError(scene.file.string(), object + (from_scene ? ".material.normal_map" : ".mesh"),
+  if (kind.needs_uvs && mesh.uvs.size() != mesh.vertex_count())
+    throw io::InputError(scene.file.string(), object + (scene_map ? ".material." + std::string(kind.field) : ".mesh"),
                          "a normal map needs texture coordinates, and mesh `" + so.mesh + "` has none" +
-                             (from_scene ? "" : " (the file names the map)"));
+                             (scene_map ? "" : " (the file names the map)"));
   io::ImageRGBA img;
   std::string source;
-  if (from_scene || !loaded.normal_map.path.empty()) {
-    const std::filesystem::path& path = from_scene ? so.material.normal_map : loaded.normal_map.path;
-    img = asked_by(map_asked_by(scene, index, "normal_map", !from_scene),
-                   [&] { return io::read_image_rgba(path, io::ColorEncoding::linear, budget); });
+  if (scene_map || !named.path.empty()) {
+    const std::filesystem::path& path = scene_map ? from_scene : named.path;
+    img = asked_by(map_asked_by(scene, index, kind.field, !scene_map),
+                   [&] { return io::read_image_rgba(path, kind.file_encoding, budget); });
     source = path.string();
   } else {
-    img = loaded.normal_map.pixels;
+    img = named.pixels;
     source = so.mesh;
   }
-  if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(),
-                                                  raster::TexelEncoding::Linear, out, parallel))
+  if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(), kind.texels, out, parallel))
     throw io::InputError(source, e->field, e->reason);
 }
 
@@ -244,10 +229,12 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     // Internally v = 0 is the top row of an image (glTF); OBJ files count v from the bottom.
     if (!so.mesh_path.empty() && so.mesh_path.extension() == ".obj")
       for (glm::vec2& uv : obj->mesh.uvs) uv.y = 1.0f - uv.y;
-    load_color_map(scene, i, meshes[i].loaded, settings.budget, parallel, obj->color_map, setup_stats_);
+    load_object_map(scene, i, kColorMap, so.material.color_map, meshes[i].loaded.color_map, obj->mesh,
+                    settings.budget, parallel, obj->color_map, setup_stats_);
     if (!obj->color_map.empty()) obj->material.color_map = &obj->color_map;
 
-    load_normal_map(scene, i, meshes[i].loaded, obj->mesh, settings.budget, parallel, obj->normal_map, setup_stats_);
+    load_object_map(scene, i, kNormalMap, so.material.normal_map, meshes[i].loaded.normal_map, obj->mesh,
+                    settings.budget, parallel, obj->normal_map, setup_stats_);
     if (!obj->normal_map.empty()) obj->material.normal_map = &obj->normal_map;
     shading::BlurredNormals blurred;
     const bool blur = obj->material.kind == MaterialKind::skin &&

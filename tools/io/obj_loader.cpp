@@ -127,7 +127,12 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
       uint64_t corners = 0;
       std::istringstream tokens(line.substr(i + 1));
       const std::string where = " (line " + std::to_string(line_number) + ")";
-      while (tokens >> tok && tok[0] != '#') {
+      bool comment = false;
+      while (tokens >> tok) {
+        if (tok[0] == '#') {
+          comment = true;
+          break;
+        }
         ++corners;
         if (out.bad_record) continue;
         if (std::string reason = check_corner(tok, counts); !reason.empty())
@@ -136,7 +141,10 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
       ++faces;
       if (corners >= 3) out.triangles = sat_add(out.triangles, corners - 2);
       if (out.bad_record) continue;
-      if (corners < 3)
+      if (comment && corners >= 3)  // tinyobjloader reads `#` as a corner and fails with "zero value"
+        out.bad_record.emplace(file, face_name(faces - 1),
+                               "a comment after a face's corners is not OBJ: put it on a line of its own" + where);
+      else if (corners < 3)
         out.bad_record.emplace(file, face_name(faces - 1),
                                "a face needs at least 3 vertices, this one has " + std::to_string(corners) + where);
       else if (corners > kMaxCorners)

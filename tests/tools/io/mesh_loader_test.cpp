@@ -213,6 +213,9 @@ TEST(MeshLoader, ObjCornersThatAreNotIndices) {
   expect_load_error(dir.write("relvt.obj", v + "f 1/-2 2/-1 3/-1\n"), "f 1",
                     "texture coordinate index -2 out of range (1 texture coordinates before this face)");
   expect_load_error(dir.write("huge.obj", v + "f 1 2 99999999999\n"), "f 1", "vertex index 99999999999 out of range");
+  expect_load_error(dir.write("comment.obj", v + "f 1 2 3 # the first\n"), "f 1",
+                    "a comment after a face's corners is not OBJ: put it on a line of its own (line 5)");
+  expect_load_error(dir.write("glued.obj", v + "f 1 2 3#c\n"), "f 1", "`3#c` is not a corner");
   // Valid forms still load: relative indices, v//vn, a leading +.
   const auto ok = dir.write("ok.obj", v + "vn 0 0 1\nf -3//1 +2//1 -1//-1\nf 1/1 2/1 3/-1\n");
   EXPECT_EQ(load_mesh_file(ok).mesh.triangle_count(), 2u);

@@ -372,30 +372,46 @@ std::string tiny_gltf(float x0, uint16_t i2) {
                {"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
 }
 
-// Two primitives of one triangle each, with materials naming different colour textures:
-// the first is the mesh's, and the user hears of the second.
-TEST(MeshLoader, GltfSecondColourTextureIsAWarning) {
-  TempDir dir;
+// tiny_gltf's triangle twice, as two primitives of materials 0 and 1 (`materials`, a JSON
+// array), with textures 0 and 1 of images a.png and b.png (copies of BoxTextured's) beside it.
+std::filesystem::path two_material_gltf(const TempDir& dir, const std::string& materials) {
   const auto png = data_dir() / "BoxTextured-glTF" / "CesiumLogoFlat.png";
   std::filesystem::copy_file(png, dir.path() / "a.png");
   std::filesystem::copy_file(png, dir.path() / "b.png");
   std::string text = tiny_gltf(0.0f, 2);
-  const auto replace = [&](const std::string& from, const std::string& to) {
-    const size_t at = text.find(from);
-    ASSERT_NE(at, std::string::npos) << from;
-    text.replace(at, from.size(), to);
-  };
-  replace(R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)",
-          R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0},
-                                      {"attributes":{"POSITION":0},"indices":1,"material":1}]}],
-  "materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}},
-               {"pbrMetallicRoughness":{"baseColorTexture":{"index":1}}}],
-  "textures":[{"source":0},{"source":1}], "images":[{"uri":"a.png"},{"uri":"b.png"}],)");
-  const LoadedMesh l = load_mesh_file(dir.write("two.gltf", text));
+  const std::string from = R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)";
+  text.replace(text.find(from), from.size(),
+               R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0},
+                                           {"attributes":{"POSITION":0},"indices":1,"material":1}]}],
+                  "textures":[{"source":0},{"source":1}], "images":[{"uri":"a.png"},{"uri":"b.png"}],
+                  "materials":)" + materials + ",");
+  return dir.write("two.gltf", text);
+}
+
+// The first primitive's colour texture is the mesh's, and the user hears of the second's.
+TEST(MeshLoader, GltfSecondColourTextureIsAWarning) {
+  TempDir dir;
+  const LoadedMesh l = load_mesh_file(two_material_gltf(dir, R"([{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}},
+      {"pbrMetallicRoughness":{"baseColorTexture":{"index":1}}}])"));
   EXPECT_EQ(l.color_map.path, dir.path() / "a.png");
   EXPECT_NE(std::find(l.warnings.begin(), l.warnings.end(),
                       "primitives use more than one base colour texture: "
                       "materials[0].pbrMetallicRoughness.baseColorTexture is used for the whole mesh"),
+            l.warnings.end())
+      << ::testing::PrintToString(l.warnings);
+}
+
+// A normalTexture is the mesh's normal map (drawn when the scene names none,
+// tests/tools/render/normal_map_test.cpp), the same way.
+TEST(MeshLoader, GltfNormalTextureIsTheMeshsNormalMap) {
+  TempDir dir;
+  const LoadedMesh l = load_mesh_file(
+      two_material_gltf(dir, R"([{"normalTexture":{"index":0}}, {"normalTexture":{"index":1}}])"));
+  EXPECT_EQ(l.normal_map.path, dir.path() / "a.png");
+  EXPECT_FALSE(l.color_map.present());
+  EXPECT_NE(std::find(l.warnings.begin(), l.warnings.end(),
+                      "primitives use more than one normal texture: materials[0].normalTexture is used for the "
+                      "whole mesh"),
             l.warnings.end())
       << ::testing::PrintToString(l.warnings);
 }

@@ -67,19 +67,17 @@ class RepeatedKeyFinder : public nlohmann::json_sax<nlohmann::json> {
   };
   std::vector<Open> open_;
 
-  // The path of the value that starts now, counting it if its container is an array.
-  std::string next_path() {
-    if (open_.empty()) return {};
-    Open& o = open_.back();
-    return o.array ? json_index(o.path, o.index++) : json_child(o.path, o.key);
-  }
+  // A scalar needs no path, only its place counted in an array.
   bool element() {
-    next_path();
+    if (!open_.empty() && open_.back().array) ++open_.back().index;
     return true;
   }
   bool open(bool array) {
     Open o;
-    o.path = next_path();
+    if (!open_.empty()) {
+      Open& parent = open_.back();
+      o.path = parent.array ? json_index(parent.path, parent.index++) : json_child(parent.path, parent.key);
+    }
     o.array = array;
     open_.push_back(std::move(o));
     return true;

@@ -24,7 +24,7 @@ struct TextureRef {
 struct LoadedMesh {
   Mesh mesh;               // all triangles of the file in one mesh, in file order
   TextureRef color_map;    // glTF baseColorTexture / OBJ map_Kd
-  TextureRef normal_map;   // glTF normalTexture / OBJ norm (or bump)
+  TextureRef normal_map;   // glTF normalTexture / OBJ norm (a bump map is only warned of)
   // Things that were accepted but changed or ignored, to be shown to the user (e.g. "not
   // every vertex has a normal: all normals computed from the triangles").
   std::vector<std::string> warnings;

@@ -1,5 +1,4 @@
 // Wavefront OBJ through tinyobjloader.
-#include <algorithm>
 #include <charconv>
 #include <climits>
 #include <cmath>
@@ -229,7 +228,8 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   Mesh& m = out.mesh;
   size_t face_number = 0;
   int material = -1;
-  std::vector<int> materials_used;  // each material id that some face names, once
+  const auto& materials = reader.GetMaterials();
+  std::vector<char> material_used(materials.size(), 0);  // by material id
   std::vector<glm::vec3> corner_positions;
   std::vector<uint32_t> corner_vertices, triangles;
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
@@ -242,8 +242,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
       if (f < mesh.material_ids.size()) {
         const int id = mesh.material_ids[f];
         if (material < 0) material = id;
-        if (id >= 0 && std::find(materials_used.begin(), materials_used.end(), id) == materials_used.end())
-          materials_used.push_back(id);
+        if (id >= 0 && size_t(id) < material_used.size()) material_used[size_t(id)] = 1;
       }
       corner_positions.clear();
       corner_vertices.clear();
@@ -296,7 +295,6 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   }
   finish_normals(out, all_normals, nn > 0);
 
-  const auto& materials = reader.GetMaterials();
   if (material >= 0 && static_cast<size_t>(material) < materials.size()) {
     const tinyobj::material_t& mat = materials[material];
     // An object has one material in pelt: faces whose material names other maps are drawn
@@ -305,8 +303,8 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
       return std::make_pair(t.diffuse_texname, t.normal_texname.empty() ? t.bump_texname : t.normal_texname);
     };
     size_t others = 0;
-    for (int id : materials_used)
-      if (static_cast<size_t>(id) < materials.size() && maps(materials[id]) != maps(mat)) ++others;
+    for (size_t id = 0; id < materials.size(); ++id)
+      if (material_used[id] && maps(materials[id]) != maps(mat)) ++others;
     if (others > 0)
       out.warnings.push_back("faces use " + std::to_string(others + 1) +
                              " materials with different texture maps: the maps of `" + mat.name +

@@ -78,61 +78,31 @@ uint64_t image_texture_bytes(uint64_t texels, uint64_t file_bytes_per_texel) {
   return sat_add(sat_mul(texels, 4 * sizeof(float) + file_bytes_per_texel + kBuildBytes), mipmapped_rgba8(texels));
 }
 
-// The material's normal map, sized from its header like a colour map, plus the four
-// tangent-frame varyings per vertex it adds; empty field when the object has none.
-// The normal map the renderer will load for object i (the scene's, else the one the mesh file
-// names), sized from its header, with the tangent frames it brings; empty field when none.
-MemoryPart normal_map_part(const io::Scene& scene, const io::LoadedMesh& loaded, size_t i) {
-  const io::SceneObject& so = scene.objects[i];
+// Object i's colour or normal map (`key`), sized from its header as the renderer will load
+// it (map_source), plus `extra` bytes that come with it; empty field when it has none.
+MemoryPart map_part(const io::Scene& scene, size_t i, const char* key, const std::string& noun,
+                    const std::filesystem::path& from_scene, const io::TextureRef& named, uint64_t extra,
+                    const std::string& what_extra) {
   MemoryPart p;
-  const bool from_scene = !so.material.normal_map.empty();
-  uint64_t texels = 0, file_bytes_per_texel = 0;
-  if (from_scene || !loaded.normal_map.path.empty()) {
-    const std::filesystem::path& path = from_scene ? so.material.normal_map : loaded.normal_map.path;
-    const io::ImageHeader h = asked_by(map_asked_by(scene, i, "normal_map", !from_scene),
-                                       [&] { return io::read_image_header(path); });
-    texels = uint64_t(h.width) * uint64_t(h.height);
+  const std::optional<MapSource> src = map_source(from_scene, named);
+  if (!src) return p;
+  int width, height;
+  uint64_t file_bytes_per_texel = 0;  // embedded: no file pixels
+  if (src->file) {
+    const io::ImageHeader h = asked_by(map_asked_by(scene, i, key, src->named_by_mesh),
+                                       [&] { return io::read_image_header(*src->file); });
+    width = h.width;
+    height = h.height;
     file_bytes_per_texel = uint64_t(std::min(h.channels, 4)) * uint64_t(h.bytes_per_channel);
-    p.what = "normal map " + path.filename().string() + ", " + std::to_string(h.width) + " x " +
-             std::to_string(h.height) + " texels, and the tangent frames";
-  } else if (!loaded.normal_map.pixels.empty()) {
-    texels = uint64_t(loaded.normal_map.pixels.width) * uint64_t(loaded.normal_map.pixels.height);
-    p.what = "embedded normal map, " + std::to_string(loaded.normal_map.pixels.width) + " x " +
-             std::to_string(loaded.normal_map.pixels.height) + " texels, and the tangent frames";
+    p.what = noun + " " + src->file->filename().string();
   } else {
-    return p;
+    width = src->pixels->width;
+    height = src->pixels->height;
+    p.what = "embedded " + noun;
   }
-  p.field = object_field(i) + (from_scene ? ".material.normal_map" : ".mesh");
-  const uint64_t tangents = sat_mul(uint64_t(loaded.mesh.positions.size()), 2 * 4 * sizeof(float));  // frames + varyings
-  p.bytes = sat_add(image_texture_bytes(texels, file_bytes_per_texel), tangents);
-  return p;
-}
-
-// The colour map the renderer will load for object i, sized from its header; nullopt-like
-// (bytes 0, empty field) when the object has none.
-MemoryPart color_map_part(const io::Scene& scene, const io::LoadedMesh& loaded, size_t i) {
-  const io::SceneObject& so = scene.objects[i];
-  MemoryPart p;
-  uint64_t texels = 0, file_bytes_per_texel = 0;
-  if (!so.material.color_map.empty() || !loaded.color_map.path.empty()) {
-    const bool material = !so.material.color_map.empty();
-    const std::filesystem::path& path = material ? so.material.color_map : loaded.color_map.path;
-    const io::ImageHeader h =
-        asked_by(map_asked_by(scene, i, "color_map", !material), [&] { return io::read_image_header(path); });
-    texels = uint64_t(h.width) * uint64_t(h.height);
-    file_bytes_per_texel = uint64_t(std::min(h.channels, 4)) * uint64_t(h.bytes_per_channel);
-    p.field = object_field(i) + (material ? ".material.color_map" : ".mesh");
-    p.what = "colour map " + path.filename().string() + ", " + std::to_string(h.width) + " x " +
-             std::to_string(h.height) + " texels";
-  } else if (!loaded.color_map.pixels.empty()) {
-    texels = uint64_t(loaded.color_map.pixels.width) * uint64_t(loaded.color_map.pixels.height);
-    p.field = object_field(i) + ".mesh";
-    p.what = "embedded colour map, " + std::to_string(loaded.color_map.pixels.width) + " x " +
-             std::to_string(loaded.color_map.pixels.height) + " texels";
-  } else {
-    return p;
-  }
-  p.bytes = image_texture_bytes(texels, file_bytes_per_texel);  // embedded: no file pixels
+  p.what += ", " + std::to_string(width) + " x " + std::to_string(height) + " texels" + what_extra;
+  p.field = object_field(i) + (src->named_by_mesh ? ".mesh" : ".material." + std::string(key));
+  p.bytes = sat_add(image_texture_bytes(uint64_t(width) * uint64_t(height), file_bytes_per_texel), extra);
   return p;
 }
 
@@ -179,6 +149,13 @@ void refuse(const io::Scene& scene, const std::string& field, const std::string&
 }
 
 }  // namespace
+
+std::optional<MapSource> map_source(const std::filesystem::path& from_scene, const io::TextureRef& named) {
+  if (!from_scene.empty()) return MapSource{&from_scene, nullptr, false};
+  if (!named.path.empty()) return MapSource{&named.path, nullptr, true};
+  if (!named.pixels.empty()) return MapSource{nullptr, &named.pixels, true};
+  return std::nullopt;
+}
 
 std::string map_asked_by(const io::Scene& scene, size_t i, const char* map, bool named_by_mesh) {
   const std::string object = object_field(i);
@@ -251,8 +228,15 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
     const io::SceneObject& so = scene.objects[i];
     const Mesh& m = meshes[i].loaded.mesh;
     e.parts.push_back(mesh_part(so, m, i));
-    if (MemoryPart cm = color_map_part(scene, meshes[i].loaded, i); !cm.field.empty()) e.parts.push_back(std::move(cm));
-    if (MemoryPart nm = normal_map_part(scene, meshes[i].loaded, i); !nm.field.empty())
+    const io::LoadedMesh& loaded = meshes[i].loaded;
+    if (MemoryPart cm = map_part(scene, i, "color_map", "colour map", so.material.color_map, loaded.color_map, 0, "");
+        !cm.field.empty())
+      e.parts.push_back(std::move(cm));
+    // A normal map brings the four tangent-frame varyings per vertex, and the frames.
+    const uint64_t tangents = sat_mul(uint64_t(m.positions.size()), 2 * 4 * sizeof(float));
+    if (MemoryPart nm = map_part(scene, i, "normal_map", "normal map", so.material.normal_map, loaded.normal_map,
+                                 tangents, ", and the tangent frames");
+        !nm.field.empty())
       e.parts.push_back(std::move(nm));
     if (so.fur) add_fur_parts(scene, m, i, threads, e.parts);
   }

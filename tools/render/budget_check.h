@@ -5,11 +5,14 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "tools/io/budget.h"
 #include "tools/io/input_error.h"
+#include "tools/io/mesh_loader.h"
 #include "tools/io/scene.h"
 
 namespace pelt::render {
@@ -76,6 +79,17 @@ void check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh
 
 // "1234567890 bytes (1.1 GiB)": exact for the record, rounded for the reader.
 std::string describe_bytes(uint64_t bytes);
+
+// Where an object's colour or normal map comes from: the scene material's file
+// (`from_scene`), else the file or the pixels decoded from inside it that the mesh file
+// names; nullopt when neither names one. The memory estimate and the renderer both take an
+// object's maps from here. The pointers point into the arguments.
+struct MapSource {
+  const std::filesystem::path* file = nullptr;  // null: `pixels`
+  const io::ImageRGBA* pixels = nullptr;
+  bool named_by_mesh = false;
+};
+std::optional<MapSource> map_source(const std::filesystem::path& from_scene, const io::TextureRef& named);
 
 // Who asks for object i's colour or normal map (`map`: "color_map" or "normal_map"), for the
 // message of an image that cannot be read, whose own name may be all a user would see:

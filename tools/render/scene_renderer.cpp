@@ -7,6 +7,7 @@
 #include "tools/render/budget_check.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
+#include "tools/io/json_fields.h"
 #include "tools/render/animation.h"
 #include "tools/render/varyings.h"
 
@@ -93,27 +94,22 @@ void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind,
                      const io::Budget& budget, const raster::ParallelFor& parallel, raster::Texture& out,
                      FrameStats& stats) {
   const io::SceneObject& so = scene.objects[index];
-  const bool scene_map = !from_scene.empty();
-  if (!scene_map && !named.present()) return;
+  const std::optional<MapSource> src = map_source(from_scene, named);
+  if (!src) return;
   StageTimer t(stats, "textures");
-  const std::string object = "objects[" + std::to_string(index) + "]";
+  const std::string object = io::json_index("objects", index);
   if (kind.needs_uvs && mesh.uvs.size() != mesh.vertex_count())
-    throw io::InputError(scene.file.string(), object + (scene_map ? ".material." + std::string(kind.field) : ".mesh"),
+    throw io::InputError(scene.file.string(),
+                         src->named_by_mesh ? object + ".mesh" : object + ".material." + kind.field,
                          "a normal map needs texture coordinates, and mesh `" + so.mesh + "` has none" +
-                             (scene_map ? "" : " (the file names the map)"));
-  io::ImageRGBA img;
-  std::string source;
-  if (scene_map || !named.path.empty()) {
-    const std::filesystem::path& path = scene_map ? from_scene : named.path;
-    img = asked_by(map_asked_by(scene, index, kind.field, !scene_map),
-                   [&] { return io::read_image_rgba(path, kind.file_encoding, budget); });
-    source = path.string();
-  } else {
-    img = named.pixels;
-    source = so.mesh;
-  }
+                             (src->named_by_mesh ? " (the file names the map)" : ""));
+  io::ImageRGBA read;
+  if (src->file)
+    read = asked_by(map_asked_by(scene, index, kind.field, src->named_by_mesh),
+                    [&] { return io::read_image_rgba(*src->file, kind.file_encoding, budget); });
+  const io::ImageRGBA& img = src->file ? read : *src->pixels;
   if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(), kind.texels, out, parallel))
-    throw io::InputError(source, e->field, e->reason);
+    throw io::InputError(src->file ? src->file->string() : so.mesh, e->field, e->reason);
 }
 
 }  // namespace
@@ -209,7 +205,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
   uint32_t id_base = 0;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const io::SceneObject& so = scene.objects[i];
-    const std::string mesh_field = "objects[" + std::to_string(i) + "].mesh";
+    const std::string mesh_field = io::json_child(io::json_index("objects", i), "mesh");
     for (const std::string& w : meshes[i].loaded.warnings) warnings_.push_back(so.mesh + " (" + mesh_field + "): " + w);
     auto obj = std::make_unique<Object>();
     obj->mesh = std::move(meshes[i].loaded.mesh);

@@ -11,12 +11,11 @@ namespace pelt::tradeoff {
 
 Timing summarize(std::span<const double> ms, bool warmed_up) {
   if (ms.empty()) throw std::invalid_argument("summarize: no timed runs");
-  const std::vector<double> s(ms.begin(), ms.end());
   Timing t;
-  t.median = render::quantile(s, 0.5);
-  t.min = *std::min_element(s.begin(), s.end());
-  t.max = *std::max_element(s.begin(), s.end());
-  t.runs = int(s.size());
+  t.median = render::quantile({ms.begin(), ms.end()}, 0.5);
+  t.min = *std::min_element(ms.begin(), ms.end());
+  t.max = *std::max_element(ms.begin(), ms.end());
+  t.runs = int(ms.size());
   t.warmed_up = warmed_up;
   return t;
 }

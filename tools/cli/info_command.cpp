@@ -1,10 +1,12 @@
 // `pelt info SCENE.json`: what a scene will compute, without rendering.
 #include <cstdio>
+#include <thread>
 
 #include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/quality_options.h"
 #include "tools/io/scene.h"
+#include "tools/render/budget_check.h"
 #include "tools/render/scene_renderer.h"
 
 namespace pelt::cli {
@@ -30,6 +32,8 @@ int run_info(const InfoOptions& o) {
   const std::string& path = o.path;
   const io::Scene file_scene = io::load_scene(path);
   render::RenderSettings rs;
+  // As `pelt render` sets it, so the memory estimate counts the same workers' scratch.
+  rs.threads = int(std::thread::hardware_concurrency());
   rs.quality = resolve_quality(file_scene, o.quality);
   rs.budget = o.budget;
   render::SceneRenderer r(file_scene, rs);
@@ -71,7 +75,9 @@ int run_info(const InfoOptions& o) {
   }
   std::printf("triangles  %llu before fur, %llu after\n", static_cast<unsigned long long>(r.base_triangles()),
               static_cast<unsigned long long>(r.base_triangles() + r.fur_triangles()));
-  std::printf("memory     about %.1f MiB\n", double(r.memory_estimate()) / (1024.0 * 1024.0));
+  std::printf("memory     about %s at the peak of `pelt render` on %d threads (what --max-memory is checked "
+              "against)\n",
+              render::describe_bytes(r.budget_estimate()).c_str(), rs.threads);
   return 0;
 }
 

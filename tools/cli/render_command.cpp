@@ -1,6 +1,8 @@
 // `pelt render SCENE.json -o OUT`: renders one frame, a range of frames (an image per
 // frame through a `#` pattern, or one animated GIF), or a farm shard of a range.
+#include <algorithm>
 #include <chrono>
+#include <iterator>
 #include <cstdio>
 #include <exception>
 #include <memory>
@@ -9,6 +11,7 @@
 #include <string_view>
 #include <thread>
 #include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -31,8 +34,6 @@
 namespace pelt::cli {
 namespace {
 
-// Exit code of a render stopped by Ctrl-C (128 + SIGINT, as shells report it).
-constexpr int kInterruptedExit = 130;
 
 struct RenderOptions {
   std::string scene;
@@ -109,13 +110,37 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
   plan.kind = render::output_kind(o.output);
   const bool gif = plan.kind == render::OutputKind::gif;
   const int frame_count = scene.animation ? scene.animation->frames : 1;
+  // parse_frame_range reads A:B as well; --frame promises one frame.
+  if (o.frame.find(':') != std::string::npos)
+    throw io::InputError("", "--frame", "takes one frame number, got `" + o.frame + "`; use --frames A:B for a range");
   const render::FrameRange range =
       !o.frame.empty()    ? render::parse_frame_range(o.frame, frame_count, "--frame")
       : !o.frames.empty() ? render::parse_frame_range(o.frames, frame_count, "--frames")
                           : render::FrameRange{0, frame_count - 1};
   const render::Shard shard = o.shard.empty() ? render::Shard{} : render::parse_shard(o.shard);
 
+  // Depth and ids are values, not colours: an 8-bit sRGB PNG would bend and round them away.
+  if ((aov == render::Aov::depth || aov == render::Aov::id) && plan.kind == render::OutputKind::png)
+    throw io::InputError(o.output, "--aov",
+                         "the " + o.aov + " AOV holds " +
+                             (aov == render::Aov::depth ? "float depths" : "32-bit triangle ids") +
+                             ", which a PNG cannot store; write it as " +
+                             (aov == render::Aov::depth ? ".exr or .tif" : ".tif (32-bit unsigned) or .exr"));
+  if (render::skin_layer(aov)) {
+    bool skin = false;
+    for (const io::SceneObject& obj : scene.objects) skin = skin || obj.material.type == io::MaterialType::skin;
+    if (!skin)
+      throw io::InputError("", "--aov",
+                           "the " + o.aov + " AOV is a layer of the skin shader, and no object of " +
+                               scene.file.string() + " has a skin material");
+  }
   if (gif) {
+    // GIF counts a frame's delay in hundredths of a second in 16 bits.
+    const double fps = scene.animation ? scene.animation->fps : io::Animation{}.fps;
+    if (fps < 100.0 / 65535.0)
+      throw io::InputError(scene.file.string(), "animation.fps",
+                           "a GIF frame lasts at most 655.35 s, so a GIF needs at least 0.0016 frames per second; got " +
+                               std::to_string(fps));
     if (pattern.has_frame_field())
       throw io::InputError(o.output, "-o", "a GIF holds every frame in one file; remove the `#` run");
     if (render::per_pixel_value(aov))
@@ -138,11 +163,28 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
   return plan;
 }
 
+// The point-sampled AOVs refuse spp > 1 (SceneRenderer checks the scene's own quality): when a
+// flag asked for the samples, the message names that flag rather than the scene file.
+void refuse_supersampled_values(const RenderOptions& o, const io::Scene& scene, const io::Quality& quality,
+                                render::Aov aov) {
+  if (quality.spp <= 1 || !render::per_pixel_value(aov)) return;
+  const auto spp_knob = std::find(std::begin(io::kKnobs), std::end(io::kKnobs), "spp");
+  const std::string& spp_flag = o.quality.values[spp_knob - std::begin(io::kKnobs)];
+  const char* flag = !spp_flag.empty()                                        ? "--spp"
+                     : !o.quality.preset.empty() && quality.spp != scene.quality.spp ? "--quality"
+                                                                               : nullptr;
+  if (flag)
+    throw io::InputError("", flag,
+                         "the depth, id and overdraw AOVs are point-sampled (one value per pixel); use spp 1, got " +
+                             std::to_string(quality.spp) + " (--aov " + o.aov + ")");
+}
+
 int run_render(const RenderOptions& o) {
   const render::Aov aov = parse_aov(o.aov);
   const render::OutputPattern pattern(o.output);
   const io::Scene scene = io::load_scene(o.scene);
   const io::Quality quality = resolve_quality(scene, o.quality);
+  refuse_supersampled_values(o, scene, quality, aov);
   const Plan plan = plan_render(o, scene, aov, pattern);
   const render::ProgressMode mode = render::progress_mode(o.quiet, fileno(stderr));
   nlohmann::json stats_frames = nlohmann::json::array();
@@ -177,10 +219,16 @@ int run_render(const RenderOptions& o) {
   for (const std::string& w : renderer.warnings()) std::fprintf(stderr, "pelt: warning: %s\n", w.c_str());
   // The destinations are proven writable before the first frame, so a bad path fails now
   // instead of after a whole sequence has rendered.
+  std::vector<io::OutputPath> outputs;
+  if (plan.kind == render::OutputKind::gif) {
+    outputs.push_back({o.output, "-o"});
+  } else {
+    for (int f : plan.frames) outputs.push_back({pattern.path_for(f), "-o"});
+  }
+  if (!o.stats.empty()) outputs.push_back({o.stats, "--stats"});
+  io::refuse_clobbering(outputs, renderer.input_files());
   if (!o.stats.empty()) io::prepare_output(o.stats, "--stats");
-  io::prepare_output(plan.kind == render::OutputKind::gif ? std::filesystem::path(o.output)
-                                                           : pattern.path_for(plan.frames.front()),
-                     "-o");
+  io::prepare_output(outputs.front().path, "-o");
 
   std::unique_ptr<io::AnimatedGifWriter> gif;
   if (plan.kind == render::OutputKind::gif) {
@@ -240,18 +288,29 @@ int run_render(const RenderOptions& o) {
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - slot.start).count());
   };
   size_t next = 0;
-  for (int frame : plan.frames) {
-    if (render::InterruptGuard::requested()) break;
-    Slot& slot = slots[next];
-    next ^= 1;
-    slot.frame = frame;
-    slot.start = std::chrono::steady_clock::now();
-    renderer.render(frame, slot.img, slot.st);
+  try {
+    for (int frame : plan.frames) {
+      if (render::InterruptGuard::requested()) break;
+      Slot& slot = slots[next];
+      next ^= 1;
+      slot.frame = frame;
+      slot.start = std::chrono::steady_clock::now();
+      renderer.render(frame, slot.img, slot.st);
+      finish_write();
+      pending = &slot;
+      writer = std::thread([&write_slot, &slot] { write_slot(slot); });
+    }
     finish_write();
-    pending = &slot;
-    writer = std::thread([&write_slot, &slot] { write_slot(slot); });
+  } catch (...) {
+    // The frames already written are done and --resume skips them: their statistics are
+    // kept as an interrupted run keeps them. The error that stopped the run is the one told.
+    if (writer.joinable()) writer.join();
+    try {
+      write_stats();
+    } catch (const std::exception&) {
+    }
+    throw;
   }
-  finish_write();
   progress.finish();
 
   const int done = progress.done();
@@ -262,7 +321,7 @@ int run_render(const RenderOptions& o) {
                  total,
                  gif ? "; the GIF was not written"
                      : (done > 0 ? "; run again with --resume to render the rest" : ""));
-    return kInterruptedExit;
+    return 128 + render::InterruptGuard::signal_number();  // as shells report a signal's end
   }
   if (gif) gif->commit();
   write_stats();

@@ -14,6 +14,7 @@ namespace pelt::io {
 
 struct AnimatedGifWriter::Impl {
   std::filesystem::path path, tmp;
+  std::unique_ptr<TempFile> tmp_guard;  // listed for a signal handler; removal stays in ~AnimatedGifWriter
   int width = 0, height = 0;
   std::unique_ptr<GifFrames> out;
   std::vector<uint8_t> rgba, bytes;  // a frame's RGBA and RGB sRGB bytes
@@ -29,6 +30,7 @@ AnimatedGifWriter::AnimatedGifWriter(const std::filesystem::path& path, int widt
   Impl& m = *impl_;
   m.path = path;
   m.tmp = temp_beside(path);
+  m.tmp_guard = std::make_unique<TempFile>(m.tmp);
   m.width = width;
   m.height = height;
   std::string error;
@@ -67,6 +69,7 @@ void AnimatedGifWriter::commit() {
   std::error_code ec;
   std::filesystem::rename(m.tmp, m.path, ec);
   if (ec) throw InputError(file, "", "cannot move the finished GIF into place: " + ec.message());
+  m.tmp_guard->release();
   m.committed = true;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <unordered_set>
 
 #include <glm/geometric.hpp>
@@ -147,6 +148,12 @@ double JsonFields::number(const nlohmann::json& j, const std::string& path) cons
   if (!j.is_number()) fail(path, "expected a number, got " + json_type_name(j));
   const double v = j.get<double>();
   if (!std::isfinite(v)) fail(path, "number is not finite");
+  // Scene values are stored as 32-bit floats: a finite JSON number beyond their range would
+  // become infinite, and a tiny one zero, past every range check made here on the double.
+  if (std::abs(v) > double(std::numeric_limits<float>::max()))
+    fail(path, "number " + fmt(v) + " is beyond a 32-bit float's range (about 3.4e38)");
+  if (v != 0.0 && static_cast<float>(v) == 0.0f)
+    fail(path, "number " + fmt(v) + " is too small for a 32-bit float, where it would be 0");
   return v;
 }
 

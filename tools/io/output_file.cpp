@@ -1,9 +1,12 @@
 #include "tools/io/output_file.h"
 
+#include <array>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <map>
 
 #include <unistd.h>
 
@@ -16,7 +19,75 @@ std::filesystem::path folder_of(const std::filesystem::path& path) {
   return path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
 }
 
+// The live temporaries, for a signal handler: fixed storage, since a handler may not allocate.
+// A render has at most a few at once (a frame being written, a GIF, the stats); a temporary
+// that finds no free slot is still removed by its destructor on every ordinary exit.
+constexpr int kTempSlots = 16;
+constexpr size_t kTempPathBytes = 4096;
+struct TempSlot {
+  std::atomic<bool> claimed{false};  // owned by a TempFile
+  std::atomic<bool> live{false};     // `path` is complete and may be unlinked
+  char path[kTempPathBytes];
+};
+std::array<TempSlot, kTempSlots> g_temp_slots;
+
+int claim_temp_slot(const std::filesystem::path& p) {
+  const std::string& s = p.native();
+  if (s.size() >= kTempPathBytes) return -1;
+  for (int i = 0; i < kTempSlots; ++i) {
+    TempSlot& slot = g_temp_slots[size_t(i)];
+    if (slot.claimed.exchange(true, std::memory_order_acquire)) continue;
+    std::memcpy(slot.path, s.c_str(), s.size() + 1);
+    slot.live.store(true, std::memory_order_release);
+    return i;
+  }
+  return -1;
+}
+
+void free_temp_slot(int i) {
+  if (i < 0) return;
+  TempSlot& slot = g_temp_slots[size_t(i)];
+  slot.live.store(false, std::memory_order_release);
+  slot.claimed.store(false, std::memory_order_release);
+}
+
 }  // namespace
+
+TempFile::TempFile(std::filesystem::path p) : path_(std::move(p)), slot_(claim_temp_slot(path_)) {}
+
+void TempFile::release() {
+  released_ = true;
+  free_temp_slot(slot_);
+  slot_ = -1;
+}
+
+void remove_temp_files_in_signal_handler() {
+  for (TempSlot& slot : g_temp_slots)
+    if (slot.live.load(std::memory_order_acquire)) ::unlink(slot.path);
+}
+
+void refuse_clobbering(const std::vector<OutputPath>& outputs, const std::vector<std::filesystem::path>& inputs) {
+  std::error_code ec;
+  for (const OutputPath& out : outputs) {
+    // An output that does not exist yet cannot be an input; one that does is compared by
+    // identity (device and inode), which sees through links and spellings.
+    if (!std::filesystem::exists(out.path, ec)) continue;
+    for (const std::filesystem::path& in : inputs)
+      if (std::filesystem::equivalent(out.path, in, ec) && !ec)
+        throw InputError(out.path.string(), out.option,
+                         "is an input of this render (" + in.string() +
+                             "): writing there would destroy it; choose another output name");
+  }
+  std::map<std::filesystem::path, const OutputPath*> seen;
+  for (const OutputPath& out : outputs) {
+    const std::filesystem::path key = std::filesystem::weakly_canonical(std::filesystem::absolute(out.path, ec), ec);
+    const auto [it, inserted] = seen.emplace(ec ? out.path : key, &out);
+    if (!inserted)
+      throw InputError(out.path.string(), out.option,
+                       "is also where " + it->second->option + " writes (" + it->second->path.string() +
+                           "): one output would overwrite the other");
+  }
+}
 
 std::filesystem::path temp_beside(const std::filesystem::path& path) {
   // Appended piece by piece: `"." + string` trips GCC 12's -Wrestrict false positive.
@@ -29,6 +100,7 @@ std::filesystem::path temp_beside(const std::filesystem::path& path) {
 
 TempFile::~TempFile() {
   if (released_) return;
+  free_temp_slot(slot_);
   std::error_code ec;
   std::filesystem::remove(path_, ec);
 }

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace pelt::io {
 
@@ -14,19 +15,38 @@ namespace pelt::io {
 std::filesystem::path temp_beside(const std::filesystem::path& path);
 
 // Removes its file at scope exit unless released: every early exit leaves no file behind.
+// While it lives, its path is also listed for remove_temp_files_in_signal_handler, so a
+// process ended by a signal (a second Ctrl-C, SIGTERM) leaves none either.
 class TempFile {
  public:
-  explicit TempFile(std::filesystem::path p) : path_(std::move(p)) {}
+  explicit TempFile(std::filesystem::path p);
   ~TempFile();
   TempFile(const TempFile&) = delete;
   TempFile& operator=(const TempFile&) = delete;
   const std::filesystem::path& path() const { return path_; }
-  void release() { released_ = true; }
+  void release();
 
  private:
   std::filesystem::path path_;
   bool released_ = false;
+  int slot_ = -1;  // in the signal handler's list; -1 when the list was full or after release
 };
+
+// Removes every live TempFile's file. Async-signal-safe (unlink only, no allocation, no
+// locks): for a handler about to end the process.
+void remove_temp_files_in_signal_handler();
+
+// One output of a run: its path and the option that named it (`-o`, `--stats`).
+struct OutputPath {
+  std::filesystem::path path;
+  std::string option;
+};
+
+// Refuses a run whose outputs would overwrite one of its inputs (the scene, a mesh, a map) or
+// each other: InputError(output, option, reason naming the other file), before any work. Files
+// are compared as the file system resolves them (links, `..`, hard links), so `-o map.png`
+// beside a scene naming `./textures/../map.png` is caught.
+void refuse_clobbering(const std::vector<OutputPath>& outputs, const std::vector<std::filesystem::path>& inputs);
 
 // Creates path's folder (with its parents, as `pelt render -o` does) and proves that a file
 // can be made there by creating and removing the temporary an atomic write would use. The

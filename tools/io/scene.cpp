@@ -251,11 +251,15 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     js.fail(*repeated, "given twice in the same object; keep one (a JSON reader takes the later without a word)");
   js.expect_object(root, "", {"pelt", "image", "camera", "lights", "objects", "animation", "quality"});
   const json& version = js.require(root, "", "pelt");
-  if (!version.is_number_integer() && !version.is_number_unsigned())
+  if (!version.is_number())
     js.fail("pelt", "expected the format version number 1, got " + json_type_name(version));
-  if (version.get<long long>() != kSceneVersion)
-    js.fail("pelt", "unsupported format version " + std::to_string(version.get<long long>()) +
-                        " (this build reads version " + std::to_string(kSceneVersion) + ")");
+  // As a double: 1.0 is version 1, and a huge or negative number is named as written.
+  if (version.get<double>() != double(kSceneVersion)) {
+    std::ostringstream v;
+    v << version;
+    js.fail("pelt", "unsupported format version " + v.str() + " (this build reads version " +
+                        std::to_string(kSceneVersion) + ")");
+  }
 
   Scene s;
   s.file = file;

@@ -144,7 +144,7 @@ void add_fur_parts(const io::Scene& scene, const Mesh& m, size_t i, int threads,
   parts.push_back(std::move(tex));
 }
 
-void refuse(const io::Scene& scene, const std::string& field, const std::string& reason) {
+[[noreturn]] void refuse(const io::Scene& scene, const std::string& field, const std::string& reason) {
   throw io::InputError(scene.file.string(), field, reason);
 }
 
@@ -252,10 +252,10 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
   return e;
 }
 
-void check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width, int height,
-                         int threads, int spp, const io::Budget& budget) {
+uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
+                             int height, int threads, int spp, const io::Budget& budget) {
   const MemoryEstimate e = estimate_memory(scene, meshes, width, height, threads, spp);
-  if (e.total <= budget.max_memory_bytes) return;
+  if (e.total <= budget.max_memory_bytes) return e.total;
   const MemoryPart& big = e.largest();
   refuse(scene, big.field,
          "this render needs an estimated " + describe_bytes(e.total) + ", " +
@@ -263,9 +263,9 @@ void check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh
              "; the largest part is the " + big.what + ": " + describe_bytes(big.bytes));
 }
 
-void check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width, int height,
-                         int threads, const io::Budget& budget) {
-  check_memory_budget(scene, meshes, width, height, threads, scene.quality.spp, budget);
+uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
+                             int height, int threads, const io::Budget& budget) {
+  return check_memory_budget(scene, meshes, width, height, threads, scene.quality.spp, budget);
 }
 
 }  // namespace pelt::render

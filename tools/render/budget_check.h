@@ -71,11 +71,12 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
 // Refuses an estimate above budget.max_memory_bytes: io::InputError(scene file, the
 // largest part's field, reason with the estimate, the budget, --max-memory and the
 // largest part). Called after the meshes are loaded and before fur, textures, varyings
-// or the image are allocated. The first form takes spp from scene.quality.
-void check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
-                         int height, int threads, const io::Budget& budget);
-void check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
-                         int height, int threads, int spp, const io::Budget& budget);
+// or the image are allocated. The first form takes spp from scene.quality. Returns the
+// estimate's total, which `pelt info` reports.
+uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
+                             int height, int threads, const io::Budget& budget);
+uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
+                             int height, int threads, int spp, const io::Budget& budget);
 
 // "1234567890 bytes (1.1 GiB)": exact for the record, rounded for the reader.
 std::string describe_bytes(uint64_t bytes);

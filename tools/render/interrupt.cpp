@@ -2,28 +2,46 @@
 
 #include <csignal>
 
+#include <unistd.h>
+
+#include "tools/io/output_file.h"
+
 namespace pelt::render {
 namespace {
 
-volatile std::sig_atomic_t g_interrupted = 0;
-struct sigaction g_previous {};
+volatile std::sig_atomic_t g_signal = 0;
+constexpr int kSignals[] = {SIGINT, SIGTERM};
+struct sigaction g_previous[2] {};
 
-void on_sigint(int) { g_interrupted = 1; }
+void on_signal(int sig) {
+  if (g_signal == 0) {
+    g_signal = sig;
+    return;
+  }
+  // The second signal: the user or the scheduler will not wait for the frame in flight. Its
+  // temporaries go first, or they would stay behind under a name no later run removes.
+  io::remove_temp_files_in_signal_handler();
+  ::_exit(128 + sig);
+}
 
 }  // namespace
 
 InterruptGuard::InterruptGuard() {
-  g_interrupted = 0;
+  g_signal = 0;
   struct sigaction sa {};
-  sa.sa_handler = on_sigint;
+  sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
-  // SA_RESETHAND: the handler runs once, so a second Ctrl-C kills the process.
-  sa.sa_flags = SA_RESETHAND | SA_RESTART;
-  sigaction(SIGINT, &sa, &g_previous);
+  for (int sig : kSignals) sigaddset(&sa.sa_mask, sig);  // one handler at a time
+  sa.sa_flags = SA_RESTART;
+  for (int i = 0; i < 2; ++i) sigaction(kSignals[i], &sa, &g_previous[i]);
 }
 
-InterruptGuard::~InterruptGuard() { sigaction(SIGINT, &g_previous, nullptr); }
+InterruptGuard::~InterruptGuard() {
+  for (int i = 0; i < 2; ++i) sigaction(kSignals[i], &g_previous[i], nullptr);
+}
 
-bool InterruptGuard::requested() { return g_interrupted != 0; }
+bool InterruptGuard::requested() { return g_signal != 0; }
+
+int InterruptGuard::signal_number() { return g_signal; }
 
 }  // namespace pelt::render

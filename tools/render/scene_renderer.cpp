@@ -39,13 +39,37 @@ MaterialKind kind_of(io::MaterialType t) {
   return MaterialKind::lambert;
 }
 
+// The shader's light ranges (shading::validate_lights) for what the scene gives separately:
+// each of color and intensity may be within its own range while their product is not, and an
+// animated intensity can leave it at some frame only. Refused as the scene's input, naming it.
+constexpr double kMaxRadiance = 1e6, kMaxLightCoordinate = 1e30;
+
+void check_light(const std::filesystem::path& file, size_t i, const io::Light& l, const glm::vec3& radiance,
+                 int frame) {
+  const std::string at = frame >= 0 ? " at frame " + std::to_string(frame) : "";
+  const std::string light = io::json_index("lights", i);
+  for (int c = 0; c < 3; ++c)
+    if (!(double(radiance[c]) <= kMaxRadiance))
+      throw io::InputError(file.string(), io::json_child(light, "intensity"),
+                           "color x intensity must be at most 1e6 in every channel (the shader's range), got " +
+                               std::to_string(radiance[c]) + at);
+  if (l.type != io::LightType::point) return;
+  for (int c = 0; c < 3; ++c)
+    if (!(std::abs(double(l.position[c])) <= kMaxLightCoordinate))
+      throw io::InputError(file.string(), io::json_child(light, "position"),
+                           "each coordinate must be within [-1e30, 1e30], got " + std::to_string(l.position[c]) + at);
+}
+
 // Fills `out` in place: called every frame, and a vector that keeps its capacity does not
-// allocate after the first.
-void convert_lights(const std::vector<io::Light>& in, std::vector<shading::Light>& out) {
+// allocate after the first. frame < 0: the scene's static lights.
+void convert_lights(const std::filesystem::path& file, const std::vector<io::Light>& in, int frame,
+                    std::vector<shading::Light>& out) {
   out.clear();
-  for (const io::Light& l : in) {
+  for (size_t i = 0; i < in.size(); ++i) {
+    const io::Light& l = in[i];
     shading::Light s{};
     const glm::vec3 c = l.color * l.intensity;
+    check_light(file, i, l, c, frame);
     s.color[0] = c.r;
     s.color[1] = c.g;
     s.color[2] = c.b;
@@ -80,30 +104,32 @@ struct MapKind {
   const char* field;  // "color_map" or "normal_map": the material's key, and the messages' word
   io::ColorEncoding file_encoding;
   raster::TexelEncoding texels;
-  bool needs_uvs;  // a normal map: its tangent frames come from the uvs
 };
-constexpr MapKind kColorMap{"color_map", io::ColorEncoding::srgb, raster::TexelEncoding::Srgb, false};
-constexpr MapKind kNormalMap{"normal_map", io::ColorEncoding::linear, raster::TexelEncoding::Linear, true};
+constexpr MapKind kColorMap{"color_map", io::ColorEncoding::srgb, raster::TexelEncoding::Srgb};
+constexpr MapKind kNormalMap{"normal_map", io::ColorEncoding::linear, raster::TexelEncoding::Linear};
 
 // A map of object `index`: the scene material's (`from_scene`, a path), else the one the mesh
 // file names (`named`: a file, or pixels decoded from inside the file), else none (`out` left
 // empty). Colour maps: glTF baseColorTexture, MTL map_Kd; normal maps: glTF normalTexture,
-// MTL norm, and only on a mesh with texture coordinates.
+// MTL norm; either only on a mesh with texture coordinates.
 void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind,
                      const std::filesystem::path& from_scene, const io::TextureRef& named, const Mesh& mesh,
                      const io::Budget& budget, const raster::ParallelFor& parallel, raster::Texture& out,
-                     FrameStats& stats) {
+                     FrameStats& stats, std::vector<std::filesystem::path>& inputs) {
   const io::SceneObject& so = scene.objects[index];
   const std::optional<MapSource> src = map_source(from_scene, named);
   if (!src) return;
   StageTimer t(stats, "textures");
   const std::string object = io::json_index("objects", index);
-  if (kind.needs_uvs && mesh.uvs.size() != mesh.vertex_count())
+  // Without uvs every pixel would read texel (0, 0): a flat colour, or one normal, in place of
+  // the map the user asked for.
+  if (mesh.uvs.size() != mesh.vertex_count())
     throw io::InputError(scene.file.string(),
                          src->named_by_mesh ? object + ".mesh" : object + ".material." + kind.field,
-                         "a normal map needs texture coordinates, and mesh `" + so.mesh + "` has none" +
-                             (src->named_by_mesh ? " (the file names the map)" : ""));
+                         std::string("a ") + kind.field + " needs texture coordinates, and mesh `" + so.mesh +
+                             "` has none" + (src->named_by_mesh ? " (the file names the map)" : ""));
   io::ImageRGBA read;
+  if (src->file) inputs.push_back(*src->file);
   if (src->file)
     read = asked_by(map_asked_by(scene, index, kind.field, src->named_by_mesh),
                     [&] { return io::read_image_rgba(*src->file, kind.file_encoding, budget); });
@@ -188,12 +214,13 @@ SceneRenderer::SceneRenderer(const io::Scene& scene, std::optional<std::vector<i
     StageTimer t(setup_stats_, "meshes");
     meshes = io::load_scene_meshes(scene_, settings_.budget);
   }
-  check_memory_budget(scene_, *meshes, width_, height_, settings_.threads, quality_.spp, settings_.budget);
+  budget_estimate_ =
+      check_memory_budget(scene_, *meshes, width_, height_, settings_.threads, quality_.spp, settings_.budget);
   build(std::move(*meshes));
 }
 
 void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
-  convert_lights(scene_.lights, lights_);
+  convert_lights(scene_.file, scene_.lights, -1, lights_);
   offsets_ = sample_offsets(quality_.spp);
   const io::Scene& scene = scene_;
   const RenderSettings& settings = settings_;
@@ -203,8 +230,10 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     renderer_.parallel_for(count, [&fn](size_t k, int) { fn(k); });
   };
   uint32_t id_base = 0;
+  input_files_.push_back(scene.file);
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const io::SceneObject& so = scene.objects[i];
+    if (!so.mesh_path.empty()) input_files_.push_back(so.mesh_path);
     const std::string mesh_field = io::json_child(io::json_index("objects", i), "mesh");
     for (const std::string& w : meshes[i].loaded.warnings) warnings_.push_back(so.mesh + " (" + mesh_field + "): " + w);
     auto obj = std::make_unique<Object>();
@@ -226,11 +255,11 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     if (!so.mesh_path.empty() && so.mesh_path.extension() == ".obj")
       for (glm::vec2& uv : obj->mesh.uvs) uv.y = 1.0f - uv.y;
     load_object_map(scene, i, kColorMap, so.material.color_map, meshes[i].loaded.color_map, obj->mesh,
-                    settings.budget, parallel, obj->color_map, setup_stats_);
+                    settings.budget, parallel, obj->color_map, setup_stats_, input_files_);
     if (!obj->color_map.empty()) obj->material.color_map = &obj->color_map;
 
     load_object_map(scene, i, kNormalMap, so.material.normal_map, meshes[i].loaded.normal_map, obj->mesh,
-                    settings.budget, parallel, obj->normal_map, setup_stats_);
+                    settings.budget, parallel, obj->normal_map, setup_stats_, input_files_);
     if (!obj->normal_map.empty()) obj->material.normal_map = &obj->normal_map;
     shading::BlurredNormals blurred;
     const bool blur = obj->material.kind == MaterialKind::skin &&
@@ -342,7 +371,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   evaluate_frame_inputs(scene_, frame, inputs_);
   const FrameInputs& inputs = inputs_;
   const io::Camera& camera = camera_override ? *camera_override : inputs.camera;
-  convert_lights(inputs.lights, lights_);
+  convert_lights(scene_.file, inputs.lights, frame, lights_);
   const float aspect = float(width_) / float(height_);
   const glm::mat4 clip_from_world = camera.projection(aspect) * camera.view();
   const FurSort fur_sort = quality_.sort == io::SortQuality::none    ? FurSort::none

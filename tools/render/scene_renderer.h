@@ -27,6 +27,8 @@ enum class Aov { color, depth, id, overdraw, sebum, epidermis, dermis };
 // written to a GIF; one channel in EXR (float) and TIFF (depth float, id and overdraw 32-bit
 // unsigned), and overdraw also as a PNG heat map (overdraw_heatmap.h).
 inline bool per_pixel_value(Aov a) { return a == Aov::depth || a == Aov::id || a == Aov::overdraw; }
+// The skin shader's layers (MaterialShader): a skin material draws one of them alone.
+inline bool skin_layer(Aov a) { return a == Aov::sebum || a == Aov::epidermis || a == Aov::dermis; }
 
 struct RenderSettings {
   int width = 0, height = 0;  // 0: the scene's image size
@@ -93,6 +95,13 @@ class SceneRenderer {
   // Estimated bytes for rendering a frame: meshes, varyings, fur arrays and textures,
   // colour maps, the output image and the rasterizer's per-worker tile scratch.
   size_t memory_estimate() const;
+  // The estimate of a render's peak that --max-memory was checked against (budget_check.h:
+  // both images of `pelt render`, the spp buffers, every worker's scratch): what `pelt info`
+  // reports, so that its figure and the budget's refusal agree.
+  uint64_t budget_estimate() const { return budget_estimate_; }
+  // Every file this renderer read: the scene, its mesh files, and the colour and normal maps
+  // (the scene's or those the meshes name). `pelt render` refuses to write over any of them.
+  const std::vector<std::filesystem::path>& input_files() const { return input_files_; }
   // What the mesh loaders accepted but changed or ignored (normals computed, uvs dropped,
   // a loader's own warning), one line each naming the object's mesh field and file: for
   // the commands to show the user.
@@ -110,6 +119,8 @@ class SceneRenderer {
   std::vector<std::unique_ptr<Object>> objects_;
   std::vector<raster::DrawCall> draws_;  // reused every frame
   std::vector<glm::vec2> offsets_;       // sub-pixel sample offsets, one per pass
+  uint64_t budget_estimate_ = 0;
+  std::vector<std::filesystem::path> input_files_;
   std::vector<float> sample_color_;      // one sample's image when spp > 1
   std::vector<double> accum_;            // the sum of the samples' images
   // Both public constructors: meshes given, or (nullopt) loaded here after the scene budget.

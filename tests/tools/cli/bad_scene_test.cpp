@@ -74,7 +74,28 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"BadFurField", scene_with_object(R"({"mesh": "box:2", "material": {"type": "lambert"}, "fur": {"shells": 1}})"),
                  "objects[0].fur.shells"},
         BadScene{"BadSkinField", scene_with_object(R"({"mesh": "box:2", "material": {"type": "skin", "skin": {"Eta": 0}}})"),
-                 "objects[0].material.skin.Eta"}),
+                 "objects[0].material.skin.Eta"},
+        // color and intensity each within their ranges, their product beyond the shader's.
+        BadScene{"LightRadianceBeyondTheShader",
+                 R"({"pelt": 1, "image": {"width": 32, "height": 24}, "lights": [{"type": "point", "position": [0, 3, 0],
+                     "color": [10, 10, 10], "intensity": 200000}], "objects": [)" + std::string(kBox) + "]}",
+                 "lights[0].intensity: color x intensity must be at most 1e6 in every channel"},
+        BadScene{"PointLightBeyondTheShader",
+                 R"({"pelt": 1, "image": {"width": 32, "height": 24}, "lights": [{"type": "point",
+                     "position": [0, 1e31, 0]}], "objects": [)" + std::string(kBox) + "]}",
+                 "lights[0].position: each coordinate must be within [-1e30, 1e30]"},
+        // Scene numbers are 32-bit floats: these would become infinite or 0 past the range checks.
+        BadScene{"NumberBeyondAFloat", scene_with_object(R"({"mesh": "box:2", "material": {"type": "lambert"}, "transform": {"translate": [1e39, 0, 0]}})"),
+                 "objects[0].transform.translate[0]: number 1e+39 is beyond a 32-bit float's range"},
+        BadScene{"NumberBelowAFloat", scene_with_object(R"({"mesh": "box:2", "material": {"type": "lambert"}, "transform": {"scale": 1e-50}})"),
+                 "objects[0].transform.scale: number 1e-50 is too small for a 32-bit float"},
+        BadScene{"UnknownVersion", R"({"pelt": 2.5, "objects": [)" + std::string(kBox) + "]}",
+                 "pelt: unsupported format version 2.5"},
+        // Without uvs every pixel would read one texel of the map.
+        BadScene{"ColourMapWithoutUvs", scene_with_object(R"({"mesh": "nouv.obj", "material": {"type": "lambert"}})"),
+                 "objects[0].mesh: a color_map needs texture coordinates, and mesh `nouv.obj` has none (the file names the map)",
+                 {{"nouv.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n"},
+                  {"m.mtl", "newmtl a\nmap_Kd c.ppm\n"}, {"c.ppm", "P3\n1 1\n255\n255 0 0\n"}}}),
     [](const ::testing::TestParamInfo<BadScene>& info) { return std::string(info.param.name); });
 
 // What a loader accepted but changed reaches the user, on stderr even with --quiet, and the

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <csignal>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -56,6 +57,18 @@ struct RenderCommand : ::testing::Test {
     char name[32];
     std::snprintf(name, sizeof name, "f_%03d.png", k);
     return read_text(dir.path() / folder / name);
+  }
+  // Starts a render of 20000 tiny frames (still running when a signal comes) to `out` and waits
+  // until `ready()`: by then its signal handler is installed. False when pelt ended first.
+  bool start_long_render(const fs::path& out, const std::function<bool()>& ready, Child& c) {
+    const fs::path long_scene = dir.write("long.json", animated_scene(20000));
+    c = start_pelt({"render", long_scene.string(), "-o", out.string(), "--width", "8", "--height", "8", "--threads", "1"},
+                   dir.path());
+    int status = 0;
+    pid_t ended = 0;
+    while (!ready() && (ended = ::waitpid(c.pid, &status, WNOHANG)) == 0)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    return ended == 0;
   }
   // The regular files in `folder`, sorted.
   std::vector<std::string> files(const std::string& folder) {
@@ -138,20 +151,11 @@ TEST_F(RenderCommand, ResumeRendersOnlyMissingFramesAndMatches) {
 }
 
 TEST_F(RenderCommand, CtrlCStopsAfterTheFrameInFlight) {
-  // Many tiny frames, so the render is still running when the signal comes.
   const int frames = 20000;
-  const fs::path long_scene = dir.write("long.json", animated_scene(frames));
   const fs::path out = dir.path() / "int";
-  const Child c = start_pelt({"render", long_scene.string(), "-o", (out / "f_#####.png").string(), "--width", "8",
-                              "--height", "8", "--threads", "1"},
-                             dir.path());
-  // Wait for the first finished frame: by then the handler is installed. A child that
-  // ends before that (a failure) ends the wait too.
-  int status = 0;
-  pid_t ended = 0;
-  while (!fs::exists(out / "f_00000.png") && (ended = ::waitpid(c.pid, &status, WNOHANG)) == 0)
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  ASSERT_EQ(ended, 0) << "pelt ended before its first frame: " << read_text(c.err);
+  Child c;
+  ASSERT_TRUE(start_long_render(out / "f_#####.png", [&] { return fs::exists(out / "f_00000.png"); }, c))
+      << "pelt ended before its first frame: " << read_text(c.err);
   ::kill(c.pid, SIGINT);
   const Result r = wait_child(c);
   EXPECT_EQ(r.code, 130) << r.err;
@@ -172,6 +176,99 @@ TEST_F(RenderCommand, CtrlCStopsAfterTheFrameInFlight) {
     std::snprintf(name, sizeof name, "f_%05zu.png", k);
     EXPECT_TRUE(fs::exists(out / name)) << name;
   }
+}
+
+// A farm's scheduler pre-empts a job with SIGTERM: it stops like Ctrl-C, after the frame in flight,
+// with the shell's status for that signal.
+TEST_F(RenderCommand, SigtermStopsAfterTheFrameInFlight) {
+  const fs::path out = dir.path() / "term";
+  Child c;
+  ASSERT_TRUE(start_long_render(out / "f_#####.png", [&] { return fs::exists(out / "f_00000.png"); }, c))
+      << "pelt ended before its first frame: " << read_text(c.err);
+  ::kill(c.pid, SIGTERM);
+  const Result r = wait_child(c);
+  EXPECT_EQ(r.code, 128 + SIGTERM) << r.err;
+  EXPECT_NE(r.err.find("interrupted after frame"), std::string::npos) << r.err;
+  for (const auto& e : fs::directory_iterator(out))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "temporary left behind: " << e.path();
+}
+
+// A second signal ends the process at once, but not before the temporaries of writes in flight
+// are gone: a GIF's temporary exists for the whole render, so two signals always find one.
+TEST_F(RenderCommand, ASecondSignalLeavesNoTemporaryBehind) {
+  const fs::path out = dir.path() / "twice";
+  fs::create_directories(out);
+  auto temp_exists = [&] {
+    for (const auto& e : fs::directory_iterator(out))
+      if (e.path().filename().string().find(".tmp") != std::string::npos) return true;
+    return false;
+  };
+  Child c;
+  ASSERT_TRUE(start_long_render(out / "a.gif", temp_exists, c)) << "pelt ended before it began the GIF: " << read_text(c.err);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the handler is installed after the GIF opens
+  ::kill(c.pid, SIGINT);
+  ::kill(c.pid, SIGINT);
+  const Result r = wait_child(c);
+  EXPECT_EQ(r.code, 128 + SIGINT) << r.err;
+  EXPECT_FALSE(temp_exists());
+  EXPECT_FALSE(fs::exists(out / "a.gif"));
+}
+
+// GIF counts a frame's delay in hundredths of a second in 16 bits: a slower animation is
+// refused up front rather than written with a wrapped delay.
+TEST_F(RenderCommand, AGifTooSlowForItsDelayFieldIsRefused) {
+  std::string slow = animated_scene(2);
+  const std::string fps = R"("fps": 12)";
+  ASSERT_NE(slow.find(fps), std::string::npos);
+  slow.replace(slow.find(fps), fps.size(), R"("fps": 0.001)");
+  const fs::path slow_scene = dir.write("slow.json", slow);
+  const Result r = run_pelt({"render", slow_scene.string(), "-o", (dir.path() / "g/a.gif").string()}, dir.path());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("slow.json: animation.fps: a GIF frame lasts at most 655.35 s"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "g"));
+}
+
+// `pelt info` reports the estimate --max-memory is checked against: a budget a little under its
+// figure refuses the render, one a little over lets it run.
+TEST_F(RenderCommand, InfoReportsTheEstimateTheBudgetChecks) {
+  const Result info = run_pelt({"info", scene.string()}, dir.path());
+  ASSERT_EQ(info.code, 0) << info.err;
+  const size_t at = info.out.find("memory     about ");
+  ASSERT_NE(at, std::string::npos) << info.out;
+  const double bytes = std::stod(info.out.substr(at + std::string("memory     about ").size()));  // "N bytes (..)"
+  ASSERT_GT(bytes, 1000.0);
+  auto budget = [&](double factor) { return std::to_string(static_cast<long long>(bytes * factor)); };
+  const Result under = pelt({"-o", (dir.path() / "m/a.png").string(), "--frame", "0", "--max-memory", budget(0.97)});
+  EXPECT_EQ(under.code, 2) << under.err;
+  EXPECT_NE(under.err.find("this render needs an estimated"), std::string::npos) << under.err;
+  const Result over = pelt({"-o", (dir.path() / "m/a.png").string(), "--frame", "0", "--max-memory", budget(1.03)});
+  EXPECT_EQ(over.code, 0) << over.err;
+}
+
+// No output may overwrite what the render reads: the scene, a map, or another output. The
+// refusal comes before any work and leaves every file as it was.
+TEST_F(RenderCommand, OutputsNeverOverwriteInputsOrEachOther) {
+  const std::string before = read_text(scene);
+  Result r = pelt({"-o", (dir.path() / "c/a.png").string(), "--frame", "0", "--stats", scene.string()});
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(scene.string() + ": --stats: is an input of this render"), std::string::npos) << r.err;
+  EXPECT_EQ(read_text(scene), before);
+  EXPECT_FALSE(fs::exists(dir.path() / "c"));
+
+  // A colour map named through another spelling of its folder is still the same file.
+  ASSERT_EQ(pelt({"-o", (dir.path() / "maps/map.png").string(), "--frame", "0", "-q"}).code, 0);
+  const std::string map = read_text(dir.path() / "maps/map.png");
+  std::string textured = animated_scene(8);
+  const std::string lambert = R"("material": {"type": "lambert", "color": [0.8, 0.5, 0.3]})";
+  ASSERT_NE(textured.find(lambert), std::string::npos);
+  textured.replace(textured.find(lambert), lambert.size(),
+                   R"("material": {"type": "lambert", "color_map": "maps/../maps/map.png"})");
+  const fs::path textured_scene = dir.write("textured.json", textured);
+  r = run_pelt({"render", textured_scene.string(), "-o", (dir.path() / "maps/map.png").string(), "--frame", "0"},
+               dir.path());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("-o: is an input of this render"), std::string::npos) << r.err;
+  EXPECT_EQ(read_text(dir.path() / "maps/map.png"), map);
 }
 
 // OpenImageIO is a module loaded on first use (tools/io/image_backend.h): a pelt without it
@@ -305,15 +402,20 @@ TEST_F(RenderCommand, AnUnwritableStatsPathFailsBeforeTheFirstFrame) {
 }
 
 // A frame is written on a second thread while the next one renders; a write that fails there still
-// ends the render with exit code 2 naming the file, after the frames before it were written and
-// before any frame after it is. Frame 1's folder is taken by a regular file, so its write fails.
+// ends the render with exit code 2 naming the file, after the frames before it were written (and
+// their statistics) and before any frame after it is. Frame 1's folder is taken by a regular file, so its write fails.
 TEST_F(RenderCommand, AFailedWriteStopsTheSequenceWithExitCode2) {
   const fs::path out = dir.path() / "w";
   fs::create_directories(out);
   std::ofstream(out / "d1") << "not a folder";
-  const Result r = pelt({"-o", (out / "d#/f.png").string(), "--frames", "0:4", "-q"});
+  const Result r = pelt({"-o", (out / "d#/f.png").string(), "--frames", "0:4", "-q", "--stats",
+                         (dir.path() / "w_stats.json").string()});
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find((out / "d1").string()), std::string::npos) << r.err;
+  // The frame written before the error keeps its statistics, as after an interrupt.
+  const nlohmann::json stats = nlohmann::json::parse(read_text(dir.path() / "w_stats.json"));
+  ASSERT_EQ(stats["frames"].size(), 1u);
+  EXPECT_EQ(stats["frames"][0]["frame"], 0);
   EXPECT_NE(r.err.find("cannot create folder"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::exists(out / "d0/f.png"));
   for (const char* later : {"d2", "d3", "d4"}) EXPECT_FALSE(fs::exists(out / later)) << later;
@@ -389,9 +491,22 @@ INSTANTIATE_TEST_SUITE_P(
         BadOption{"BadScattering", {"-o", "OUT/a.png", "--frame", "0", "--multiple-scattering", "dipole"},
                   "--multiple-scattering: unknown value `dipole` (paper, normal_blur, reference)"},
         BadOption{"SupersampledDepth", {"-o", "OUT/a.exr", "--frame", "0", "--aov", "depth", "--spp", "4"},
-                  "quality.spp: the depth, id and overdraw AOVs are point-sampled"},
+                  "--spp: the depth, id and overdraw AOVs are point-sampled"},
         BadOption{"SupersampledOverdraw", {"-o", "OUT/a.exr", "--frame", "0", "--aov", "overdraw", "--spp", "4"},
-                  "quality.spp: the depth, id and overdraw AOVs are point-sampled"}),
+                  "--spp: the depth, id and overdraw AOVs are point-sampled"},
+        BadOption{"SupersampledByPreset", {"-o", "OUT/a.exr", "--frame", "0", "--aov", "id", "--quality", "high"},
+                  "--quality: the depth, id and overdraw AOVs are point-sampled"},
+        BadOption{"FrameGivenARange", {"-o", "OUT/f_#.png", "--frame", "2:5"}, "--frame: takes one frame number"},
+        BadOption{"DepthAsPng", {"-o", "OUT/a.png", "--frame", "0", "--aov", "depth"},
+                  "--aov: the depth AOV holds float depths, which a PNG cannot store"},
+        BadOption{"IdAsPng", {"-o", "OUT/a.png", "--frame", "0", "--aov", "id"},
+                  "--aov: the id AOV holds 32-bit triangle ids, which a PNG cannot store"},
+        BadOption{"SkinLayerWithoutSkin", {"-o", "OUT/a.png", "--frame", "0", "--aov", "dermis"},
+                  "--aov: the dermis AOV is a layer of the skin shader, and no object of"},
+        BadOption{"StatsOverTheImage", {"-o", "OUT/a.png", "--frame", "0", "--stats", "OUT/a.png"},
+                  "--stats: is also where -o writes"},
+        BadOption{"StatsOverAFrame", {"-o", "OUT/f_#.png", "--frames", "0:3", "--stats", "OUT/f_2.png"},
+                  "--stats: is also where -o writes"}),
     [](const ::testing::TestParamInfo<BadOption>& info) { return std::string(info.param.name); });
 
 }  // namespace

@@ -105,6 +105,38 @@ class TentativeHeap {
   std::vector<uint32_t> slot_;
 };
 
+// The normal of each welded position, given each source vertex's share of its triangles' areas.
+// A position counts once however many copies it has: copies that agree (a UV seam) give their
+// unit normal as is, the same bits as the unsplit mesh; copies that differ (a crease) give the
+// mean of their unit normals weighted by the areas of their own triangles, which does not
+// change when a side is split into more copies. A copy without a normal (length 0) is left out.
+std::vector<double> welded_normals(const NormalBlurInput& m, const std::vector<uint32_t>& rep, size_t W,
+                                   const std::vector<double>& corner_area) {
+  enum : uint8_t { kNone, kAgree, kDiffer };
+  std::vector<double> nrm(3 * W, 0.0), mixed(3 * W, 0.0), mixed_area(W, 0.0);
+  std::vector<uint8_t> state(W, kNone);
+  for (size_t v = 0; v < m.vertex_count; ++v) {
+    const float* n = m.normals + 3 * v;
+    const double len = std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2]);
+    if (!(len > 0)) continue;
+    const double u[3] = {n[0] / len, n[1] / len, n[2] / len};
+    const uint32_t w = rep[v];
+    double* o = &nrm[3 * w];
+    if (state[w] == kNone) {
+      std::copy(u, u + 3, o);
+      state[w] = kAgree;
+    } else if (!std::equal(u, u + 3, o)) {
+      state[w] = kDiffer;
+    }
+    for (int a = 0; a < 3; ++a) mixed[3 * w + a] += corner_area[v] * u[a];
+    mixed_area[w] += corner_area[v];
+  }
+  for (size_t w = 0; w < W; ++w)
+    if (state[w] == kDiffer)
+      for (int a = 0; a < 3; ++a) nrm[3 * w + a] = mixed_area[w] > 0 ? mixed[3 * w + a] / mixed_area[w] : 0.0;
+  return nrm;
+}
+
 }  // namespace
 
 std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sigma[3], BlurredNormals& out,
@@ -141,14 +173,8 @@ std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sig
   }
   const size_t W = first.size();
 
-  // Welded normals (sum of unit normals of the copies) and vertex areas.
-  std::vector<double> nrm(3 * W, 0.0), area(W, 0.0);
-  for (size_t v = 0; v < V; ++v) {
-    const float* n = m.normals + 3 * v;
-    const double len = std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2]);
-    if (len > 0)
-      for (int a = 0; a < 3; ++a) nrm[3 * rep[v] + a] += n[a] / len;
-  }
+  // Vertex areas: per welded position (its weight) and per source vertex (its copy's share).
+  std::vector<double> area(W, 0.0), corner_area(V, 0.0);
   // Adjacency as compressed rows of (neighbour, edge length).
   std::vector<std::pair<uint32_t, uint32_t>> edges;
   edges.reserve(m.index_count * 2);
@@ -164,12 +190,14 @@ std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sig
     const double a3 = 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz) / 3.0;
     for (int k = 0; k < 3; ++k) {
       area[w[k]] += a3;
+      corner_area[m.indices[t + k]] += a3;
       if (w[k] != w[(k + 1) % 3]) {
         edges.emplace_back(w[k], w[(k + 1) % 3]);
         edges.emplace_back(w[(k + 1) % 3], w[k]);
       }
     }
   }
+  const std::vector<double> nrm = welded_normals(m, rep, W, corner_area);
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   std::vector<size_t> row(W + 1, 0);

@@ -11,7 +11,9 @@
 // fingers) and would mix normals of surfaces that light cannot cross; edge paths stay on the
 // surface. Edge paths overestimate geodesic distance by a few percent on irregular meshes,
 // which only narrows the blur slightly. Coincident vertices (UV seams) are welded first, so a
-// seam is not a boundary and both copies get the same blurred normal.
+// seam is not a boundary and both copies get the same blurred normal; a welded position counts
+// once, whatever its number of copies (copies with different normals, a crease, contribute the
+// mean of their unit normals weighted by the areas of their own triangles).
 #pragma once
 
 #include <cstddef>

@@ -71,7 +71,14 @@ inline int IntegerPower(float power) {
 }
 
 // Refracted cosine; `ok` false on total internal reflection. k = (c^2 + eta^2 - 1) / eta^2.
-HWY_INLINE V RefractCos(D d, V c, V eta2m1, V inv_eta2, M& ok) {
+// At Eta = 1 (`eta_one`) the cosine is c itself: c^2 underflows below c = 1e-19 (to zero under
+// flush-to-zero, gradually to zero at 4e-23 without) and would turn a grazing view into total
+// internal reflection. Above that sqrt(c * c) is c exactly, so the shortcut changes no result.
+HWY_INLINE V RefractCos(D d, V c, V eta2m1, V inv_eta2, bool eta_one, M& ok) {
+  if (eta_one) {
+    ok = hn::Gt(c, hn::Zero(d));
+    return c;
+  }
   const V k = hn::Mul(hn::Add(hn::Mul(c, c), eta2m1), inv_eta2);
   ok = hn::Gt(k, hn::Zero(d));
   return hn::Sqrt(hn::Max(k, hn::Zero(d)));
@@ -98,6 +105,14 @@ HWY_INLINE void StoreLayer(D d, float* const dst[3], size_t i, const V v[3]) {
     if (dst[c]) hn::Store(v[c], d, dst[c] + i);
 }
 
+// 2^-e for x in [2^e, 2^(e+1)) with 0 <= x < 2^127, and 2^127 for zero or subnormal x: the
+// exact scale that brings a normal x into [1, 2).
+HWY_INLINE V InversePowerOfTwo(D d, V x) {
+  const hn::RebindToSigned<D> di;
+  const auto exponent = hn::And(hn::BitCast(di, x), hn::Set(di, 0x7F800000));
+  return hn::BitCast(d, hn::Sub(hn::Set(di, 254 << 23), exponent));
+}
+
 // Unpolarised Fresnel transmittance 1 - F = num / den for c in [0, 1] with refracted cosine ct
 // (ok false on total internal reflection, where the caller sets the result to 0), clamped to
 // [0, 1] by the caller. Evaluated as 2 eta c ct (1/(c + eta ct)^2 + 1/(eta c + ct)^2) (1 - r^2
@@ -105,7 +120,13 @@ HWY_INLINE void StoreLayer(D d, float* const dst[3], size_t i, const V v[3]) {
 // with the two fractions over the common denominator (c + eta ct)^2 (eta c + ct)^2, so one
 // division; returned as a fraction so that the caller may share that division with another.
 // The denominators vanish only where ct = 0, i.e. where !ok: those lanes get den = 1.
-HWY_INLINE void FresnelKtParts(D d, V c, V ct, M ok, V eta, V& num, V& den) {
+// num and den are of degree 4 in (c, ct), so c and ct are first scaled by the power of two that
+// brings the larger into [1, 2): at Eta = 1 and c = 1e-10 both would otherwise underflow (16 c^4)
+// to 0/0, which the caller's clamp turns into 0 instead of 1. A power of two scales every
+// rounding exactly, so where nothing underflowed the ratio keeps its bits.
+HWY_INLINE void FresnelKtParts(D d, V c_in, V ct_in, M ok, V eta, V& num, V& den) {
+  const V scale = InversePowerOfTwo(d, hn::Max(c_in, ct_in));
+  const V c = hn::Mul(c_in, scale), ct = hn::Mul(ct_in, scale);
   const V one = hn::Set(d, 1.0f);
   const V ds = hn::IfThenElse(ok, hn::MulAdd(eta, ct, c), one);
   const V dp = hn::IfThenElse(ok, hn::MulAdd(eta, c, ct), one);
@@ -192,6 +213,7 @@ void ShadeSkinBatch(const SkinParams& p, const detail::KernelLight* lights, size
   const V veta = hn::Set(d, eta);
   const V eta2m1 = hn::Set(d, float((double(eta) - 1.0) * (double(eta) + 1.0)));
   const V inv_eta2 = hn::Set(d, float(1.0 / (double(eta) * eta)));
+  const bool eta_one = eta == 1.0f;
   const double g = std::fmin(std::fmax(double(p.g), -double(kMaxAbsG)), double(kMaxAbsG));
   const double ag = std::fabs(g);
   const V hg_floor = hn::Set(d, float((1.0 - ag) * (1.0 - ag)));
@@ -263,7 +285,7 @@ void ShadeSkinBatch(const SkinParams& p, const detail::KernelLight* lights, size
           hn::Store(hn::IfThenElse(ok, hn::Mul(bz, flip), nz), d, at(kBlur + 3 * c + 2, j));
         }
       M out_ok;
-      const V cot = RefractCos(d, co, eta2m1, inv_eta2, out_ok);
+      const V cot = RefractCos(d, co, eta2m1, inv_eta2, eta_one, out_ok);
       V kt_out_exact = zero, kt_out = one, fake = zero;
       if (ss_correct || mode == MultipleScattering::reference) {
         V num, den, rden;
@@ -346,7 +368,7 @@ void ShadeSkinBatch(const SkinParams& p, const detail::KernelLight* lights, size
         if (!ss_on && mode != MultipleScattering::reference) continue;
         const V cip = hn::Max(ci, zero);
         M in_ok;
-        const V cit = RefractCos(d, cip, eta2m1, inv_eta2, in_ok);
+        const V cit = RefractCos(d, cip, eta2m1, inv_eta2, eta_one, in_ok);
         const M lit_in = hn::And(lit, in_ok);
         V fnum, fden;
         FresnelKtParts(d, cip, cit, lit_in, veta, fnum, fden);

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -194,6 +195,76 @@ TEST(NormalBlur, UvSeamCopiesGetTheSameNormal) {
     const size_t left = size_t(j) * 11 + 10, right = offset + size_t(j) * 11;
     for (int k = 0; k < 3; ++k) EXPECT_EQ(out.channel[0][3 * left + k], out.channel[0][3 * right + k]);
   }
+}
+
+// A bumpy plane(n, 1) whose column `column` is split like a UV seam: the cells to its right use
+// `copies` extra copies of its vertices (same positions; cell row j uses copy j % copies), with
+// normal `right` when given (a crease) or the column's own normal (a plain seam).
+TestMesh split_column(int n, int column, int copies, const float* right = nullptr) {
+  TestMesh m = plane(n, 1.0f);
+  for (size_t v = 0; v < m.nrm.size() / 3; ++v) {
+    m.nrm[3 * v] = std::sin(7.0f * m.pos[3 * v]);
+    m.nrm[3 * v + 1] = 0.5f * std::cos(5.0f * m.pos[3 * v + 1]);
+  }
+  const auto id = [n](int i, int j) { return uint32_t(j * (n + 1) + i); };
+  std::vector<std::vector<uint32_t>> copy(copies, std::vector<uint32_t>(n + 1));
+  for (int c = 0; c < copies; ++c)
+    for (int j = 0; j <= n; ++j) {
+      copy[c][j] = uint32_t(m.pos.size() / 3);
+      const uint32_t v = id(column, j);
+      for (int a = 0; a < 3; ++a) m.pos.push_back(m.pos[3 * v + a]);
+      for (int a = 0; a < 3; ++a) m.nrm.push_back(right ? right[a] : m.nrm[3 * v + a]);
+    }
+  if (copies > 0)
+    for (int j = 0; j < n; ++j) {
+      uint32_t* cell = &m.idx[6 * size_t(j * n + column)];  // plane's cell (column, j): a b d a d c
+      const std::vector<uint32_t>& c = copy[j % copies];
+      for (int k = 0; k < 6; ++k) {
+        if (cell[k] == id(column, j)) cell[k] = c[j];
+        if (cell[k] == id(column, j + 1)) cell[k] = c[j + 1];
+      }
+    }
+  return m;
+}
+
+// Every blurred normal of `split` matches that of `whole` at the same position.
+void ExpectSameBlur(const TestMesh& whole, const TestMesh& split, float tolerance) {
+  const float sigma[3] = {0.3f, 0.15f, 0.05f};
+  BlurredNormals expected, got;
+  ASSERT_FALSE(blur_normals(whole.input(), sigma, expected).has_value());
+  ASSERT_FALSE(blur_normals(split.input(), sigma, got).has_value());
+  const size_t n = whole.pos.size() / 3;
+  for (int c = 0; c < 3; ++c) {
+    float worst = 0.0f;
+    size_t worst_vertex = 0;
+    for (size_t v = 0; v < split.pos.size() / 3; ++v) {
+      size_t w = v;  // the vertex of `whole` at the same position
+      if (v >= n)
+        for (size_t u = 0; u < n; ++u)
+          if (std::equal(&whole.pos[3 * u], &whole.pos[3 * u + 3], &split.pos[3 * v])) w = u;
+      for (int a = 0; a < 3; ++a) {
+        const float d = std::abs(got.channel[c][3 * v + a] - expected.channel[c][3 * w + a]);
+        if (d > worst) worst = d, worst_vertex = v;
+      }
+    }
+    EXPECT_LE(worst, tolerance) << "channel " << c << " vertex " << worst_vertex << " at ("
+                                << split.pos[3 * worst_vertex] << ", " << split.pos[3 * worst_vertex + 1] << ")";
+  }
+}
+
+// A seam is not a boundary and a position counts once: splitting a column into seam copies
+// changes no blurred normal, near the seam or far from it.
+TEST(NormalBlur, SeamCopiesDoNotChangeTheBlur) {
+  const TestMesh whole = split_column(20, 7, 0);
+  ExpectSameBlur(whole, split_column(20, 7, 1), 1e-6f);
+  ExpectSameBlur(whole, split_column(20, 7, 3), 1e-6f);
+}
+
+// At a crease the copies' normals differ; each weighs by the area of its own triangles, so
+// splitting one side's copy further changes nothing.
+TEST(NormalBlur, CreaseCopiesWeighByTheirTriangles) {
+  const float right[3] = {0.6f, 0.0f, 0.8f};
+  ExpectSameBlur(split_column(20, 7, 1, right), split_column(20, 7, 2, right), 1e-6f);
 }
 
 TEST(NormalBlur, BadInputNamesTheField) {

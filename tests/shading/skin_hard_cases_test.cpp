@@ -329,15 +329,17 @@ TEST(SkinHardCases, MoreLightsThanTheKernelCaches) {
   run_case(SkinParams{}, cs);
 }
 
-// Eta = 1 and a view a hair above the horizon: the outgoing Fresnel denominator (c + ct)^4 and
-// the floored |I.N| + ClampCoeff multiply to below 2^-96, where the kernel's shared division of
-// the two would lose precision, so it takes two divisions.
-TEST(SkinHardCases, EtaOneGrazingViewTakesSeparateDivisions) {
+// Eta = 1 and a view a hair above the horizon: exact Fresnel transmission is 1 at every angle,
+// but the outgoing fraction's 16 c^4 / 16 c^4 underflowed to 0/0 (then clamped to 0) for
+// cos_o <= 1e-10, and c^2 in the refracted cosine underflows below 1e-19, dropping the dermis and
+// the reference epidermis. Down to 1e-7 the denominator times the floored |I.N| + ClampCoeff was
+// also below 2^-96, where the shared division of the two would lose precision.
+TEST(SkinHardCases, EtaOneGrazingViewKeepsItsTransmission) {
   SkinParams p;
   p.Eta = 1.0f;
   p.ClampCoeff = 0.0f;
-  for (double c : {1e-7, 1e-5, 3e-3}) {
-    SCOPED_TRACE("cos_o " + std::to_string(c));
+  for (double c : {1e-30, 1e-20, 1e-12, 1e-11, 1e-10, 1e-7, 1e-5, 3e-3}) {
+    SCOPED_TRACE(::testing::Message() << "cos_o " << c);
     const double s = std::sqrt(1.0 - c * c);
     Case cs{{at_cos(0.6), ambient()}, {float(-5.0 * s), 0.0f, float(5.0 * c)},
             std::vector<Lane>(16, Lane{{0, 0, 0}, {0, 0, 1}})};

@@ -28,11 +28,38 @@ glm::dvec3 unit_or_zero(const glm::dvec3& v) {
   return v / len;
 }
 
+// A unit vector perpendicular to the unit vector n.
+glm::dvec3 any_perpendicular(const glm::dvec3& n) {
+  const glm::dvec3 away = std::fabs(n.x) < 0.5 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  return glm::normalize(glm::cross(n, away));
+}
+
+// Keeps segment k of a chain of S nodes at least kMinFurElevation above the tangent plane of
+// the unit surface normal n (fur/fur_geometry.h): a lower segment is raised along its heading,
+// nodes k+1..S-1 turning rigidly about node k (lengths kept). A segment high enough, of zero
+// length, or with no normal known (n = 0) is left alone, bit for bit. Called per node, in
+// root-to-tip order, after that node's bend.
+void keep_above_surface(std::span<glm::dvec3> p, uint32_t k, uint32_t S, const glm::dvec3& n) {
+  const glm::dvec3 d = unit_or_zero(p[k + 1] - p[k]);
+  if (d == glm::dvec3(0.0) || n == glm::dvec3(0.0)) return;
+  const double e = glm::dot(d, n);
+  if (e >= std::sin(kMinFurElevation)) return;
+  // Turning about d x n raises d toward n along its heading; straight into the surface it has
+  // none, and any axis in the tangent plane does.
+  glm::dvec3 axis = glm::cross(d, n);
+  const double cos_e = glm::length(axis);
+  axis = cos_e > kParallelSin ? axis / cos_e : any_perpendicular(n);
+  const double raise = kMinFurElevation - std::atan2(e, cos_e);
+  const double c = std::cos(raise), s = std::sin(raise);
+  for (uint32_t j = k + 1; j < S; ++j) p[j] = p[k] + rotate(p[j] - p[k], axis, c, s);
+}
+
 }  // namespace
 
-void apply_gravity(std::span<const glm::vec3> rest, uint32_t base_vertex_count, uint32_t layers,
-                   uint32_t authored_layers, const GravityParams& gravity, GravityLaw law,
-                   std::span<glm::vec3> out, uint32_t begin, uint32_t end) {
+void apply_gravity(std::span<const glm::vec3> rest, std::span<const glm::vec3> surface_normals,
+                   uint32_t base_vertex_count, uint32_t layers, uint32_t authored_layers,
+                   const GravityParams& gravity, GravityLaw law, std::span<glm::vec3> out, uint32_t begin,
+                   uint32_t end) {
   const size_t N = base_vertex_count;
   const uint32_t S = std::min(layers, kMaxChain);
   const uint32_t A = std::min(authored_layers, kMaxChain);
@@ -45,30 +72,36 @@ void apply_gravity(std::span<const glm::vec3> rest, uint32_t base_vertex_count, 
   const bool no_force =
       G == glm::dvec3(0.0) || strength == 0.0 || (std::isinf(stability) && stability > 0.0);
   std::array<glm::dvec3, kMaxChain> p;
+  // Eq. 2 at node k: turns nodes k+1..S-1 about it toward G.
+  auto bend_toward_gravity = [&](uint32_t k) {
+    const glm::dvec3 V = unit_or_zero(p[k + 1] - p[k]);
+    glm::dvec3 axis = glm::cross(V, G);
+    const double sin_a = glm::length(axis);
+    if (!(sin_a > kParallelSin)) return;  // along or against G (or a zero segment)
+    axis /= sin_a;
+    const double cos_a = glm::dot(V, G);
+    const double to_g = std::atan2(sin_a, cos_a);  // angle from V to G, (0, pi)
+    const double factor = law == GravityLaw::lever ? sin_a : cos_a;
+    const double rn = double(S - 1 - k) * rn_scale;
+    double theta;
+    if (stability > 0.0) {
+      theta = strength * factor * rn / stability;
+    } else {  // zero or negative stability: no restoring force at all
+      theta = factor > 0.0 ? to_g : 0.0;
+    }
+    if (!std::isfinite(theta)) theta = factor > 0.0 ? to_g : 0.0;
+    theta = std::clamp(theta, 0.0, to_g);
+    if (theta == 0.0) return;
+    const double c = std::cos(theta), s = std::sin(theta);
+    for (uint32_t j = k + 1; j < S; ++j) p[j] = p[k] + rotate(p[j] - p[k], axis, c, s);
+  };
   for (uint32_t i = begin; i < end; ++i) {
     for (uint32_t k = 0; k < S; ++k) p[k] = glm::dvec3(rest[i + k * N]);
     if (!no_force) {
+      const glm::dvec3 n = unit_or_zero(glm::dvec3(surface_normals[i]));
       for (uint32_t k = 0; k + 1 < S; ++k) {
-        const glm::dvec3 V = unit_or_zero(p[k + 1] - p[k]);
-        glm::dvec3 axis = glm::cross(V, G);
-        const double sin_a = glm::length(axis);
-        if (!(sin_a > kParallelSin)) continue;  // along or against G (or a zero segment)
-        axis /= sin_a;
-        const double cos_a = glm::dot(V, G);
-        const double to_g = std::atan2(sin_a, cos_a);  // angle from V to G, (0, pi)
-        const double factor = law == GravityLaw::lever ? sin_a : cos_a;
-        const double rn = double(S - 1 - k) * rn_scale;
-        double theta;
-        if (stability > 0.0) {
-          theta = strength * factor * rn / stability;
-        } else {  // zero or negative stability: no restoring force at all
-          theta = factor > 0.0 ? to_g : 0.0;
-        }
-        if (!std::isfinite(theta)) theta = factor > 0.0 ? to_g : 0.0;
-        theta = std::clamp(theta, 0.0, to_g);
-        if (theta == 0.0) continue;
-        const double c = std::cos(theta), s = std::sin(theta);
-        for (uint32_t j = k + 1; j < S; ++j) p[j] = p[k] + rotate(p[j] - p[k], axis, c, s);
+        bend_toward_gravity(k);
+        keep_above_surface(p, k, S, n);
       }
     }
     for (uint32_t k = 0; k < S; ++k) out[i + k * N] = glm::vec3(p[k]);
@@ -108,9 +141,12 @@ void WindField::forces(double time_seconds, std::span<glm::vec3> out, uint32_t b
 }
 
 void apply_wind(std::span<const glm::vec3> pose, std::span<const glm::vec3> normals,
-                std::span<const glm::vec3> forces, uint32_t base_vertex_count, uint32_t layers,
-                std::span<glm::vec3> out, uint32_t begin, uint32_t end) {
+                std::span<const glm::vec3> surface_normals, std::span<const glm::vec3> forces,
+                uint32_t base_vertex_count, uint32_t layers, std::span<glm::vec3> out, uint32_t begin,
+                uint32_t end) {
   const size_t N = base_vertex_count;
+  const uint32_t S = std::min(layers, kMaxChain);
+  std::array<glm::dvec3, kMaxChain> p;
   for (uint32_t i = begin; i < end; ++i) {
     const glm::dvec3 F(forces[i]);
     const double m = glm::length(F);
@@ -134,8 +170,13 @@ void apply_wind(std::span<const glm::vec3> pose, std::span<const glm::vec3> norm
     const double theta = phi * (1.0 - std::exp(-m));
     const double c = std::cos(theta), s = std::sin(theta);
     const glm::dvec3 root(pose[i]);
+    for (uint32_t k = 0; k < S; ++k) p[k] = root + rotate(glm::dvec3(pose[i + k * N]) - root, axis, c, s);
+    p[0] = root;
+    const glm::dvec3 surface = unit_or_zero(glm::dvec3(surface_normals[i]));
+    for (uint32_t k = 0; k + 1 < S; ++k) keep_above_surface(p, k, S, surface);
     out[i] = pose[i];
-    for (uint32_t k = 1; k < layers; ++k) {
+    for (uint32_t k = 1; k < S; ++k) out[i + k * N] = glm::vec3(p[k]);
+    for (uint32_t k = S; k < layers; ++k) {
       const size_t I = i + k * N;
       out[I] = glm::vec3(root + rotate(glm::dvec3(pose[I]) - root, axis, c, s));
     }

@@ -29,15 +29,20 @@ namespace pelt::fur {
 //            strand and none (clamped from negative) for strands pointing up.
 // Both multiply by params.strength, and both clamp theta to [0, angle(V, G)] so a
 // segment swings toward gravity but never past it: stability = 0 (or a huge strength)
-// lets every segment hang straight along G, never NaN.
+// lets every segment hang straight along G, never NaN, unless that is into the surface
+// (see apply_gravity).
 enum class GravityLaw { lever, seed_dot };
 
 // Bends each chain node by node (seed Fig. 9): at node k = 0..S-2, rotate nodes
 // k+1..S-1 about node k, axis cross(V, G), by theta. Rotations keep every segment's
 // length (to float rounding). Nothing bends when G or strength is 0, when V is
-// parallel or antiparallel to G, or when stability is huge. `rest` and `out` have
-// S*N entries; out may equal rest (in place). Chains longer than 128 nodes (beyond
-// FurParams' range) bend their first 128 nodes only.
+// parallel or antiparallel to G, or when stability is huge. After node k's bend, a segment k
+// lower than kMinFurElevation (fur/fur_geometry.h) above the tangent plane of its base
+// vertex's `surface_normals` entry (one per base vertex, unit; FurGeometry::base_normals) is
+// raised to it along its heading, nodes k+1.. turning with it, so gravity lays fur down on
+// the surface, never through it; chains that stay above it come out bit for bit as without
+// the rule. `rest` and `out` have S*N entries; out may equal rest (in place). Chains longer
+// than 128 nodes (beyond FurParams' range) bend their first 128 nodes only.
 // `authored_layers` (FurParams::authored_shells; 0 or S: the formula as printed) is the
 // node count the gravity parameters were chosen for. Eq. 2's theta grows with RN, so a
 // chain of S nodes turns its tip by sum theta ~ S^2 / 2 in all: the same fur re-sliced into
@@ -45,9 +50,10 @@ enum class GravityLaw { lever, seed_dot };
 // theta is scaled by A (A - 1) / (S (S - 1)), the ratio of the two counts' sums of RN, so the
 // chain's total bend is the authored chain's (before the clamp below) whatever S is, and
 // more layers resolve the same curve more finely. With A = S the scale is exactly 1.
-void apply_gravity(std::span<const glm::vec3> rest, uint32_t base_vertex_count, uint32_t layers,
-                   uint32_t authored_layers, const GravityParams& gravity, GravityLaw law,
-                   std::span<glm::vec3> out, uint32_t begin, uint32_t end);
+void apply_gravity(std::span<const glm::vec3> rest, std::span<const glm::vec3> surface_normals,
+                   uint32_t base_vertex_count, uint32_t layers, uint32_t authored_layers,
+                   const GravityParams& gravity, GravityLaw law, std::span<glm::vec3> out, uint32_t begin,
+                   uint32_t end);
 
 // Wind force field: one force per base vertex, a travelling gust wave,
 //   F_i(t) = d * strength * (1 + gust_scale * sin(2 pi (gust_frequency * t - (q_i.d) / L)))
@@ -70,11 +76,18 @@ WindField make_wind_field(const FurGeometry& geometry, const WindParams& wind);
 // toward the force, further for a stronger force, never past it (|F| = 1 goes 63% of
 // the way). n_i = `normals` (pass FurGeometry::growth so combed fur bends from its
 // combed direction). No rotation for F = 0, F parallel or antiparallel to n, or
-// non-finite F. `pose` is the pose to push (the rest or the gravity pose); out may
-// equal pose.
+// non-finite F. On a windward face phi passes 90 degrees, and so can theta: then each
+// segment of the turned chain, root to tip, that lies lower than kMinFurElevation
+// (fur/fur_geometry.h) above the tangent plane of `surface_normals[i]` (unit;
+// FurGeometry::base_normals) is raised to it along its heading, the nodes beyond it turning
+// with it: the wind flattens fur onto the surface, never through it, and chains that stay
+// above it come out bit for bit as without the rule. `pose` is the pose to push (the rest or
+// the gravity pose, both above the surface); out may equal pose. Chains longer than 128
+// nodes (beyond FurParams' range) are raised over their first 128 nodes only.
 void apply_wind(std::span<const glm::vec3> pose, std::span<const glm::vec3> normals,
-                std::span<const glm::vec3> forces, uint32_t base_vertex_count, uint32_t layers,
-                std::span<glm::vec3> out, uint32_t begin, uint32_t end);
+                std::span<const glm::vec3> surface_normals, std::span<const glm::vec3> forces,
+                uint32_t base_vertex_count, uint32_t layers, std::span<glm::vec3> out, uint32_t begin,
+                uint32_t end);
 
 // out[I] = a[I] + (b[I] - a[I]) * t for fur vertices I in [begin, end) (a flat range,
 // not base vertices). t = 0 gives exactly a, t = 1 exactly b, and a coordinate equal in a and b

@@ -22,6 +22,19 @@ glm::vec3 triangle_normal(const glm::vec3& a, const glm::vec3& b, const glm::vec
   return n / len;
 }
 
+// The unit direction g, or (when it lies lower than kMinFurElevation above the tangent plane of
+// the unit normal n) the direction at that elevation with g's heading along the surface. n when
+// g has no heading (it points straight in): any tilt would be made up.
+glm::vec3 above_surface(const glm::vec3& g, const glm::vec3& n) {
+  const glm::dvec3 gd(g), nd(n);
+  const double e = glm::dot(gd, nd);
+  if (e >= std::sin(kMinFurElevation)) return g;
+  const glm::dvec3 along = gd - e * nd;
+  const double len = glm::length(along);
+  if (!(len > 1e-6) || !std::isfinite(len)) return n;
+  return glm::vec3(nd * std::sin(kMinFurElevation) + along * (std::cos(kMinFurElevation) / len));
+}
+
 }  // namespace
 
 BoundingSphere bounding_sphere(const Mesh& mesh) {
@@ -115,7 +128,7 @@ glm::vec3 growth_direction(const glm::vec3& normal, const std::optional<CombPara
   const float gl = glm::length(g);
   // The blend cancels where d is nearly -n: keep the normal rather than a random tilt.
   if (!(gl > 1e-4f)) return normal;
-  return g / gl;
+  return above_surface(g / gl, normal);
 }
 
 std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& params,

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -22,6 +23,14 @@
 namespace pelt::fur {
 
 inline constexpr uint32_t kNoFace = 0xFFFFFFFFu;
+
+// Fur never points into its base surface (a pelt rule where the seed is silent): every growth
+// direction (combing) and every posed strand segment (gravity, wind) keeps at least this angle,
+// in radians, above its base vertex's tangent plane; they may lay fur down toward the surface,
+// never into it. Not zero: a strand lying in the plane would put its shells on the base
+// surface, where they z-fight with it. 5 degrees holds a point h along a flat-lying strand
+// 0.087 h off the surface, and still reads as fur lying flat.
+inline constexpr double kMinFurElevation = 5.0 * std::numbers::pi / 180.0;
 
 // An undirected mesh edge, a < b, with the (up to) two base triangles that share it.
 // face1 = kNoFace on a boundary edge. On a non-manifold edge (3+ triangles) the first
@@ -99,7 +108,10 @@ std::vector<FurEdge> mesh_edges(const Mesh& mesh);
 // Table counts for a base mesh of the given size with S layers.
 FurCounts fur_counts(size_t base_vertices, size_t base_faces, size_t edges, int layers);
 
-// Unit growth direction from a unit normal and the optional combing (see CombParams).
+// Unit growth direction from a unit normal and the optional combing (see CombParams). A blend
+// that ends up lower than kMinFurElevation above the tangent plane is raised to it, keeping its
+// direction along the surface; one with no direction along the surface (d = -n) keeps the
+// normal, as a blend that cancels does.
 glm::vec3 growth_direction(const glm::vec3& normal, const std::optional<CombParams>& comb);
 
 // The per-vertex comb directions of CombField::uv (see CombParams::uv_direction): unit

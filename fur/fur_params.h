@@ -44,7 +44,9 @@ enum class CombField {
 
 // Combing (seed Fig. 6): growth direction g = normalize((1 - weight) n + weight d).
 // Optional: without it g is the vertex normal n. Where the blend cancels (d = -n at
-// weight 0.5) the normal is used.
+// weight 0.5) the normal is used. A blend lower than kMinFurElevation above the tangent
+// plane (fur/fur_geometry.h) is raised to it: a comb lays fur down, never into the mesh
+// (d = -n above weight 0.5 keeps the normal).
 struct CombParams {
   glm::vec3 direction{0.0f, -1.0f, 0.0f};  // "direction": any non-zero vector; normalised
   float weight = 0.5f;                     // "weight": in [0, 1]; 0 = plain normals

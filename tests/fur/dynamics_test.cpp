@@ -26,12 +26,18 @@ std::vector<glm::vec3> chain(glm::vec3 dir, glm::vec3 root = glm::vec3(0.3f, -0.
   return p;
 }
 
+// A zero surface normal: no surface to keep the strand above, the bending law alone.
+const glm::vec3 kNoSurface(0.0f);
+
 // One chain bent by gravity; its node count is rest's. `authored`: the node count the
-// parameters were chosen for (0: the chain's own, the formula as printed).
+// parameters were chosen for (0: the chain's own, the formula as printed). `surface`: the
+// base vertex's normal.
 std::vector<glm::vec3> gravity(const std::vector<glm::vec3>& rest, GravityParams g,
-                               GravityLaw law = GravityLaw::lever, uint32_t authored = 0) {
+                               GravityLaw law = GravityLaw::lever, uint32_t authored = 0,
+                               glm::vec3 surface = kNoSurface) {
   std::vector<glm::vec3> out(rest.size());
-  apply_gravity(rest, 1, uint32_t(rest.size()), authored, g, law, out, 0, 1);
+  const glm::vec3 normals[1] = {surface};
+  apply_gravity(rest, normals, 1, uint32_t(rest.size()), authored, g, law, out, 0, 1);
   return out;
 }
 
@@ -176,6 +182,111 @@ TEST(Gravity, NoNaNForDegenerateInputs) {
     EXPECT_GT(glm::dot(glm::normalize(out[k + 1] - out[k]), glm::vec3(0, -1, 0)), 0.9999f);
 }
 
+// The lowest segment of every chain of a pose, as the sine of its elevation above its base
+// vertex's tangent plane (N base vertices, S layers).
+double lowest_elevation_sin(const std::vector<glm::vec3>& pose, const std::vector<glm::vec3>& normals,
+                            uint32_t N, uint32_t S) {
+  double lowest = 1.0;
+  for (uint32_t i = 0; i < N; ++i)
+    for (uint32_t k = 0; k + 1 < S; ++k)
+      lowest = std::min(lowest, double(glm::dot(glm::normalize(pose[i + (k + 1) * N] - pose[i + k * N]),
+                                                normals[i])));
+  return lowest;
+}
+
+// Rounding to float leaves a raised segment this far (in sine) below the exact minimum.
+constexpr double kElevationSlack = 1e-5;
+
+// Furry sphere, each vertex's chain hanging under gravity.
+struct HangingSphere {
+  FurGeometry geo;
+  std::vector<glm::vec3> with_surface, law_alone;
+  explicit HangingSphere(GravityParams g) {
+    FurParams p;
+    p.length = 0.3f;
+    EXPECT_FALSE(build_fur_geometry(io::make_builtin_mesh("sphere:16"), p, geo).has_value());
+    const uint32_t N = geo.base_vertex_count, S = geo.layers;
+    with_surface.resize(geo.positions.size());
+    law_alone.resize(geo.positions.size());
+    const std::vector<glm::vec3> none(N, glm::vec3(0.0f));
+    apply_gravity(geo.positions, geo.base_normals, N, S, 0, g, GravityLaw::lever, with_surface, 0, N);
+    apply_gravity(geo.positions, none, N, S, 0, g, GravityLaw::lever, law_alone, 0, N);
+  }
+};
+
+// Strong gravity on a sphere (the review's sphere_g.json): the upper hemisphere's fur used to
+// hang straight down through the sphere. It lies down on it instead, no segment lower than
+// kMinFurElevation above its base vertex's tangent plane, lengths kept.
+TEST(Gravity, NeverBendsIntoTheSurface) {
+  for (float stability : {0.0f, 1.0f, 30.0f}) {
+    GravityParams g;
+    g.strength = 1000.0f;
+    g.stability = stability;
+    const HangingSphere h(g);
+    const uint32_t N = h.geo.base_vertex_count, S = h.geo.layers;
+    ASSERT_TRUE(all_finite(h.with_surface));
+    expect_segments_kept(h.geo.positions, h.with_surface, N);
+    EXPECT_GE(lowest_elevation_sin(h.with_surface, h.geo.base_normals, N, S),
+              std::sin(kMinFurElevation) - kElevationSlack)
+        << "stability " << stability;
+    EXPECT_LT(lowest_elevation_sin(h.law_alone, h.geo.base_normals, N, S), -0.5);  // the law alone goes in
+    for (uint32_t i = 0; i < N; ++i) EXPECT_EQ(h.with_surface[i], h.geo.positions[i]);  // roots fixed
+  }
+}
+
+// The rule changes only chains that reached the surface: every chain that the law alone keeps
+// above it comes out bit for bit the same.
+TEST(Gravity, ChainsThatStayAboveTheSurfaceAreUnchanged) {
+  GravityParams g;
+  g.stability = 40.0f;
+  const HangingSphere h(g);
+  const uint32_t N = h.geo.base_vertex_count, S = h.geo.layers;
+  size_t above = 0, raised = 0;
+  for (uint32_t i = 0; i < N; ++i) {
+    bool clear = true;
+    for (uint32_t k = 0; k + 1 < S; ++k)
+      clear &= glm::dot(glm::dvec3(h.law_alone[i + (k + 1) * N]) - glm::dvec3(h.law_alone[i + k * N]),
+                        glm::dvec3(h.geo.base_normals[i])) >=
+               std::sin(kMinFurElevation) * glm::length(glm::dvec3(h.law_alone[i + (k + 1) * N]) -
+                                                        glm::dvec3(h.law_alone[i + k * N]));
+    bool same = true;
+    for (uint32_t k = 0; k < S; ++k) same &= h.with_surface[i + k * N] == h.law_alone[i + k * N];
+    if (clear) {
+      EXPECT_TRUE(same) << "vertex " << i;
+      ++above;
+    } else {
+      ++raised;
+    }
+  }
+  EXPECT_GT(above, 0u);
+  EXPECT_GT(raised, 0u);  // the case is real for these parameters
+}
+
+TEST(Gravity, RaisingTheStrandNeverGivesNaN) {
+  const glm::vec3 up(0, 1, 0);
+  GravityParams g;
+  g.stability = 0.0f;
+  // Gravity straight into the surface, the strand along it (no bend: V antiparallel to G), and a
+  // hair off it (hangs straight in, then is raised).
+  for (glm::vec3 dir : {up, glm::normalize(glm::vec3(1e-4f, 1, 0)), glm::normalize(glm::vec3(1e-9f, 1, 0))}) {
+    const auto rest = chain(dir);
+    const auto out = gravity(rest, g, GravityLaw::lever, 0, up);
+    ASSERT_TRUE(all_finite(out));
+    expect_segments_kept(rest, out);
+    EXPECT_GE(lowest_elevation_sin(out, {up}, 1, kS), std::sin(kMinFurElevation) - kElevationSlack);
+  }
+  // A rest chain pointing straight into the surface has no heading: raised all the same.
+  const auto in = chain(-up);
+  g.direction = {1, 0, 0};
+  const auto out = gravity(in, g, GravityLaw::lever, 0, up);
+  ASSERT_TRUE(all_finite(out));
+  expect_segments_kept(in, out);
+  EXPECT_GE(lowest_elevation_sin(out, {up}, 1, kS), std::sin(kMinFurElevation) - kElevationSlack);
+  // Zero-length chain: nothing to raise.
+  const std::vector<glm::vec3> point(kS, glm::vec3(1, 2, 3));
+  EXPECT_EQ(gravity(point, g, GravityLaw::lever, 0, up), point);
+}
+
 // The tip of a horizontal chain of `layers` nodes spanning `length`, bent by gravity with the
 // parameters authored for `authored` nodes (0: the formula as printed).
 glm::vec3 bent_tip(uint32_t layers, uint32_t authored, float length, const GravityParams& g) {
@@ -218,12 +329,13 @@ TEST(Gravity, RangesAndInPlaceGiveTheSameResult) {
   GravityParams g;
   g.stability = 50.0f;
   std::vector<glm::vec3> whole(geo.positions.size()), split(geo.positions.size());
-  apply_gravity(geo.positions, N, S, 0, g, GravityLaw::lever, whole, 0, N);
-  apply_gravity(geo.positions, N, S, 0, g, GravityLaw::lever, split, 0, N / 3);
-  apply_gravity(geo.positions, N, S, 0, g, GravityLaw::lever, split, N / 3, N);
+  const std::vector<glm::vec3>& n = geo.base_normals;
+  apply_gravity(geo.positions, n, N, S, 0, g, GravityLaw::lever, whole, 0, N);
+  apply_gravity(geo.positions, n, N, S, 0, g, GravityLaw::lever, split, 0, N / 3);
+  apply_gravity(geo.positions, n, N, S, 0, g, GravityLaw::lever, split, N / 3, N);
   EXPECT_EQ(whole, split);
   std::vector<glm::vec3> in_place = geo.positions;
-  apply_gravity(in_place, N, S, 0, g, GravityLaw::lever, in_place, 0, N);
+  apply_gravity(in_place, n, N, S, 0, g, GravityLaw::lever, in_place, 0, N);
   EXPECT_EQ(whole, in_place);
   expect_segments_kept(geo.positions, whole, N);
   for (uint32_t i = 0; i < N; ++i) EXPECT_EQ(whole[i], geo.positions[i]);  // roots fixed
@@ -231,11 +343,14 @@ TEST(Gravity, RangesAndInPlaceGiveTheSameResult) {
 
 // ---- wind ----
 
-std::vector<glm::vec3> wind(const std::vector<glm::vec3>& pose, glm::vec3 n, glm::vec3 force) {
+// `n`: the growth direction the chain leans from; `surface`: the base vertex's normal.
+std::vector<glm::vec3> wind(const std::vector<glm::vec3>& pose, glm::vec3 n, glm::vec3 force,
+                            glm::vec3 surface = kNoSurface) {
   std::vector<glm::vec3> out(pose.size());
   const glm::vec3 normals[1] = {n};
+  const glm::vec3 surfaces[1] = {surface};
   const glm::vec3 forces[1] = {force};
-  apply_wind(pose, normals, forces, 1, kS, out, 0, 1);
+  apply_wind(pose, normals, surfaces, forces, 1, uint32_t(pose.size()), out, 0, 1);
   return out;
 }
 
@@ -285,10 +400,49 @@ TEST(Wind, NoRotationOrNaNForDegenerateForces) {
   for (int k = 0; k < 200; ++k) {
     const glm::vec3 nn = random_unit(rng);
     const auto r = chain(nn);
-    const auto o = wind(r, nn, random_unit(rng) * std::uniform_real_distribution<float>(0, 10)(rng));
+    const auto o = wind(r, nn, random_unit(rng) * std::uniform_real_distribution<float>(0, 10)(rng), nn);
     ASSERT_TRUE(all_finite(o));
     expect_segments_kept(r, o);
   }
+}
+
+// A windward face (phi > 90 degrees) used to turn the strand past the tangent plane, into the
+// mesh. It is flattened onto the surface instead, for straight and bent chains, lengths kept.
+TEST(Wind, NeverPushesFurIntoTheSurface) {
+  const glm::vec3 n(0, 1, 0);
+  GravityParams g;
+  g.stability = 60.0f;
+  const auto bent = gravity(chain(glm::normalize(glm::vec3(1, 1, 0))), g, GravityLaw::lever, 0, n);
+  ASSERT_GE(lowest_elevation_sin(bent, {n}, 1, kS), std::sin(kMinFurElevation) - kElevationSlack);
+  for (const std::vector<glm::vec3>& pose : {chain(n), bent}) {
+    for (glm::vec3 dir : {glm::vec3(1, -1, 0), glm::vec3(-1, -1, 0), glm::vec3(0, -1, 1e-6f), glm::vec3(1, 0, 0)}) {
+      for (float m : {0.5f, 1.0f, 3.0f, 8.0f, 1e20f}) {
+        const auto out = wind(pose, n, glm::normalize(dir) * m, n);
+        ASSERT_TRUE(all_finite(out));
+        expect_segments_kept(pose, out);
+        EXPECT_GE(lowest_elevation_sin(out, {n}, 1, kS), std::sin(kMinFurElevation) - kElevationSlack)
+            << "direction " << dir.x << " " << dir.y << " " << dir.z << " strength " << m;
+      }
+    }
+  }
+  // A leeward wind that stays clear of the surface turns the strand exactly as without the rule.
+  const glm::vec3 F(0.8f, 0.3f, 0.1f);
+  EXPECT_EQ(wind(chain(n), n, F, n), wind(chain(n), n, F));
+  // The shipped scenes' case: a whole furry box in a strong wind, after gravity.
+  FurParams p;
+  p.length = 0.3f;
+  FurGeometry geo;
+  ASSERT_FALSE(build_fur_geometry(io::make_builtin_mesh("box:3"), p, geo).has_value());
+  const uint32_t N = geo.base_vertex_count, S = geo.layers;
+  std::vector<glm::vec3> pose(geo.positions.size()), forces(N);
+  apply_gravity(geo.positions, geo.base_normals, N, S, 0, g, GravityLaw::lever, pose, 0, N);
+  WindParams w;
+  w.direction = {1.0f, -0.3f, 0.2f};
+  w.strength = 4.0f;
+  make_wind_field(geo, w).forces(0.0, forces, 0, N);
+  apply_wind(pose, geo.growth, geo.base_normals, forces, N, S, pose, 0, N);
+  ASSERT_TRUE(all_finite(pose));
+  EXPECT_GE(lowest_elevation_sin(pose, geo.base_normals, N, S), std::sin(kMinFurElevation) - kElevationSlack);
 }
 
 TEST(Wind, FieldIsUniformWithoutGustsAndTravelsWithThem) {

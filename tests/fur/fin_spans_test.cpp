@@ -82,17 +82,18 @@ TEST(FinSpans, EverySpanOfABentChainStaysWithinTheTolerance) {
   constexpr uint32_t kN = 64, kS = 16;
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<glm::vec3> rest(kN * kS);
+  std::vector<glm::vec3> rest(kN * kS), normals(kN);
   for (uint32_t i = 0; i < kN; ++i) {
     const glm::vec3 root(u(rng), u(rng), u(rng));
     const glm::vec3 dir = glm::normalize(glm::vec3(u(rng), 1.5f, u(rng)));
+    normals[i] = dir;
     for (uint32_t s = 0; s < kS; ++s) rest[i + s * kN] = root + dir * (0.02f * float(s));
   }
   GravityParams g;
   g.strength = 1.0f;
   g.stability = 8.0f;
   std::vector<glm::vec3> pose(rest.size());
-  apply_gravity(rest, kN, kS, 0, g, GravityLaw::lever, pose, 0, kN);
+  apply_gravity(rest, normals, kN, kS, 0, g, GravityLaw::lever, pose, 0, kN);
 
   const float tol = 0.25f * 0.02f;
   const std::vector<uint64_t> all = breaks(pose, kN, kS, tol, 8);

@@ -120,12 +120,18 @@ TEST(FurGeometry, FinQuadsUseTheSharedVerticesInLayerThenEdgeOrder) {
   for (uint32_t idx : g.fin_indices) EXPECT_LT(idx, g.positions.size());
 }
 
+// The lowest growth direction a unit square (normals +y) may have, heading along `heading`:
+// kMinFurElevation above its plane.
+glm::vec3 lying_flat(glm::vec3 heading) {
+  return heading * float(std::cos(kMinFurElevation)) + glm::vec3(0, 1, 0) * float(std::sin(kMinFurElevation));
+}
+
 TEST(FurGeometry, CombingBlendsTheGrowthDirection) {
   const Mesh m = test::unit_square();  // normals +y
   FurParams p = shells(4);
   p.comb = CombParams{{2.0f, 0.0f, 0.0f}, 1.0f};
   FurGeometry g = build(m, p);
-  for (const glm::vec3& d : g.growth) EXPECT_EQ(d, glm::vec3(1, 0, 0));
+  for (const glm::vec3& d : g.growth) EXPECT_NEAR(glm::distance(d, lying_flat({1, 0, 0})), 0.0f, 1e-6f);
   p.comb->weight = 0.5f;
   g = build(m, p);
   for (const glm::vec3& d : g.growth) {
@@ -144,6 +150,40 @@ TEST(FurGeometry, CombingBlendsTheGrowthDirection) {
   for (const glm::vec3& d : g.growth) EXPECT_EQ(d, glm::vec3(0, 1, 0));
 }
 
+// A comb weight above 0.5 against the normal used to flip the growth direction into the mesh
+// (the box's top face went bald at weight 0.51). The comb tilts fur down to kMinFurElevation
+// above the surface, never into it; with no heading along the surface (d = -n) it keeps the
+// normal, as the cancelling blend at 0.5 does; a blend that stays above is unchanged.
+TEST(FurGeometry, CombNeverGrowsIntoTheSurface) {
+  const Mesh m = test::unit_square();  // normals +y
+  FurParams p = shells(4);
+  for (float w : {0.51f, 0.75f, 1.0f}) {
+    p.comb = CombParams{{0.0f, -1.0f, 0.0f}, w};
+    for (const glm::vec3& d : build(m, p).growth) EXPECT_EQ(d, glm::vec3(0, 1, 0)) << "weight " << w;
+    p.comb = CombParams{{1.0f, -1.0f, 0.0f}, w};  // 45 degrees into the surface: goes below from about w = 0.6
+    for (const glm::vec3& d : build(m, p).growth) {
+      if (w > 0.6f) {
+        EXPECT_NEAR(glm::distance(d, lying_flat({1, 0, 0})), 0.0f, 1e-6f) << "weight " << w;
+      } else {
+        EXPECT_GT(d.y, std::sin(kMinFurElevation)) << "weight " << w;
+      }
+    }
+    p.comb = CombParams{{0.0f, -1.0f, 1e-3f}, w};  // a hair off -n: still a heading
+    for (const glm::vec3& d : build(m, p).growth) {
+      EXPECT_NEAR(glm::distance(d, lying_flat({0, 0, 1})), 0.0f, 1e-6f) << "weight " << w;
+      EXPECT_TRUE(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z));
+    }
+  }
+  // Above the surface: exactly the blend.
+  const glm::vec3 n(0, 1, 0);
+  CombParams c{{1.0f, -1.0f, 0.0f}, 0.3f};
+  const glm::vec3 d = c.direction / glm::length(c.direction);
+  const glm::vec3 mix = (1.0f - c.weight) * n + c.weight * d;
+  const glm::vec3 blend = mix / glm::length(mix);
+  EXPECT_EQ(growth_direction(n, c), blend);
+  EXPECT_GT(glm::dot(blend, n), std::sin(kMinFurElevation));
+}
+
 // Combing along the mesh's UV layout: the quad's u runs along +x and its v along +z, so
 // the comb direction follows whichever way uv_direction points, per vertex.
 TEST(FurGeometry, CombingFollowsTheUvLayout) {
@@ -158,14 +198,15 @@ TEST(FurGeometry, CombingFollowsTheUvLayout) {
     p.comb = c;
     return build(m, p).growth;
   };
-  for (const glm::vec3& d : growth_with({1, 0}, 1.0f)) EXPECT_NEAR(glm::distance(d, glm::vec3(1, 0, 0)), 0.0f, 1e-6f);
-  for (const glm::vec3& d : growth_with({0, 1}, 1.0f)) EXPECT_NEAR(glm::distance(d, glm::vec3(0, 0, 1)), 0.0f, 1e-6f);
-  for (const glm::vec3& d : growth_with({0, -2}, 1.0f)) EXPECT_NEAR(glm::distance(d, glm::vec3(0, 0, -1)), 0.0f, 1e-6f);
+  // Weight 1 combs along the surface, held kMinFurElevation above it.
+  for (const glm::vec3& d : growth_with({1, 0}, 1.0f)) EXPECT_NEAR(glm::distance(d, lying_flat({1, 0, 0})), 0.0f, 1e-6f);
+  for (const glm::vec3& d : growth_with({0, 1}, 1.0f)) EXPECT_NEAR(glm::distance(d, lying_flat({0, 0, 1})), 0.0f, 1e-6f);
+  for (const glm::vec3& d : growth_with({0, -2}, 1.0f)) EXPECT_NEAR(glm::distance(d, lying_flat({0, 0, -1})), 0.0f, 1e-6f);
   for (const glm::vec3& d : growth_with({1, 0}, 0.5f))
     EXPECT_NEAR(glm::distance(d, glm::normalize(glm::vec3(1, 1, 0))), 0.0f, 1e-6f);
   // The same quad with its uvs turned a quarter: u now runs along +z, and the fur follows.
   m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  for (const glm::vec3& d : growth_with({1, 0}, 1.0f)) EXPECT_NEAR(glm::distance(d, glm::vec3(0, 0, 1)), 0.0f, 1e-6f);
+  for (const glm::vec3& d : growth_with({1, 0}, 1.0f)) EXPECT_NEAR(glm::distance(d, lying_flat({0, 0, 1})), 0.0f, 1e-6f);
   // Degenerate uvs give no direction: the normal is kept, never NaN.
   m.uvs.assign(4, {0.5f, 0.5f});
   for (const glm::vec3& d : growth_with({1, 0}, 1.0f)) EXPECT_EQ(d, glm::vec3(0, 1, 0));

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <optional>
+#include <string>
 
 #include <glm/geometric.hpp>
 
@@ -67,14 +69,21 @@ raster::SamplerState fur_sampler(bool fin, raster::Filter filter) {
   return s;
 }
 
-void throw_if(const std::optional<raster::TextureError>& e, const std::string& name) {
-  if (e) throw io::InputError(name, "fur." + e->field, e->reason);
+// A fur field's error located in the scene: the file, and the field's JSON path under the object.
+[[noreturn]] void throw_fur_error(const FurOrigin& origin, const std::string& field, const std::string& reason) {
+  const std::string fur_field = "fur." + field;
+  throw io::InputError(origin.file, origin.object_path.empty() ? fur_field : origin.object_path + "." + fur_field,
+                       reason);
+}
+
+void throw_if(const std::optional<raster::TextureError>& e, const FurOrigin& origin) {
+  if (e) throw_fur_error(origin, e->field, e->reason);
 }
 
 }  // namespace
 
 FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDrawOptions& options,
-                     const std::string& name, FrameStats& setup)
+                     const FurOrigin& origin, FrameStats& setup)
     : params_(params),
       match_llvmpipe_(options.match_llvmpipe),
       lighting_(options.lighting),
@@ -84,7 +93,7 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
       merge_fins_(options.merge_fins && !options.match_llvmpipe && params.fins != fur::FinMode::off) {
   {
     StageTimer t(setup, "fur_geometry");
-    if (auto e = fur::build_fur_geometry(base, params, geo_)) throw io::InputError(name, "fur." + e->field, e->reason);
+    if (auto e = fur::build_fur_geometry(base, params, geo_)) throw_fur_error(origin, e->field, e->reason);
   }
   {
     StageTimer t(setup, "fur_textures");
@@ -92,7 +101,7 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
     if (match_llvmpipe_) {
       tex = fur::match_llvmpipe_textures(fur::ShellForms::LuminanceOnly);
     } else if (auto e = fur::generate_strand_textures(params, tex, fur::ShellForms::LuminanceOnly)) {
-      throw io::InputError(name, "fur." + e->field, e->reason);
+      throw_fur_error(origin, e->field, e->reason);
     }
     // Brightness and alpha with a tint per layer: the sampler's La8 path. The harness's shells
     // too: their colour is a layer colour times a brightness, so only L's rounding (at most
@@ -101,12 +110,12 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
     const fur::ShellLuminance& lum = tex.shell_luminance;
     throw_if(raster::TextureArray::from_la8_layers(lum.size, lum.size, lum.layers, lum.la.data(), shell_tex_,
                                                    options.parallel),
-             name);
+             origin);
     shell_tint_ = lum.tint;
     // The fin likewise, with a tint linear in the fin's height v (fur::FinLuminance).
     const fur::FinLuminance& fin_lum = tex.fin_luminance;
     throw_if(raster::Texture::from_la8(fin_lum.size, fin_lum.size, fin_lum.la.data(), fin_tex_, options.parallel),
-             name);
+             origin);
     fin_tint_root_ = fin_lum.tint_root;
     fin_tint_slope_ = fin_lum.tint_slope;
   }
@@ -303,9 +312,16 @@ void FurObject::rebuild_fin_list() {
   fin_segment_[geo_.layers - 1] = static_cast<uint32_t>(fin_quad_weight_.size());
 }
 
+void FurObject::rebuild_fin_list_timed(FrameStats* stats) {
+  std::optional<StageTimer> t;
+  if (stats) t.emplace(*stats, "fins");
+  rebuild_fin_list();
+}
+
 void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lights,
                        FrameStats& stats) {
   const uint32_t n = geo_.base_vertex_count, s = geo_.layers;
+  frame_stats_ = &stats;
   float t = 0.0f;
   if (match_llvmpipe_) {
     if (!gravity_in_) {
@@ -323,8 +339,8 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
         StageTimer st(stats, "gravity");
         // The authored count keeps the bend of the scene's fur when a quality setting
         // re-slices it (fur/dynamics.h).
-        fur::apply_gravity(geo_.positions, n, s, uint32_t(params_.authored_shells), *f.gravity,
-                           fur::GravityLaw::lever, gravity_pose_, 0, n);
+        fur::apply_gravity(geo_.positions, geo_.base_normals, n, s, uint32_t(params_.authored_shells),
+                           *f.gravity, fur::GravityLaw::lever, gravity_pose_, 0, n);
       } else {
         gravity_pose_ = geo_.positions;
       }
@@ -332,7 +348,10 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
       wind_in_.reset();  // the wind pose is pushed from the gravity pose
       poses_dirty_ = true;
     }
-    if (f.wind) {
+    // Gusts scale the strength: a wind of strength 0 this frame pushes nothing at any time, so
+    // its pose is the gravity pose and it is no wind (no per-frame re-simulation of a static
+    // scene). An animated strength is evaluated per frame, so it is wind wherever it is not 0.
+    if (f.wind && f.wind->strength != 0.0f) {
       // A steady wind (no gusts) gives the same field in every frame.
       const bool gusty = f.wind->gust_scale > 0.0f && f.wind->gust_frequency > 0.0f;
       const double wt = gusty ? f.time_seconds : 0.0;
@@ -341,7 +360,7 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
         if (!wind_in_ || !same(wind_in_->first, f.wind)) wind_field_ = fur::make_wind_field(geo_, *f.wind);
         wind_field_->forces(wt, forces_, 0, n);
         wind_pose_.resize(pose_.size());
-        fur::apply_wind(gravity_pose_, geo_.growth, forces_, n, s, wind_pose_, 0, n);
+        fur::apply_wind(gravity_pose_, geo_.growth, geo_.base_normals, forces_, n, s, wind_pose_, 0, n);
         wind_in_ = std::make_pair(f.wind, wt);
         poses_dirty_ = true;
       }
@@ -394,7 +413,7 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
       }
       rebuild_fin_list();
     } else if (fin_list_dirty_) {
-      rebuild_fin_list();  // `all`: every fin, once
+      rebuild_fin_list_timed(&stats);  // `all`: every fin, once (and again when merged fins move)
     }
     fins_eye_ = f.eye;
     fin_list_dirty_ = false;
@@ -408,8 +427,9 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
   const bool strips = sort == FurSort::tile || sort == FurSort::exact;
   if (strips != fin_strips_ && params_.fins != fur::FinMode::off) {
     fin_strips_ = strips;
-    rebuild_fin_list();
+    rebuild_fin_list_timed(frame_stats_);
   }
+  frame_stats_ = nullptr;  // the frame's stats may go now
   const bool fins = params_.fins != fur::FinMode::off && !fin_quad_weight_.empty();
   // One shader per draw (the layer order splits shells and fins into per-layer draws);
   // built once per sort mode, only their per-frame inputs change.

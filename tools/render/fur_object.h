@@ -56,6 +56,13 @@ struct FurDrawOptions {
   raster::ParallelFor parallel;
 };
 
+// Where a furry object's fur block sits in its scene, so that a bad field is reported as the
+// project reports input errors: "FILE: objects[3].fur.comb.field: REASON".
+struct FurOrigin {
+  std::string file;         // the scene file (empty for a scene parsed from a string)
+  std::string object_path;  // the object's JSON path, "objects[3]"
+};
+
 // What may change from frame to frame.
 struct FurFrame {
   int frame = 0;
@@ -69,17 +76,22 @@ class FurObject {
  public:
   // `base` is the object's mesh in world space. options.match_llvmpipe reproduces the
   // llvmpipe harness's scene (textures, poses, animation, lighting) for side-by-side timing.
-  // Records "fur_geometry" and "fur_textures" in `setup`. Throws io::InputError naming
-  // `name` and the fur field when the parameters cannot be built.
+  // Records "fur_geometry" and "fur_textures" in `setup`. Throws io::InputError with
+  // origin.file as its file and "<origin.object_path>.fur.<field>" as its field when the
+  // parameters cannot be built.
   FurObject(const Mesh& base, const fur::FurParams& params, const FurDrawOptions& options,
-            const std::string& name, FrameStats& setup);
+            const FurOrigin& origin, FrameStats& setup);
 
   // Brings poses, tangents, lighting, varyings and fins up to date for `f` seen under
   // `lights`; records the "gravity", "wind", "fur_pose", "fur_lighting" and "fins" stages
-  // that ran.
+  // that ran. A wind of strength 0 in `f` (static, or an animated strength at 0 this frame)
+  // pushes nothing, whatever its gusts: it is no wind, and frames that differ only in time
+  // are not re-simulated.
   void update(const FurFrame& f, const std::vector<shading::Light>& lights, FrameStats& stats);
 
-  // Appends the shell and fin draws (after the opaque base) in `sort` order.
+  // Appends the shell and fin draws (after the opaque base) in `sort` order. Belongs to the
+  // frame of the last update(): a fin list it rebuilds (the sort now wants the other layout)
+  // is timed as that frame's "fins" stage, so call it before that update's stats go away.
   void append_draws(std::vector<raster::DrawCall>& draws, const glm::mat4& clip_from_world,
                     FurSort sort, const std::vector<shading::Light>& lights, const glm::vec3& eye);
 
@@ -95,6 +107,8 @@ class FurObject {
   void light_vertices(const std::vector<shading::Light>& lights, const glm::vec3& eye);
   void rebuild_varyings();
   void rebuild_fin_list();
+  // rebuild_fin_list() as the frame's "fins" stage (none recorded without stats).
+  void rebuild_fin_list_timed(FrameStats* stats);
   // How far a merged fin may stray from the per-layer one (fur/fin_spans.h), scene units.
   float fin_tolerance() const { return fur::kFinSpanTolerance * geo_.layer_distance; }
 
@@ -148,6 +162,8 @@ class FurObject {
   std::optional<glm::vec3> fins_eye_;
   bool fin_list_dirty_ = true;
   bool poses_dirty_ = true;
+  // The stats of the frame the last update() brought up to date, until its append_draws.
+  FrameStats* frame_stats_ = nullptr;
 
   std::vector<std::unique_ptr<FurShader>> shaders_;
 };

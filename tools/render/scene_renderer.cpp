@@ -305,7 +305,6 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     obj->shader = std::make_unique<MaterialShader>(obj->material, lights_, scene.camera.eye,
                                                    layer_of(settings.aov));
     if (so.fur) {
-      const std::string name = so.name.empty() ? "objects[" + std::to_string(i) + "]" : so.name;
       FurDrawOptions fo;
       fo.match_llvmpipe = settings.match_llvmpipe;
       fo.lighting = settings.fur_lighting;
@@ -314,7 +313,8 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       fo.grey_varyings = settings.fur_grey_varyings;
       fo.merge_fins = quality_.fin_quads == io::FinQuads::merged;
       fo.parallel = parallel;
-      obj->fur = std::make_unique<FurObject>(obj->mesh, *so.fur, fo, name, setup_stats_);
+      obj->fur = std::make_unique<FurObject>(obj->mesh, *so.fur, fo,
+                                             FurOrigin{scene.file.string(), io::json_index("objects", i)}, setup_stats_);
     }
     objects_.push_back(std::move(obj));
   }

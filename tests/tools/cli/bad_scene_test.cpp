@@ -73,6 +73,12 @@ INSTANTIATE_TEST_SUITE_P(
                   {"m.mtl", "newmtl a\nmap_Kd gone.png\n"}}},
         BadScene{"BadFurField", scene_with_object(R"({"mesh": "box:2", "material": {"type": "lambert"}, "fur": {"shells": 1}})"),
                  "objects[0].fur.shells"},
+        // Found when the fur is built, after the scene is read: still the scene file and the path.
+        BadScene{"FurCombAlongMissingUvs",
+                 scene_with_object(R"({"name": "bunny", "mesh": "nouv2.obj", "material": {"type": "lambert"},
+                                       "fur": {"comb": {"field": "uv"}}})"),
+                 "shot.json: objects[0].fur.comb.field: ",
+                 {{"nouv2.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"}}},
         BadScene{"BadSkinField", scene_with_object(R"({"mesh": "box:2", "material": {"type": "skin", "skin": {"Eta": 0}}})"),
                  "objects[0].material.skin.Eta"},
         // color and intensity each within their ranges, their product beyond the shader's.

@@ -107,8 +107,9 @@ TEST(FurVaryings, SwitchingBetweenGreyAndColouredLightMovesTheWholeRecord) {
     return std::make_pair(o.varying_count(), color);
   };
   FrameStats setup;
-  FurObject switched(box, params, {}, "switched", setup), fresh_coloured(box, params, {}, "coloured", setup),
-      fresh_white(box, params, {}, "white", setup);
+  FurObject switched(box, params, {}, FurOrigin{"switched", ""}, setup),
+      fresh_coloured(box, params, {}, FurOrigin{"coloured", ""}, setup),
+      fresh_white(box, params, {}, FurOrigin{"white", ""}, setup);
   EXPECT_EQ(draw(switched, white).first, 4);
   const auto to_coloured = draw(switched, coloured), coloured_only = draw(fresh_coloured, coloured);
   EXPECT_EQ(to_coloured.first, 8);

@@ -54,7 +54,7 @@ inline fur::FurParams small_fur(int shells, fur::FinMode fins) {
 // light, seen from (3, 2, 4) through a 45-degree square frustum.
 struct FurRig {
   FurRig(const std::string& mesh, const fur::FurParams& params, const std::string& name)
-      : base(io::make_builtin_mesh(mesh)), fur(base, params, {}, name, stats) {
+      : base(io::make_builtin_mesh(mesh)), fur(base, params, {}, FurOrigin{name, ""}, stats) {
     frame.eye = glm::vec3(3.0f, 2.0f, 4.0f);
   }
   Mesh base;

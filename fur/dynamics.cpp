@@ -195,9 +195,9 @@ void lerp_poses(std::span<const glm::vec3> a, std::span<const glm::vec3> b, floa
     out[I] = glm::vec3(mix(a[I].x, b[I].x), mix(a[I].y, b[I].y), mix(a[I].z, b[I].z));
 }
 
-float animation_t(double frame, double period_frames) {
-  if (!(period_frames > 0.0) || !std::isfinite(period_frames) || !std::isfinite(frame)) return 0.0f;
-  double cycles = frame / period_frames;
+float animation_t(double x, double period) {
+  if (!(period > 0.0) || !std::isfinite(period) || !std::isfinite(x)) return 0.0f;
+  double cycles = x / period;
   cycles -= std::floor(cycles);
   return float(0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * cycles));
 }

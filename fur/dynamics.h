@@ -101,9 +101,10 @@ inline void lerp_poses(std::span<const glm::vec3> a, std::span<const glm::vec3> 
 
 // Seed Fig. 12: animation data 1 (gravity pose) at t = 0, data 2 (wind pose) at t = 1.
 // pelt swings between them smoothly and periodically:
-//   t(frame) = 0.5 - 0.5 cos(2 pi frame / period_frames), t(0) = 0.
-// period_frames <= 0 or non-finite gives 0 (static gravity pose).
-float animation_t(double frame, double period_frames);
+//   t(x) = 0.5 - 0.5 cos(2 pi x / period), t(0) = 0,
+// x and period in one unit (the renderer passes seconds). period <= 0 or non-finite gives 0
+// (static gravity pose).
+float animation_t(double x, double period);
 
 // Unit strand tangent per fur vertex from a deformed pose, for Kajiya-Kay: central
 // difference p[k+1] - p[k-1] along the chain, one-sided at the root and tip; where the

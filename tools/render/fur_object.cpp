@@ -37,9 +37,9 @@ uint32_t fin_quads_per_sort_run(uint32_t quads) {
   return 1;
 }
 
-// Frames for one swing from the gravity pose to the wind pose and back (seed Fig. 12):
-// two seconds at 24 fps.
-constexpr double kSwingFrames = 48.0;
+// One swing from the gravity pose to the wind pose and back (seed Fig. 12), in seconds of the
+// scene's clock, as gusts are: the same motion at any fps (48 frames at 24 fps, as before).
+constexpr double kSwingSeconds = 2.0;
 
 // The optional blocks, compared with animation.h's field-by-field equality.
 bool same(const std::optional<fur::GravityParams>& a, const std::optional<fur::GravityParams>& b) {
@@ -364,7 +364,8 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
         wind_in_ = std::make_pair(f.wind, wt);
         poses_dirty_ = true;
       }
-      t = fur::animation_t(f.frame, kSwingFrames);
+      // A still has no clock to swing on: it shows the wind it names, the wind pose.
+      t = f.still ? 1.0f : fur::animation_t(f.time_seconds, kSwingSeconds);
     } else if (!wind_pose_.empty()) {
       wind_pose_.clear();
       wind_field_.reset();

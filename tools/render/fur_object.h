@@ -67,6 +67,7 @@ struct FurOrigin {
 struct FurFrame {
   int frame = 0;
   double time_seconds = 0.0;
+  bool still = false;  // the scene has no animation: the wind pose, not a point of the swing
   glm::vec3 eye{0.0f};
   std::optional<fur::WindParams> wind;
   std::optional<fur::GravityParams> gravity;

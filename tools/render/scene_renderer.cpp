@@ -383,6 +383,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
     FurFrame f;
     f.frame = frame;
     f.time_seconds = inputs.time_seconds;
+    f.still = !scene_.animation;
     f.eye = camera.eye;
     f.wind = inputs.fur[i].wind;
     f.gravity = inputs.fur[i].gravity;

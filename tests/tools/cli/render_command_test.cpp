@@ -214,6 +214,39 @@ TEST_F(RenderCommand, ASecondSignalLeavesNoTemporaryBehind) {
   EXPECT_FALSE(fs::exists(out / "a.gif"));
 }
 
+// A furry box in wind, still (no animation block) or animated at `fps`.
+std::string windy_box(const std::string& wind, const std::string& animation) {
+  return R"({"pelt": 1, "image": {"width": 40, "height": 30},
+  "camera": {"eye": [2.5, 1.5, 3.5], "target": [0, 0, 0]},
+  "lights": [{"type": "directional", "direction": [0.3, 0.8, 0.5]}, {"type": "ambient", "intensity": 0.3}],
+  "objects": [{"mesh": "box:2", "material": {"type": "lambert"},
+               "fur": {"shells": 4, "texture_size": 32, "length": 0.3)" + wind + R"(}}])" + animation + "}";
+}
+
+// A still shows the wind it names (the wind pose); the swing between the gravity and wind poses
+// runs on the scene's clock in seconds, so the same instant looks the same at any fps. Before,
+// a still showed no wind at all and the swing counted frames.
+TEST_F(RenderCommand, WindShowsInAStillAndSwingsOnTheSceneClock) {
+  const std::string wind = R"(, "wind": {"direction": [1, 0, 0], "strength": 3, "gust_frequency": 0.7, "gust_scale": 0.5})";
+  auto render = [&](const std::string& name, const std::string& text, int frame) {
+    const fs::path file = dir.write(name + ".json", text);
+    const fs::path out = dir.path() / "wind" / (name + ".png");
+    const Result r = run_pelt({"render", file.string(), "-o", out.string(), "--frame", std::to_string(frame), "-q"},
+                              dir.path());
+    EXPECT_EQ(r.code, 0) << r.err;
+    return read_text(out);
+  };
+  const std::string calm = render("calm", windy_box("", ""), 0);
+  const std::string windy = render("windy", windy_box(wind, ""), 0);
+  // Compared as booleans: a failure prints the files' names, not their bytes.
+  EXPECT_FALSE(windy.empty());
+  EXPECT_TRUE(windy != calm) << "the still shows no wind";
+  const std::string at24 = render("fps24", windy_box(wind, R"(, "animation": {"frames": 30, "fps": 24})"), 5);
+  const std::string at48 = render("fps48", windy_box(wind, R"(, "animation": {"frames": 30, "fps": 48})"), 10);
+  EXPECT_TRUE(at24 == at48) << "fps24.png (frame 5) and fps48.png (frame 10) show different instants";
+  EXPECT_TRUE(at24 != render("fps48_early", windy_box(wind, R"(, "animation": {"frames": 30, "fps": 48})"), 5));
+}
+
 // GIF counts a frame's delay in hundredths of a second in 16 bits: a slower animation is
 // refused up front rather than written with a wrapped delay.
 TEST_F(RenderCommand, AGifTooSlowForItsDelayFieldIsRefused) {

@@ -7,6 +7,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <stdexcept>
 #include <vector>
 
@@ -239,13 +240,16 @@ void ShadeSkinBatch(const SkinParams& p, const detail::KernelLight* lights, size
   // Colour factors of each layer, Opacity included: the light loop sums colour x weight per
   // channel and the per-lane factors (albedo, Kt_out, Rd) multiply the sums once afterwards.
   const double op = p.Opacity, ms = p.MultipleScatteringCoeff;
+  // pi for the `correct` dermis (a BRDF per steradian in pelt's no-1/pi light units), 1 for the
+  // paper's listing, which is kept in its own units; see shade_skin_pixel.
+  const double dermis_units = ss_correct ? std::numbers::pi : 1.0;
   float amb_k[3], epi_k[3], derm_k[3], blur_w[3], blur_1mw[3];
   for (int c = 0; c < 3; ++c) {
     amb_k[c] = float(op * p.AmbientCoeff * sums.ambient[c] * p.SkinColor[c]);
     epi_k[c] = float(mode == MultipleScattering::paper ? op * ms * p.DiffusionColor[c] * sums.all[c]
                      : blur                            ? op * ms * p.DiffusionColor[c]
                                                        : op * ms);
-    derm_k[c] = float(op * p.SingleScatteringCoeff * p.SkinColor[c]);
+    derm_k[c] = float(op * dermis_units * p.SingleScatteringCoeff * p.SkinColor[c]);
     blur_w[c] = p.normal_blur_mix[c];
     blur_1mw[c] = 1.0f - p.normal_blur_mix[c];
   }

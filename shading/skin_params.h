@@ -49,9 +49,11 @@ struct SkinParams {
   float Thickness = 0.5f;
   // Relative index of refraction skin / outside, in [0.25, 4]; < 1 gives total internal reflection.
   float Eta = 1.4f;
-  // Scale of the dermis term, in [0, 100]. Chosen: 10, because the correctly normalised
-  // Henyey-Greenstein lobe (1/(4 pi)) backscatters little at g = 0.8 and would be invisible at 1.
-  float SingleScatteringCoeff = 10.0f;
+  // Scale of the dermis term, in [0, 100]. Chosen: 3.2, because the correctly normalised
+  // Henyey-Greenstein lobe (1/(4 pi)) backscatters little at g = 0.8 and would be faint at 1. It
+  // was 10 while the `correct` dermis lacked the factor pi of the light units; 3.2 (about 10 / pi)
+  // keeps the head scan's look (the dermis 0.5 % brighter than before).
+  float SingleScatteringCoeff = 3.2f;
   // Epidermis colour C_d, in [0, 1]. Chosen: a warmer, redder tone than SkinColor.
   float DiffusionColor[3] = {0.9f, 0.45f, 0.35f};
   // Epidermis strength I_ms, in [0, 100]. Chosen: 0.25.

@@ -178,6 +178,12 @@ Shaded shade_skin_pixel(const SkinParams& p, const Light* lights, size_t light_c
     kt_out = 1.0 - (p.fresnel == Fresnel::efresnel ? efresnel(F_out) : F_out);
   double rd[3];
   for (int c = 0; c < 3; ++c) rd[c] = dipole_total_rd(cd[c], eta);
+  // Hanrahan-Krueger's BRDF is per steradian; in pelt's light units (no 1/pi: a white Lambert
+  // surface returns 1, pi times its BRDF) the `correct` dermis is pi x BRDF x irradiance, like the
+  // dipole epidermis, which drops Jensen's 1/pi. DEVIATION (paper mode): the listing's arithmetic
+  // is kept as it stands, in its own units (RenderMan's, also without 1/pi, with a phase function
+  // that lacks 1/(4 pi)), so it takes no factor: the paper variant looks as the paper's code does.
+  const double dermis_units = p.single_scattering == SingleScattering::correct ? kPi : 1.0;
 
   double ambient[3] = {0, 0, 0};
   for (size_t li = 0; li < light_count; ++li) {
@@ -228,7 +234,7 @@ Shaded shade_skin_pixel(const SkinParams& p, const Light* lights, size_t light_c
     const double ph = p.phase == Phase::correct ? hg_phase(cos_theta, p.g) : hg_phase_paper(cos_theta, p.g);
     for (int c = 0; c < 3; ++c) {
       const double ss = single_scattering(cit, cot, ph, a[c], p.Thickness);
-      out.dermis[c] += double(p.SingleScatteringCoeff) * cl[c] * ci * kt_in * kt_out * ss;
+      out.dermis[c] += dermis_units * double(p.SingleScatteringCoeff) * cl[c] * ci * kt_in * kt_out * ss;
     }
   }
   const double op = p.Opacity;

@@ -95,6 +95,72 @@ TEST(SkinReference, SingleScatteringBoundAndLimits) {
   EXPECT_NEAR(single_scattering(0.5, 0.25, 0.3, 0.8, 1e-9), 0.8 * 0.3 * 1e-9 / (0.5 * 0.25), 1e-16);
 }
 
+// The dermis against the closed form of Hanrahan-Krueger single scattering, in pelt's light units
+// (a white Lambert surface returns 1, so every term is pi x the BRDF's radiance). A semi-infinite,
+// non-absorbing (a = 1), isotropic (g = 0), index-matched (Eta = 1) layer lit at cos_i reflects
+// R(cos_i) = (1/2)(1 - cos_i ln(1 + 1/cos_i)) of its irradiance into the hemisphere, 0.5 (1 - ln 2)
+// = 0.1534 at normal incidence. The output is pi f Cl cos_i, so (1/pi) * integral of dermis cos_o
+// over the view hemisphere, per unit cos_i, is R. Before the dermis carried the factor pi this came
+// out at R / pi (0.0488 at normal incidence).
+SkinParams white_isotropic_slab() {
+  SkinParams p;
+  p.single_scattering = SingleScattering::correct;
+  p.multiple_scattering = MultipleScattering::off;
+  p.Eta = 1.0f;
+  p.g = 0.0f;
+  p.Thickness = 1e6f;
+  p.SingleScatteringCoeff = 1.0f;
+  p.AmbientCoeff = 0.0f;
+  p.Specularity = 0.0f;
+  for (float& c : p.SkinColor) c = 1.0f;
+  return p;
+}
+
+TEST(SkinReference, DermisHemisphericalReflectanceFollowsTheLightUnits) {
+  const SkinParams p = white_isotropic_slab();
+  for (double ci : {1.0, 0.5, 0.1}) {
+    const Light light{Light::Type::Directional, {float(std::sqrt(1.0 - ci * ci)), 0.0f, float(ci)}, {1, 1, 1}};
+    // Midpoint rule in mu = cos_o (the integrand mu / (ci + mu) is smooth) and in azimuth (g = 0
+    // makes it constant there; sampled anyway so that an azimuth-dependent bug would show).
+    const int n_mu = 2000, n_phi = 8;
+    double integral = 0.0;
+    for (int i = 0; i < n_mu; ++i) {
+      const double mu = (i + 0.5) / n_mu, st = std::sqrt(1.0 - mu * mu);
+      for (int j = 0; j < n_phi; ++j) {
+        const double phi = (j + 0.5) * 2.0 * kPi / n_phi;
+        Sample s{};
+        s.normal[2] = 1.0;
+        for (double& a : s.albedo) a = 1.0;
+        const double eye[3] = {1e3 * st * std::cos(phi), 1e3 * st * std::sin(phi), 1e3 * mu};
+        const Shaded o = shade_skin_pixel(p, &light, 1, eye, s);
+        integral += o.dermis[0] * mu * (1.0 / n_mu) * (2.0 * kPi / n_phi);
+      }
+    }
+    const double expected = 0.5 * (1.0 - ci * std::log1p(1.0 / ci));
+    EXPECT_NEAR(integral / (kPi * ci), expected, 1e-5 * expected) << "cos_i " << ci;
+  }
+}
+
+// DEVIATION kept on purpose: the `paper` dermis is the listing's arithmetic in the listing's own
+// units (RenderMan's, no 1/pi, the same as pelt's), so it takes no factor pi: with Eta = 1, g = 0
+// (the listing's phase is then 1) and Kt = 1 it is SSC Cl cos_i a (1 - exp(-d (1/ci + 1/co))) / (ci + co).
+TEST(SkinReference, PaperDermisIsTheListingsArithmetic) {
+  SkinParams p = white_isotropic_slab();
+  p.single_scattering = SingleScattering::paper;
+  p.phase = Phase::paper;
+  p.Thickness = 0.5f;
+  p.SingleScatteringCoeff = 3.0f;
+  const double ci = 0.6, co = 0.8;
+  const Light light{Light::Type::Directional, {float(std::sqrt(1.0 - ci * ci)), 0.0f, float(ci)}, {1, 1, 1}};
+  Sample s{};
+  s.normal[2] = 1.0;
+  for (double& a : s.albedo) a = 1.0;
+  const double eye[3] = {-1e3 * std::sqrt(1.0 - co * co), 0.0, 1e3 * co};
+  const Shaded o = shade_skin_pixel(p, &light, 1, eye, s);
+  const double listing = 3.0 * ci * -std::expm1(-0.5 * (1.0 / ci + 1.0 / co)) / (ci + co);
+  EXPECT_NEAR(o.dermis[0], listing, 1e-6 * listing);
+}
+
 TEST(SkinReference, EpidermisFakeAndSpecularLobe) {
   EXPECT_DOUBLE_EQ(epidermis_fake(0.0, 0.5, 0.0), 0.5 / kClampFloor);
   EXPECT_DOUBLE_EQ(epidermis_fake(-0.5, 0.5, 0.5), 0.5);

@@ -171,7 +171,6 @@ void apply_wind(std::span<const glm::vec3> pose, std::span<const glm::vec3> norm
     const double c = std::cos(theta), s = std::sin(theta);
     const glm::dvec3 root(pose[i]);
     for (uint32_t k = 0; k < S; ++k) p[k] = root + rotate(glm::dvec3(pose[i + k * N]) - root, axis, c, s);
-    p[0] = root;
     const glm::dvec3 surface = unit_or_zero(glm::dvec3(surface_normals[i]));
     for (uint32_t k = 0; k + 1 < S; ++k) keep_above_surface(p, k, S, surface);
     out[i] = pose[i];

@@ -2,9 +2,9 @@
 // frame through a `#` pattern, or one animated GIF), or a farm shard of a range.
 #include <algorithm>
 #include <chrono>
-#include <iterator>
 #include <cstdio>
 #include <exception>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <string>
@@ -33,7 +33,6 @@
 
 namespace pelt::cli {
 namespace {
-
 
 struct RenderOptions {
   std::string scene;
@@ -219,16 +218,17 @@ int run_render(const RenderOptions& o) {
   for (const std::string& w : renderer.warnings()) std::fprintf(stderr, "pelt: warning: %s\n", w.c_str());
   // The destinations are proven writable before the first frame, so a bad path fails now
   // instead of after a whole sequence has rendered.
-  std::vector<io::OutputPath> outputs;
+  io::OutputNames outputs(renderer.input_files());
+  if (!o.stats.empty()) outputs.add(o.stats, "--stats");
   if (plan.kind == render::OutputKind::gif) {
-    outputs.push_back({o.output, "-o"});
+    outputs.add(o.output, "-o");
   } else {
-    for (int f : plan.frames) outputs.push_back({pattern.path_for(f), "-o"});
+    for (int f : plan.frames) outputs.add_frame(pattern.path_for(f), "-o");
   }
-  if (!o.stats.empty()) outputs.push_back({o.stats, "--stats"});
-  io::refuse_clobbering(outputs, renderer.input_files());
   if (!o.stats.empty()) io::prepare_output(o.stats, "--stats");
-  io::prepare_output(outputs.front().path, "-o");
+  io::prepare_output(plan.kind == render::OutputKind::gif ? std::filesystem::path(o.output)
+                                                           : pattern.path_for(plan.frames.front()),
+                     "-o");
 
   std::unique_ptr<io::AnimatedGifWriter> gif;
   if (plan.kind == render::OutputKind::gif) {

@@ -13,8 +13,8 @@
 namespace pelt::io {
 
 struct AnimatedGifWriter::Impl {
-  std::filesystem::path path, tmp;
-  std::unique_ptr<TempFile> tmp_guard;  // listed for a signal handler; removal stays in ~AnimatedGifWriter
+  std::filesystem::path path;
+  std::unique_ptr<TempFile> tmp;  // removed unless committed; declared before `out`, which closes it first
   int width = 0, height = 0;
   std::unique_ptr<GifFrames> out;
   std::vector<uint8_t> rgba, bytes;  // a frame's RGBA and RGB sRGB bytes
@@ -29,8 +29,7 @@ AnimatedGifWriter::AnimatedGifWriter(const std::filesystem::path& path, int widt
   if (!(fps > 0.0)) throw InputError(file, "", "frames per second must be positive");
   Impl& m = *impl_;
   m.path = path;
-  m.tmp = temp_beside(path);
-  m.tmp_guard = std::make_unique<TempFile>(m.tmp);
+  m.tmp = std::make_unique<TempFile>(temp_beside(path));
   m.width = width;
   m.height = height;
   std::string error;
@@ -40,12 +39,7 @@ AnimatedGifWriter::AnimatedGifWriter(const std::filesystem::path& path, int widt
   m.bytes.resize(static_cast<size_t>(width) * height * 3);
 }
 
-AnimatedGifWriter::~AnimatedGifWriter() {
-  if (!impl_ || impl_->committed) return;
-  impl_->out.reset();  // closes the temporary before it is removed
-  std::error_code ec;
-  std::filesystem::remove(impl_->tmp, ec);
-}
+AnimatedGifWriter::~AnimatedGifWriter() = default;
 
 void AnimatedGifWriter::add_frame(const float* rgba) {
   Impl& m = *impl_;
@@ -55,7 +49,7 @@ void AnimatedGifWriter::add_frame(const float* rgba) {
   encode_srgb8_span(rgba, m.rgba.data(), m.rgba.size());
   for (size_t p = 0, n = static_cast<size_t>(m.width) * m.height; p < n; ++p)
     for (int c = 0; c < 3; ++c) m.bytes[p * 3 + c] = m.rgba[p * 4 + c];
-  if (const std::string error = m.out->append(m.tmp.string(), m.bytes.data()); !error.empty())
+  if (const std::string error = m.out->append(m.tmp->path().string(), m.bytes.data()); !error.empty())
     throw InputError(file, "", "cannot write GIF frame " + std::to_string(frames_) + ": " + error);
   ++frames_;
 }
@@ -67,9 +61,9 @@ void AnimatedGifWriter::commit() {
   if (const std::string error = m.out->close(); !error.empty())
     throw InputError(file, "", "finishing the GIF failed: " + error);
   std::error_code ec;
-  std::filesystem::rename(m.tmp, m.path, ec);
+  std::filesystem::rename(m.tmp->path(), m.path, ec);
   if (ec) throw InputError(file, "", "cannot move the finished GIF into place: " + ec.message());
-  m.tmp_guard->release();
+  m.tmp->release();
   m.committed = true;
 }
 

@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <map>
 
 #include <unistd.h>
 
@@ -66,27 +65,42 @@ void remove_temp_files_in_signal_handler() {
     if (slot.live.load(std::memory_order_acquire)) ::unlink(slot.path);
 }
 
-void refuse_clobbering(const std::vector<OutputPath>& outputs, const std::vector<std::filesystem::path>& inputs) {
-  std::error_code ec;
-  for (const OutputPath& out : outputs) {
-    // An output that does not exist yet cannot be an input; one that does is compared by
-    // identity (device and inode), which sees through links and spellings.
-    if (!std::filesystem::exists(out.path, ec)) continue;
-    for (const std::filesystem::path& in : inputs)
-      if (std::filesystem::equivalent(out.path, in, ec) && !ec)
-        throw InputError(out.path.string(), out.option,
-                         "is an input of this render (" + in.string() +
-                             "): writing there would destroy it; choose another output name");
+OutputNames::OutputNames(const std::vector<std::filesystem::path>& inputs) {
+  for (const std::filesystem::path& in : inputs) inputs_.push_back({entry(in), in, ""});
+}
+
+std::filesystem::path OutputNames::entry(const std::filesystem::path& path) {
+  const std::filesystem::path folder = folder_of(path);
+  if (folder != folder_ || canonical_folder_.empty()) {
+    std::error_code ec;
+    std::filesystem::path canonical = std::filesystem::weakly_canonical(std::filesystem::absolute(folder, ec), ec);
+    folder_ = folder;
+    canonical_folder_ = ec ? folder : canonical;
   }
-  std::map<std::filesystem::path, const OutputPath*> seen;
-  for (const OutputPath& out : outputs) {
-    const std::filesystem::path key = std::filesystem::weakly_canonical(std::filesystem::absolute(out.path, ec), ec);
-    const auto [it, inserted] = seen.emplace(ec ? out.path : key, &out);
-    if (!inserted)
+  return canonical_folder_ / path.filename();
+}
+
+void OutputNames::check(const std::filesystem::path& at, const std::filesystem::path& path,
+                        const std::string& option) const {
+  for (const Named& in : inputs_)
+    if (in.entry == at)
+      throw InputError(path.string(), option,
+                       "is an input of this render (" + in.path.string() +
+                           "): writing there would destroy it; choose another output name");
+  for (const Named& out : kept_)
+    if (out.entry == at)
       throw InputError(out.path.string(), out.option,
-                       "is also where " + it->second->option + " writes (" + it->second->path.string() +
-                           "): one output would overwrite the other");
-  }
+                       "is also where " + option + " writes (" + path.string() + "): one output would overwrite the other");
+}
+
+void OutputNames::add(const std::filesystem::path& path, const std::string& option) {
+  const std::filesystem::path at = entry(path);
+  check(at, path, option);
+  kept_.push_back({at, path, option});
+}
+
+void OutputNames::add_frame(const std::filesystem::path& path, const std::string& option) {
+  check(entry(path), path, option);
 }
 
 std::filesystem::path temp_beside(const std::filesystem::path& path) {

@@ -36,17 +36,30 @@ class TempFile {
 // locks): for a handler about to end the process.
 void remove_temp_files_in_signal_handler();
 
-// One output of a run: its path and the option that named it (`-o`, `--stats`).
-struct OutputPath {
-  std::filesystem::path path;
-  std::string option;
-};
+// The outputs of a run, checked before any work: none may be one of the run's inputs (the
+// scene, a mesh, a map) or another output. A file is compared as the directory entry a write
+// replaces, its canonical folder and its name (`textures/../map.png` is `map.png`): writes go
+// to a temporary renamed into place, so a link at the output is replaced, never written
+// through. Throws InputError(output, option, reason naming the other file).
+class OutputNames {
+ public:
+  explicit OutputNames(const std::vector<std::filesystem::path>& inputs);
+  // An output the later ones are also checked against (`--stats`, a GIF).
+  void add(const std::filesystem::path& path, const std::string& option);
+  // One frame of a sequence, distinct from the other frames by its number: checked against
+  // the inputs and the outputs added before, not kept (a shot may have millions of frames).
+  void add_frame(const std::filesystem::path& path, const std::string& option);
 
-// Refuses a run whose outputs would overwrite one of its inputs (the scene, a mesh, a map) or
-// each other: InputError(output, option, reason naming the other file), before any work. Files
-// are compared as the file system resolves them (links, `..`, hard links), so `-o map.png`
-// beside a scene naming `./textures/../map.png` is caught.
-void refuse_clobbering(const std::vector<OutputPath>& outputs, const std::vector<std::filesystem::path>& inputs);
+ private:
+  struct Named {
+    std::filesystem::path entry, path;
+    std::string option;
+  };
+  std::filesystem::path entry(const std::filesystem::path& path);
+  void check(const std::filesystem::path& entry, const std::filesystem::path& path, const std::string& option) const;
+  std::vector<Named> inputs_, kept_;
+  std::filesystem::path folder_, canonical_folder_;  // the last folder resolved: a sequence's frames share one
+};
 
 // Creates path's folder (with its parents, as `pelt render -o` does) and proves that a file
 // can be made there by creating and removing the temporary an atomic write would use. The

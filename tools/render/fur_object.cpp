@@ -312,16 +312,16 @@ void FurObject::rebuild_fin_list() {
   fin_segment_[geo_.layers - 1] = static_cast<uint32_t>(fin_quad_weight_.size());
 }
 
-void FurObject::rebuild_fin_list_timed(FrameStats* stats) {
-  std::optional<StageTimer> t;
-  if (stats) t.emplace(*stats, "fins");
-  rebuild_fin_list();
-}
-
 void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lights,
                        FrameStats& stats) {
   const uint32_t n = geo_.base_vertex_count, s = geo_.layers;
-  frame_stats_ = &stats;
+  sort_ = f.sort;
+  // The tile and exact sorts take each fin root to tip as a strip, the others layer by layer.
+  const bool strips = f.sort == FurSort::tile || f.sort == FurSort::exact;
+  if (strips != fin_strips_ && params_.fins != fur::FinMode::off) {
+    fin_strips_ = strips;
+    fin_list_dirty_ = true;
+  }
   float t = 0.0f;
   if (match_llvmpipe_) {
     if (!gravity_in_) {
@@ -413,8 +413,9 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
         fin_weight_[e] = fur::fin_weight(geo_.face_normals[edge.face0], nb, view, params_.fins);
       }
       rebuild_fin_list();
-    } else if (fin_list_dirty_) {
-      rebuild_fin_list_timed(&stats);  // `all`: every fin, once (and again when merged fins move)
+    } else if (fin_list_dirty_) {  // `all`: every fin, once (and again when merged fins move or the layout changes)
+      StageTimer st(stats, "fins");
+      rebuild_fin_list();
     }
     fins_eye_ = f.eye;
     fin_list_dirty_ = false;
@@ -422,15 +423,9 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
 }
 
 void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::mat4& clip_from_world,
-                             FurSort sort, const std::vector<shading::Light>& lights,
-                             const glm::vec3& eye) {
+                             const std::vector<shading::Light>& lights, const glm::vec3& eye) {
+  const FurSort sort = sort_;
   const uint32_t faces = static_cast<uint32_t>(geo_.counts.base_faces);
-  const bool strips = sort == FurSort::tile || sort == FurSort::exact;
-  if (strips != fin_strips_ && params_.fins != fur::FinMode::off) {
-    fin_strips_ = strips;
-    rebuild_fin_list_timed(frame_stats_);
-  }
-  frame_stats_ = nullptr;  // the frame's stats may go now
   const bool fins = params_.fins != fur::FinMode::off && !fin_quad_weight_.empty();
   // One shader per draw (the layer order splits shells and fins into per-layer draws);
   // built once per sort mode, only their per-frame inputs change.

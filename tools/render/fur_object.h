@@ -68,6 +68,7 @@ struct FurFrame {
   int frame = 0;
   double time_seconds = 0.0;
   bool still = false;  // the scene has no animation: the wind pose, not a point of the swing
+  FurSort sort = FurSort::tile;  // the order append_draws draws in (the fin list's layout follows it)
   glm::vec3 eye{0.0f};
   std::optional<fur::WindParams> wind;
   std::optional<fur::GravityParams> gravity;
@@ -90,11 +91,9 @@ class FurObject {
   // are not re-simulated.
   void update(const FurFrame& f, const std::vector<shading::Light>& lights, FrameStats& stats);
 
-  // Appends the shell and fin draws (after the opaque base) in `sort` order. Belongs to the
-  // frame of the last update(): a fin list it rebuilds (the sort now wants the other layout)
-  // is timed as that frame's "fins" stage, so call it before that update's stats go away.
+  // Appends the shell and fin draws (after the opaque base) in the last update()'s sort order.
   void append_draws(std::vector<raster::DrawCall>& draws, const glm::mat4& clip_from_world,
-                    FurSort sort, const std::vector<shading::Light>& lights, const glm::vec3& eye);
+                    const std::vector<shading::Light>& lights, const glm::vec3& eye);
 
   const fur::FurCounts& counts() const { return geo_.counts; }
   // Floats per vertex of the fur draws' varyings as of the last update().
@@ -108,8 +107,6 @@ class FurObject {
   void light_vertices(const std::vector<shading::Light>& lights, const glm::vec3& eye);
   void rebuild_varyings();
   void rebuild_fin_list();
-  // rebuild_fin_list() as the frame's "fins" stage (none recorded without stats).
-  void rebuild_fin_list_timed(FrameStats* stats);
   // How far a merged fin may stray from the per-layer one (fur/fin_spans.h), scene units.
   float fin_tolerance() const { return fur::kFinSpanTolerance * geo_.layer_distance; }
 
@@ -163,8 +160,7 @@ class FurObject {
   std::optional<glm::vec3> fins_eye_;
   bool fin_list_dirty_ = true;
   bool poses_dirty_ = true;
-  // The stats of the frame the last update() brought up to date, until its append_draws.
-  FrameStats* frame_stats_ = nullptr;
+  FurSort sort_ = FurSort::tile;  // the last update()'s
 
   std::vector<std::unique_ptr<FurShader>> shaders_;
 };

@@ -1,8 +1,11 @@
 #include "tools/render/scene_renderer.h"
 
+#include <cmath>
+
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "shading/light.h"
 #include "shading/normal_blur.h"
 #include "tools/render/budget_check.h"
 #include "tools/io/image_io.h"
@@ -39,25 +42,27 @@ MaterialKind kind_of(io::MaterialType t) {
   return MaterialKind::lambert;
 }
 
-// The shader's light ranges (shading::validate_lights) for what the scene gives separately:
-// each of color and intensity may be within its own range while their product is not, and an
-// animated intensity can leave it at some frame only. Refused as the scene's input, naming it.
-constexpr double kMaxRadiance = 1e6, kMaxLightCoordinate = 1e30;
-
-void check_light(const std::filesystem::path& file, size_t i, const io::Light& l, const glm::vec3& radiance,
-                 int frame) {
+// Light i of the scene, converted, against the shader's own check (shading::validate_lights):
+// color and intensity may each be within their ranges while their product is not, and an
+// animated intensity may leave it at one frame only. Refused as the scene's input, naming the
+// scene's field for the shader's (color: the product; vec: a point light's position).
+void check_light(const std::filesystem::path& file, size_t i, const shading::Light& s, int frame) {
+  const std::optional<shading::ParamError> e = shading::validate_lights(&s, 1);
+  if (!e) return;
+  const bool radiance = e->field.find(".color") != std::string::npos;
+  float worst = 0.0f;  // the value out of range, for the message
+  for (int c = 0; c < 3; ++c) {
+    const float v = radiance ? s.color[c] : std::abs(s.vec[c]);
+    if (!(v <= worst)) worst = v;
+  }
   const std::string at = frame >= 0 ? " at frame " + std::to_string(frame) : "";
-  const std::string light = io::json_index("lights", i);
-  for (int c = 0; c < 3; ++c)
-    if (!(double(radiance[c]) <= kMaxRadiance))
-      throw io::InputError(file.string(), io::json_child(light, "intensity"),
-                           "color x intensity must be at most 1e6 in every channel (the shader's range), got " +
-                               std::to_string(radiance[c]) + at);
-  if (l.type != io::LightType::point) return;
-  for (int c = 0; c < 3; ++c)
-    if (!(std::abs(double(l.position[c])) <= kMaxLightCoordinate))
-      throw io::InputError(file.string(), io::json_child(light, "position"),
-                           "each coordinate must be within [-1e30, 1e30], got " + std::to_string(l.position[c]) + at);
+  if (radiance)
+    throw io::InputError(file.string(), io::json_child(io::json_index("lights", i), "intensity"),
+                         "color x intensity must be at most 1e6 in every channel (the shader's range), got " +
+                             std::to_string(worst) + at);
+  throw io::InputError(file.string(), io::json_child(io::json_index("lights", i), "position"),
+                       "each coordinate must be within [-1e30, 1e30] (the shader's range), got " + std::to_string(worst) +
+                           at);
 }
 
 // Fills `out` in place: called every frame, and a vector that keeps its capacity does not
@@ -69,7 +74,6 @@ void convert_lights(const std::filesystem::path& file, const std::vector<io::Lig
     const io::Light& l = in[i];
     shading::Light s{};
     const glm::vec3 c = l.color * l.intensity;
-    check_light(file, i, l, c, frame);
     s.color[0] = c.r;
     s.color[1] = c.g;
     s.color[2] = c.b;
@@ -86,6 +90,7 @@ void convert_lights(const std::filesystem::path& file, const std::vector<io::Lig
         s.type = shading::Light::Type::Ambient;
         break;
     }
+    check_light(file, i, s, frame);
     out.push_back(s);
   }
 }
@@ -129,10 +134,11 @@ void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind,
                          std::string("a ") + kind.field + " needs texture coordinates, and mesh `" + so.mesh +
                              "` has none" + (src->named_by_mesh ? " (the file names the map)" : ""));
   io::ImageRGBA read;
-  if (src->file) inputs.push_back(*src->file);
-  if (src->file)
+  if (src->file) {
+    inputs.push_back(*src->file);
     read = asked_by(map_asked_by(scene, index, kind.field, src->named_by_mesh),
                     [&] { return io::read_image_rgba(*src->file, kind.file_encoding, budget); });
+  }
   const io::ImageRGBA& img = src->file ? read : *src->pixels;
   if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(), kind.texels, out, parallel))
     throw io::InputError(src->file ? src->file->string() : so.mesh, e->field, e->reason);
@@ -384,6 +390,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
     f.frame = frame;
     f.time_seconds = inputs.time_seconds;
     f.still = !scene_.animation;
+    f.sort = fur_sort;
     f.eye = camera.eye;
     f.wind = inputs.fur[i].wind;
     f.gravity = inputs.fur[i].gravity;
@@ -415,7 +422,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   // Translucent fur after every opaque draw (the rasterizer shades opaque work first
   // anyway; this keeps the translucent submission order object by object).
   for (const auto& o : objects_)
-    if (o->fur) o->fur->append_draws(draws, clip_from_world, fur_sort, lights_, camera.eye);
+    if (o->fur) o->fur->append_draws(draws, clip_from_world, lights_, camera.eye);
 
   out.width = width_;
   out.height = height_;

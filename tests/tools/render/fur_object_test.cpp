@@ -16,9 +16,10 @@ namespace {
 // Brings `rig` up to date for its frame under fresh stats, draws in `sort`, returns the stats.
 FrameStats run_frame(FurRig& rig, FurSort sort, std::vector<raster::DrawCall>* draws = nullptr) {
   FrameStats stats;
+  rig.frame.sort = sort;
   rig.fur.update(rig.frame, rig.lights, stats);
   std::vector<raster::DrawCall> d;
-  rig.fur.append_draws(d, rig.clip, sort, rig.lights, rig.frame.eye);
+  rig.fur.append_draws(d, rig.clip, rig.lights, rig.frame.eye);
   if (draws) *draws = d;
   return stats;
 }
@@ -36,9 +37,10 @@ TEST(FurObjectStats, EveryFinListRebuildIsTheFinsStage) {
   FurFrame frame = rig.frame;
   auto run = [&](FurSort sort) {
     FrameStats stats;
+    frame.sort = sort;
     fur.update(frame, rig.lights, stats);
     std::vector<raster::DrawCall> d;
-    fur.append_draws(d, rig.clip, sort, rig.lights, frame.eye);
+    fur.append_draws(d, rig.clip, rig.lights, frame.eye);
     return stats.stage("fins");
   };
   EXPECT_TRUE(run(FurSort::tile).ran);  // the first list
@@ -48,9 +50,8 @@ TEST(FurObjectStats, EveryFinListRebuildIsTheFinsStage) {
   EXPECT_TRUE(moved.ran);
   EXPECT_GT(moved.ms, 0.0);
   EXPECT_FALSE(run(FurSort::tile).ran);
-  EXPECT_TRUE(run(FurSort::layer).ran);  // another layout: rebuilt in append_draws
-  // Unmerged fins under the test rig: the first frame builds the list (in update, then in the
-  // tile layout in append_draws), later frames reuse it.
+  EXPECT_TRUE(run(FurSort::layer).ran);  // another layout
+  // Unmerged fins under the test rig: the first frame builds the list, later frames reuse it.
   EXPECT_TRUE(run_frame(rig, FurSort::tile).stage("fins").ran);
   EXPECT_FALSE(run_frame(rig, FurSort::tile).stage("fins").ran);
 }

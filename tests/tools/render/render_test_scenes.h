@@ -67,9 +67,10 @@ struct FurRig {
 
   // The draws of the current frame, after bringing the object up to date for it.
   std::vector<raster::DrawCall> draws(FurSort sort) {
+    frame.sort = sort;
     fur.update(frame, lights, stats);
     std::vector<raster::DrawCall> d;
-    fur.append_draws(d, clip, sort, lights, frame.eye);
+    fur.append_draws(d, clip, lights, frame.eye);
     return d;
   }
 };

@@ -85,6 +85,12 @@ struct DrawCall {
   // shares an edge with the one before; otherwise each triangle sorts by its own mean depth, as
   // every triangle does with 1 (or 0). Blend order within a run is submission order.
   uint32_t sort_group = 2;
+  // Translucent draws: the caller's own tile-sort key for every triangle (triangle_count of
+  // them, larger = drawn earlier), in place of the mean view depth and sort_group's shared
+  // keys; for orders that depth alone does not give (fur's `surface` sort keeps each layer
+  // after the layers below it that it leans over). Triangles with equal keys keep submission
+  // order. Opaque draws ignore it.
+  const float* sort_keys = nullptr;
 };
 
 }  // namespace pelt::raster

@@ -169,7 +169,9 @@ void Renderer::Impl::bin_chunk(BinChunk& ch, const DrawCall& draw, const DrawVer
     }
     // Only translucent triangles are ever sorted.
     float key = (f0.w + f1.w + f2.w) * (1.0f / 3.0f);
-    if (translucent) {
+    if (translucent && draw.sort_keys) {
+      key = draw.sort_keys[p];
+    } else if (translucent) {
       const uint32_t run = p / group;
       if (run != keyed_run) {
         keyed_run = run;

@@ -203,6 +203,29 @@ TEST(TranslucentPacking, ARunThatIsNotAChainSortsItsTrianglesByTheirOwnDepths) {
   });
 }
 
+// A draw's own keys (DrawCall::sort_keys) order the tile sort in place of depth: keyed the
+// other way round, the near red triangle is drawn first and the far green one over it; no
+// other order consults them.
+TEST(TranslucentPacking, TheCallersKeysOrderTheTileSortInsteadOfDepth) {
+  const std::vector<glm::vec3> pos = {{-3, -3, -8}, {3, -3, -8}, {0, 3, -8}, {-1, -1, -5.5f}, {1, -1, -5.5f}, {0, 1, -5.5f}};
+  const std::vector<uint32_t> idx = {0, 1, 2, 3, 4, 5};
+  std::vector<float> var;  // green, then red
+  for (size_t v = 0; v < pos.size(); ++v) var.insert(var.end(), {v >= 3 ? 1.0f : 0.0f, v < 3 ? 1.0f : 0.0f, 0.0f});
+  const VaryingShader sh(0.5f);
+  DrawCall d = translucent_draw(pos, idx, var, 3, glm::perspective(glm::radians(60.0f), 1.0f, 0.5f, 20.0f), sh);
+  const float keys[2] = {1.0f, 2.0f};  // red (triangle 1) farther
+  d.sort_keys = keys;
+  const size_t centre = (size_t(32) * 64 + 32) * 4;
+  for_each_target([&](const std::string& target) {
+    const Image tile = render({&d, 1}, 64, 64, 1, options(SortMode::Tile));
+    EXPECT_NEAR(tile.color[centre], 0.25f + kBackground.r * 0.25f, 1e-5) << target;  // red, then green over it
+    EXPECT_NEAR(tile.color[centre + 1], 0.5f + kBackground.g * 0.25f, 1e-5) << target;
+    const Image none = render({&d, 1}, 64, 64, 1, options(SortMode::None));  // submission order
+    EXPECT_NEAR(none.color[centre], 0.5f + kBackground.r * 0.25f, 1e-5) << target;
+    EXPECT_NEAR(none.color[centre + 1], 0.25f + kBackground.g * 0.25f, 1e-5) << target;
+  });
+}
+
 // Without derivatives any triangles of the draw whose lanes are disjoint share a block:
 // overlapping translucent triangles in a random soup must still blend each pixel in
 // submission (or sorted) order, exactly as one slot per triangle does.

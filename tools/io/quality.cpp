@@ -17,6 +17,7 @@ constexpr Named<FinQuads> kFinQuads[] = {{"layer", FinQuads::layer}, {"merged", 
 constexpr Named<SortQuality> kSorts[] = {{"none", SortQuality::none},
                                          {"layer", SortQuality::layer},
                                          {"tile", SortQuality::tile},
+                                         {"surface", SortQuality::surface},
                                          {"exact", SortQuality::exact}};
 constexpr Named<raster::Filter> kFilters[] = {{"nearest", raster::Filter::Nearest},
                                               {"bilinear", raster::Filter::Bilinear},
@@ -129,7 +130,7 @@ std::vector<std::string> knob_sweep(std::string_view knob) {
   if (knob == "shells") return {"4", "8", "16", "32", "64"};
   if (knob == "fins") return {"off", "all", "silhouette"};
   if (knob == "fin_quads") return {"layer", "merged"};
-  if (knob == "sort") return {"none", "layer", "tile", "exact"};
+  if (knob == "sort") return {"none", "layer", "tile", "surface", "exact"};
   if (knob == "spp") return {"1", "4", "16"};
   if (knob == "filter") return {"nearest", "bilinear", "bilinear_mip", "trilinear"};
   if (knob == "multiple_scattering") return {"paper", "normal_blur", "reference"};

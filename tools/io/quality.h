@@ -16,7 +16,7 @@
 namespace pelt::io {
 
 // Translucent order (the fur sort modes of tools/render/fur_object.h).
-enum class SortQuality { none, layer, tile, exact };
+enum class SortQuality { none, layer, tile, surface, exact };
 // How fins are drawn (fur/fin_spans.h): one quad per pair of layers (eq. 1), or merged into
 // taller quads where the strands run straight (tile and exact sorts only; the default: the
 // same error against the reference on the furry box at 1024 x 768, and faster, README's
@@ -32,7 +32,7 @@ struct Quality {
   std::optional<int> shells;             // "shells": every fur block's shell count, [2, 128]
   std::optional<fur::FinMode> fins;      // "fins": off | all | silhouette
   FinQuads fin_quads = FinQuads::merged;  // "fin_quads": layer | merged
-  SortQuality sort = SortQuality::tile;  // "sort": none | layer | tile | exact
+  SortQuality sort = SortQuality::tile;  // "sort": none | layer | tile | surface | exact
   int spp = 1;                           // "spp": 1, 4, 9, ..., 64 (a square)
   raster::Filter filter = raster::Filter::Trilinear;  // "filter": nearest | bilinear | bilinear_mip | trilinear
   std::optional<shading::MultipleScattering> multiple_scattering;  // every skin material's

@@ -157,7 +157,8 @@ size_t FurObject::memory_bytes() const {
   size_t n = bytes(geo_.positions) + bytes(geo_.shell_uvs) + bytes(geo_.fin_uvs) + bytes(geo_.layer) +
              bytes(geo_.shell_indices) + bytes(geo_.fin_indices) + bytes(geo_.edges) +
              bytes(gravity_pose_) + bytes(wind_pose_) + bytes(pose_) + bytes(tangents_) +
-             bytes(shell_varyings_) + bytes(fin_varyings_) + bytes(fin_list_) + bytes(light_soa_.storage);
+             bytes(shell_varyings_) + bytes(fin_varyings_) + bytes(fin_list_) + bytes(light_soa_.storage) +
+             bytes(pose_clip_) + bytes(shell_keys_);
   for (const raster::Texture& t : shell_tex_.layers) n += t.bytes();
   return n + fin_tex_.bytes();
 }
@@ -316,8 +317,9 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
                        FrameStats& stats) {
   const uint32_t n = geo_.base_vertex_count, s = geo_.layers;
   sort_ = f.sort;
-  // The tile and exact sorts take each fin root to tip as a strip, the others layer by layer.
-  const bool strips = f.sort == FurSort::tile || f.sort == FurSort::exact;
+  // The tile, surface and exact sorts take each fin root to tip as a strip, the others layer by
+  // layer.
+  const bool strips = f.sort == FurSort::tile || f.sort == FurSort::surface || f.sort == FurSort::exact;
   if (strips != fin_strips_ && params_.fins != fur::FinMode::off) {
     fin_strips_ = strips;
     fin_list_dirty_ = true;
@@ -459,10 +461,19 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
     sh->set_grey_lighting(grey_);
   }
 
+  if (sort == FurSort::surface) {
+    if (!surface_order_) surface_order_.emplace(geo_);
+    pose_clip_.resize(pose_.size());
+    for (size_t i = 0; i < pose_.size(); ++i) pose_clip_[i] = clip_from_world * glm::vec4(pose_[i], 1.0f);
+    surface_order_->compute(pose_clip_, shell_keys_);
+  }
   auto draw = [&](bool fin, uint32_t first_tri, uint32_t count, FurShader* sh) {
     if (count == 0) return;
     raster::DrawCall d;
     d.positions = pose_.data();
+    // Fins keep their mean-depth keys: keyed after the shells at their root layer instead, the
+    // shipped scenes' silhouette fins measured further from the exact sort (README).
+    if (sort == FurSort::surface && !fin) d.sort_keys = shell_keys_.data() + first_tri;
     d.vertex_count = static_cast<uint32_t>(pose_.size());
     d.indices = (fin ? fin_list_.data() : geo_.shell_indices.data()) + 3 * size_t{first_tri};
     d.triangle_count = count;

@@ -14,6 +14,7 @@
 #include "fur/fur_geometry.h"
 #include "fur/fur_params.h"
 #include "fur/strand_textures.h"
+#include "fur/surface_order.h"
 #include "raster/mesh.h"
 #include "raster/pipeline.h"
 #include "raster/texture.h"
@@ -30,6 +31,8 @@ enum class FurSort {
   layer,  // shell s, then the fins between layers s and s+1, for s = 0, 1, ...
   tile,   // all shells, then the fins fin by fin (root to tip), back to front per tile by
           // the rasterizer, a fin's quads in runs of three (DrawCall::sort_group)
+  surface,  // as `tile`, but each shell layer keyed after the layers below it that it leans
+            // over (fur/surface_order.h): no seams on one continuous surface in wind
   exact,  // as `tile`, then every fragment sorted per pixel (the reference)
 };
 
@@ -141,6 +144,10 @@ class FurObject {
   bool merge_fins_;
   std::vector<uint64_t> fin_breaks_;  // merge_fins_: per base vertex, fur::fin_chain_breaks of pose_
   std::vector<uint32_t> fin_ends_;    // one fin's fur::fin_quad_ends
+  // FurSort::surface: the shells' keys, made per draw from the pose in clip space.
+  std::optional<fur::SurfaceOrder> surface_order_;
+  std::vector<glm::vec4> pose_clip_;
+  std::vector<float> shell_keys_;
 
   // Per-vertex lighting: SoA inputs and outputs padded to whole 16-lane batches.
   struct Soa {

@@ -383,6 +383,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   const FurSort fur_sort = quality_.sort == io::SortQuality::none    ? FurSort::none
                            : quality_.sort == io::SortQuality::layer ? FurSort::layer
                            : quality_.sort == io::SortQuality::tile  ? FurSort::tile
+                           : quality_.sort == io::SortQuality::surface ? FurSort::surface
                                                                      : FurSort::exact;
   for (size_t i = 0; i < objects_.size(); ++i) {
     if (!objects_[i]->fur) continue;
@@ -455,7 +456,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   }
   raster::RenderOptions opt;
   opt.background = scene_.image.background;
-  opt.sort = fur_sort == FurSort::tile    ? raster::SortMode::Tile
+  opt.sort = fur_sort == FurSort::tile || fur_sort == FurSort::surface ? raster::SortMode::Tile
              : fur_sort == FurSort::exact ? raster::SortMode::Exact
                                           : raster::SortMode::None;
   // Supersampling: one full pass per stratified sample, the projection shifted by the

@@ -235,7 +235,7 @@ TEST_F(SceneFixture, QualityBlockErrorsNameTheKnob) {
   expect_error(with(R"({"shells": 1})"), "quality.shells", "must be an integer in [2, 128]");
   expect_error(with(R"({"shells": 2000000})"), "quality.shells", "must be an integer in [2, 128]");
   expect_error(with(R"({"spp": 1048576})"), "quality.spp", "must be a square number of samples from 1 to 64");
-  expect_error(with(R"({"sort": "depth"})"), "quality.sort", "unknown value `depth` (none, layer, tile, exact)");
+  expect_error(with(R"({"sort": "depth"})"), "quality.sort", "unknown value `depth` (none, layer, tile, surface, exact)");
   expect_error(with(R"({"filter": "anisotropic"})"), "quality.filter", "(nearest, bilinear, bilinear_mip, trilinear)");
   expect_error(with(R"({"precision": "half"})"), "quality.precision", "(simd, double)");
   expect_error(with(R"({"preset": "ultra"})"), "quality.preset", "unknown preset `ultra` (default, fast");

@@ -44,7 +44,7 @@ TEST(TradeoffSweep, PlanOrderReferenceDefaultKnobsPresets) {
   std::vector<std::string> labels;
   for (const Setting& s : plan) labels.push_back(s.knob + "=" + s.setting);
   EXPECT_EQ(labels, std::vector<std::string>({"reference=reference", "default=scene", "sort=none", "sort=layer",
-                                              "sort=tile", "sort=exact", "spp=1", "spp=4", "spp=16", "preset=fast",
+                                              "sort=tile", "sort=surface", "sort=exact", "spp=1", "spp=4", "spp=16", "preset=fast",
                                               "preset=balanced", "preset=high"}));
   EXPECT_EQ(plan[0].quality, *io::quality_preset("reference"));
   EXPECT_EQ(plan[1].quality, base);

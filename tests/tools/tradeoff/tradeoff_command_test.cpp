@@ -54,7 +54,7 @@ TEST(TradeoffCommand, SweepsSortAndSppAgainstTheReference) {
   for (size_t i = 0; i < csv[0].size(); ++i) header += (i ? "," : "") + csv[0][i];
   EXPECT_EQ(header, tradeoff::kCsvHeader);
   const std::vector<std::string> expected = {"reference=reference", "default=scene", "sort=none", "sort=layer",
-                                             "sort=tile", "sort=exact", "spp=1", "spp=4", "spp=16",
+                                             "sort=tile", "sort=surface", "sort=exact", "spp=1", "spp=4", "spp=16",
                                              "preset=fast", "preset=balanced", "preset=high"};
   ASSERT_EQ(csv.size(), 1 + expected.size());
   for (size_t i = 0; i < expected.size(); ++i) {
@@ -74,12 +74,12 @@ TEST(TradeoffCommand, SweepsSortAndSppAgainstTheReference) {
   // sort=tile and spp=1 are the scene's own settings: the default row's measurement, reused.
   EXPECT_EQ(csv[5][2], csv[2][2]);
   EXPECT_EQ(csv[5][3], csv[2][3]);
-  EXPECT_EQ(csv[7][3], csv[2][3]);
+  EXPECT_EQ(csv[8][3], csv[2][3]);
   // Paired with the default frame by frame: the reference is not, the default and its copies
   // are the baseline, every other row has a ratio.
   EXPECT_EQ(csv[1][7], "");
-  for (size_t i : {2u, 5u, 7u}) EXPECT_EQ(csv[i][7], "1") << expected[i - 1];
-  for (size_t i : {3u, 4u, 6u, 8u, 9u, 10u, 11u, 12u}) EXPECT_GT(std::stod(csv[i][7]), 0.0) << expected[i - 1];
+  for (size_t i : {2u, 5u, 8u}) EXPECT_EQ(csv[i][7], "1") << expected[i - 1];
+  for (size_t i : {3u, 4u, 6u, 7u, 9u, 10u, 11u, 12u, 13u}) EXPECT_GT(std::stod(csv[i][7]), 0.0) << expected[i - 1];
 
   // The markdown file holds the table printed on stdout, with the Pareto column.
   const std::string md = read_text(out / "tradeoff.md");

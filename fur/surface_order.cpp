@@ -1,0 +1,97 @@
+#include "fur/surface_order.h"
+
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+
+#include "raster/frame.h"
+
+namespace pelt::fur {
+namespace {
+
+// Keys `key` below `bound` (drawn after it). Non-finite keys and bounds take no part: set-up
+// culls such triangles anyway, and one must not drag its neighbours to infinity.
+void key_below(float& key, float bound) {
+  if (!std::isfinite(key) || !std::isfinite(bound)) return;
+  const float below = std::nextafter(bound, -std::numeric_limits<float>::infinity());
+  if (below < key) key = below;
+}
+
+}  // namespace
+
+SurfaceOrder::SurfaceOrder(const FurGeometry& geo)
+    : n_(geo.base_vertex_count),
+      layers_(geo.layers),
+      faces_(static_cast<uint32_t>(geo.counts.base_faces)),
+      base_indices_(geo.shell_indices.begin(), geo.shell_indices.begin() + 3 * size_t{faces_}),
+      partner_(faces_, -1) {
+  // The rasterizer's runs of two (DrawCall::sort_group) pair triangles 2k, 2k + 1 of the
+  // draw; a layer's copy pairs the same faces whenever F is even, the usual quad mesh.
+  for (uint32_t f = 0; f + 1 < faces_; f += 2)
+    if (raster::triangles_share_edge(&base_indices_[3 * f], &base_indices_[3 * f + 3])) {
+      partner_[f] = int32_t(f + 1);
+      partner_[f + 1] = int32_t(f);
+    }
+  for (const FurEdge& e : geo.edges) {
+    if (e.face1 == kNoFace) continue;
+    const uint32_t* t = &base_indices_[3 * size_t{e.face0}];
+    uint32_t third = t[0];
+    for (int k = 0; k < 3; ++k)
+      if (t[k] != e.a && t[k] != e.b) third = t[k];
+    edges_.push_back({e.a, e.b, third, e.face0, e.face1});
+  }
+  lean_.resize(edges_.size());
+  raw_.resize(faces_);
+}
+
+void SurfaceOrder::compute(std::span<const glm::vec4> clip, std::vector<float>& keys) {
+  const uint32_t F = faces_, S = layers_;
+  keys.resize(size_t{S} * F);
+  if (F == 0 || S == 0) return;
+  const size_t top = size_t{S - 1} * n_;
+  // Which way each edge's strands lean on screen: the mean displacement of its two chains from
+  // root to tip, against the edge's normal on screen pointing from face0 to face1.
+  for (size_t i = 0; i < edges_.size(); ++i) {
+    const Edge& e = edges_[i];
+    lean_[i] = 0;
+    const glm::vec4 ca = clip[e.a], cb = clip[e.b], cc = clip[e.third], ta = clip[e.a + top], tb = clip[e.b + top];
+    if (!(ca.w > 0.0f && cb.w > 0.0f && cc.w > 0.0f && ta.w > 0.0f && tb.w > 0.0f)) continue;
+    auto screen = [](const glm::vec4& c) { return glm::vec2(c.x / c.w, c.y / c.w); };
+    const glm::vec2 a = screen(ca), b = screen(cb), c = screen(cc);
+    glm::vec2 toward1(a.y - b.y, b.x - a.x);
+    const float side = glm::dot(toward1, c - a);
+    if (!(side != 0.0f)) continue;  // face0 edge-on (or NaN): no side to lean from
+    if (side > 0.0f) toward1 = -toward1;
+    const float lean = glm::dot(screen(ta) - a + screen(tb) - b, toward1);
+    lean_[i] = lean > 0.0f ? 1 : lean < 0.0f ? -1 : 0;
+  }
+  for (uint32_t s = 0; s < S; ++s) {
+    const size_t first = size_t{s} * n_;
+    for (uint32_t f = 0; f < F; ++f) {
+      const uint32_t* t = &base_indices_[3 * size_t{f}];
+      raw_[f] = clip[first + t[0]].w + clip[first + t[1]].w + clip[first + t[2]].w;
+    }
+    float* k = keys.data() + size_t{s} * F;
+    for (uint32_t f = 0; f < F; ++f) {
+      const int32_t p = partner_[f];
+      k[f] = p < 0 ? raw_[f] * (1.0f / 3.0f) : (raw_[f] + raw_[p]) * (1.0f / 6.0f);
+    }
+    if (s == 0) continue;
+    const float* below = k - F;  // layer s - 1, final
+    for (uint32_t f = 0; f < F; ++f) key_below(k[f], below[f]);
+    for (size_t i = 0; i < edges_.size(); ++i) {
+      if (lean_[i] > 0) key_below(k[edges_[i].face0], below[edges_[i].face1]);
+      if (lean_[i] < 0) key_below(k[edges_[i].face1], below[edges_[i].face0]);
+    }
+    // A quad keeps one key (its halves stay together in the sorted list and share blocks):
+    // the lower, which keeps both halves' rules.
+    for (uint32_t f = 0; f < F; ++f) {
+      const int32_t p = partner_[f];
+      if (p > int32_t(f) && std::isfinite(k[f]) && std::isfinite(k[p])) k[f] = k[p] = std::min(k[f], k[p]);
+    }
+  }
+}
+
+}  // namespace pelt::fur

@@ -1,0 +1,154 @@
+// The `surface` order's keys: every shell layer after its own layer below and after the layer
+// below of each neighbour it leans over on screen; the plain mean depth where nothing leans
+// across; one key per quad; no NaN from a vertex behind the eye.
+#include "fur/surface_order.h"
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/mat4x4.hpp>
+#include <gtest/gtest.h>
+
+#include "fur/fur_geometry.h"
+#include "raster/mesh.h"
+
+namespace pelt::fur {
+namespace {
+
+// A flat n x n grid of unit-size quads in the xz-plane, normals up, each quad two triangles in
+// a row sharing its diagonal (as the built-in meshes lay quads out).
+Mesh grid(int n) {
+  Mesh m;
+  for (int z = 0; z <= n; ++z)
+    for (int x = 0; x <= n; ++x) m.positions.push_back({float(x), 0.0f, float(z)});
+  auto at = [&](int x, int z) { return uint32_t(z * (n + 1) + x); };
+  for (int z = 0; z < n; ++z)
+    for (int x = 0; x < n; ++x) {
+      const uint32_t a = at(x, z), b = at(x, z + 1), c = at(x + 1, z + 1), d = at(x + 1, z);
+      m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
+    }
+  m.normals.assign(m.positions.size(), {0.0f, 1.0f, 0.0f});
+  return m;
+}
+
+FurGeometry grid_fur(int n, int shells) {
+  FurParams params;
+  params.shells = shells;
+  params.length = 0.2f;
+  FurGeometry geo;
+  EXPECT_FALSE(build_fur_geometry(grid(n), params, geo).has_value());
+  return geo;
+}
+
+// Every fur vertex in clip space; layer s of base vertex i at root + s * step.
+std::vector<glm::vec4> clip_of(const FurGeometry& geo, const glm::mat4& clip_from_world, glm::vec3 step) {
+  std::vector<glm::vec4> clip(geo.positions.size());
+  const uint32_t n = geo.base_vertex_count;
+  for (size_t i = 0; i < clip.size(); ++i) {
+    const glm::vec3 p = geo.positions[i % n] + float(i / n) * step;
+    clip[i] = clip_from_world * glm::vec4(p, 1.0f);
+  }
+  return clip;
+}
+
+glm::mat4 camera(glm::vec3 eye, glm::vec3 target, glm::vec3 up = {0, 1, 0}) {
+  return glm::perspective(glm::radians(45.0f), 4.0f / 3.0f, 0.1f, 100.0f) * glm::lookAt(eye, target, up);
+}
+
+// The mean view depth of a triangle of the shell draw (what the tile sort keys it by).
+float mean_w(const FurGeometry& geo, const std::vector<glm::vec4>& clip, size_t tri) {
+  const uint32_t* t = &geo.shell_indices[3 * tri];
+  return (clip[t[0]].w + clip[t[1]].w + clip[t[2]].w) / 3.0f;
+}
+
+glm::vec2 screen(const glm::vec4& c) { return {c.x / c.w, c.y / c.w}; }
+
+TEST(SurfaceOrder, EveryLayerIsDrawnAfterTheLayersBelowThatItLeansOver) {
+  const int shells = 8;
+  const FurGeometry geo = grid_fur(6, shells);
+  // Seen at a slant, strands leaning far along the grid (toward +x, a little +z): each quad's
+  // upper layers cover its neighbour's lower ones.
+  const glm::mat4 m = camera({3.0f, 2.5f, 9.0f}, {3.0f, 0.0f, 3.0f});
+  const glm::vec3 step = 0.2f / float(shells - 1) * glm::normalize(glm::vec3(3.0f, 0.3f, 1.0f));
+  const std::vector<glm::vec4> clip = clip_of(geo, m, step);
+  SurfaceOrder order(geo);
+  std::vector<float> keys;
+  order.compute(clip, keys);
+  const uint32_t F = uint32_t(geo.counts.base_faces), n = geo.base_vertex_count;
+  ASSERT_EQ(keys.size(), size_t{shells} * F);
+  for (uint32_t s = 1; s < uint32_t(shells); ++s)
+    for (uint32_t f = 0; f < F; ++f) ASSERT_LT(keys[s * F + f], keys[(s - 1) * F + f]) << "face " << f << " layer " << s;
+  int rules = 0, depth_alone_breaks = 0;
+  for (const FurEdge& e : geo.edges) {
+    if (e.face1 == kNoFace) continue;
+    // Which face the strands lean onto, from face1's side of the edge (the code looks from
+    // face0's): its vertex off the edge lies on the side the edge's screen normal points to.
+    const uint32_t* t1 = &geo.shell_indices[3 * size_t{e.face1}];
+    uint32_t off = t1[0];
+    for (int k = 0; k < 3; ++k)
+      if (t1[k] != e.a && t1[k] != e.b) off = t1[k];
+    const glm::vec2 a = screen(clip[e.a]), b = screen(clip[e.b]);
+    glm::vec2 normal(a.y - b.y, b.x - a.x);
+    if (glm::dot(normal, screen(clip[off]) - a) < 0.0f) normal = -normal;  // toward face1
+    const size_t top = size_t{shells - 1} * n;
+    const float lean = glm::dot(screen(clip[e.a + top]) - a + screen(clip[e.b + top]) - b, normal);
+    ASSERT_NE(lean, 0.0f);
+    const uint32_t upper = lean > 0.0f ? e.face0 : e.face1, lower = lean > 0.0f ? e.face1 : e.face0;
+    for (uint32_t s = 1; s < uint32_t(shells); ++s) {
+      ++rules;
+      EXPECT_LT(keys[s * F + upper], keys[(s - 1) * F + lower]) << "edge " << e.a << "-" << e.b << " layer " << s;
+      if (mean_w(geo, clip, s * F + upper) >= mean_w(geo, clip, (s - 1) * F + lower)) ++depth_alone_breaks;
+    }
+  }
+  EXPECT_GT(rules, 0);
+  // The view and lean are chosen so that keying by depth alone (the `tile` order) breaks rules.
+  EXPECT_GT(depth_alone_breaks, rules / 10);
+}
+
+TEST(SurfaceOrder, WhereNothingLeansAcrossAnEdgeTheKeysAreTheQuadsMeanDepths) {
+  const int shells = 6;
+  const FurGeometry geo = grid_fur(4, shells);
+  // Straight down the strands: no layer moves on screen, so no rule holds anything back, and
+  // the outer layers are nearer anyway.
+  const glm::mat4 m = camera({2.0f, 6.0f, 2.0f}, {2.0f, 0.0f, 2.0f}, {0, 0, -1});
+  const std::vector<glm::vec4> clip = clip_of(geo, m, {0.0f, 0.04f, 0.0f});
+  SurfaceOrder order(geo);
+  std::vector<float> keys;
+  order.compute(clip, keys);
+  const uint32_t F = uint32_t(geo.counts.base_faces);
+  for (uint32_t s = 0; s < uint32_t(shells); ++s)
+    for (uint32_t f = 0; f < F; f += 2) {
+      const size_t t = size_t{s} * F + f;
+      const float quad = (3.0f * mean_w(geo, clip, t) + 3.0f * mean_w(geo, clip, t + 1)) / 6.0f;
+      EXPECT_NEAR(keys[t], quad, 1e-5f * quad) << "layer " << s << " face " << f;
+      EXPECT_EQ(keys[t], keys[t + 1]);  // a quad's halves share one key
+    }
+}
+
+TEST(SurfaceOrder, VerticesBehindTheEyeOrNotFiniteLeaveTheOtherKeysFinite) {
+  const int shells = 4;
+  const FurGeometry geo = grid_fur(4, shells);
+  const glm::mat4 m = camera({2.0f, 1.0f, 6.0f}, {2.0f, 0.0f, 2.0f});
+  std::vector<glm::vec4> clip = clip_of(geo, m, {0.03f, 0.02f, 0.0f});
+  const uint32_t n = geo.base_vertex_count, F = uint32_t(geo.counts.base_faces);
+  // Vertex 0's chain behind the eye, vertex 1's tip not finite.
+  for (uint32_t s = 0; s < uint32_t(shells); ++s) clip[s * n].w = -1.0f;
+  clip[1 + size_t{shells - 1} * n] = glm::vec4(std::numeric_limits<float>::quiet_NaN());
+  SurfaceOrder order(geo);
+  std::vector<float> keys;
+  order.compute(clip, keys);
+  for (uint32_t s = 0; s < uint32_t(shells); ++s)
+    for (uint32_t f = 0; f < F; ++f) {
+      const uint32_t* t = &geo.shell_indices[3 * (size_t{s} * F + f)];
+      const uint32_t* u = &geo.shell_indices[3 * (size_t{s} * F + (f ^ 1u))];
+      bool nan_vertex = false;
+      for (int k = 0; k < 3; ++k) nan_vertex |= std::isnan(clip[t[k]].w) || std::isnan(clip[u[k]].w);
+      EXPECT_EQ(std::isfinite(keys[size_t{s} * F + f]), !nan_vertex) << "layer " << s << " face " << f;
+    }
+}
+
+}  // namespace
+}  // namespace pelt::fur

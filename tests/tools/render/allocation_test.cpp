@@ -49,6 +49,10 @@ TEST(FrameAllocations, AnimatedFurFramesAllocateNothingOnceWarm) {
   const std::string scene = furry_box_scene(
       R"("fins": "silhouette", "gravity": {}, "wind": {"strength": 1, "gust_frequency": 0.5, "gust_scale": 0.3})", 4);
   for (int threads : {1, 2}) EXPECT_EQ(allocations_of_second_pass(scene, 4, threads), 0) << threads << " threads";
+  // The surface sort's keys are made every frame from the pose, into buffers kept from the first.
+  std::string surface = scene;
+  surface.insert(surface.find('{') + 1, R"("quality": {"sort": "surface"}, )");
+  for (int threads : {1, 2}) EXPECT_EQ(allocations_of_second_pass(surface, 4, threads), 0) << threads << " threads, surface";
 }
 
 TEST(FrameAllocations, SkinFramesAllocateNothingOnceWarm) {

@@ -123,6 +123,12 @@ TEST(Gating, FurryBoxIsIdenticalOnOneAndTwoThreads) {
   const std::string json = furry_box_scene(R"("gravity": {}, "wind": {})", 3);
   const Frames one = render_frames(json, 3, 1), two = render_frames(json, 3, 2);
   for (int f = 0; f < 3; ++f) EXPECT_EQ(one.images[f].color, two.images[f].color) << f;
+  // The surface sort's keys too come out the same whatever the threads.
+  std::string surface = json;
+  surface.insert(surface.find('{') + 1, R"("quality": {"sort": "surface"}, )");
+  const Frames s1 = render_frames(surface, 3, 1), s2 = render_frames(surface, 3, 2);
+  for (int f = 0; f < 3; ++f) EXPECT_EQ(s1.images[f].color, s2.images[f].color) << "surface " << f;
+  EXPECT_NE(s1.images[2].color, one.images[2].color);  // the order is not the tile one's
 }
 
 TEST(Gating, FrameKAloneEqualsFrameKInARange) {

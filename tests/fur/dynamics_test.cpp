@@ -1,8 +1,10 @@
 #include "fur/dynamics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -138,6 +140,27 @@ TEST(Gravity, SeedDotLawFollowsTheFormulaAsPrinted) {
   const glm::vec3 seg0 = glm::normalize(out[1] - out[0]);
   const float angle = std::atan2(-seg0.y, seg0.x);
   EXPECT_NEAR(angle - 0.785398163f, std::sqrt(0.5f) * 15.0f / 100.0f, 1e-5);
+}
+
+// dynamics.h: theta is clamped to [0, angle(V, G)], so a huge strength hangs every segment
+// straight along G and never swings it past G. Kills a clamp that only keeps theta >= 0.
+TEST(Gravity, AHugeStrengthHangsTheStrandAlongGravityNeverPast) {
+  GravityParams g;
+  g.direction = {0, -1, 0};
+  g.strength = 1e4f;
+  g.stability = 1.0f;
+  // lever: a horizontal strand; seed_dot: one 45 degrees below the horizon (cos > 0).
+  const std::pair<GravityLaw, glm::vec3> cases[] = {{GravityLaw::lever, glm::vec3(1, 0, 0)},
+                                                    {GravityLaw::seed_dot, glm::normalize(glm::vec3(1, -1, 0))}};
+  for (const auto& [law, dir] : cases) {
+    const auto rest = chain(dir);
+    const auto out = gravity(rest, g, law);
+    ASSERT_TRUE(all_finite(out));
+    for (uint32_t k = 0; k < kS; ++k) {
+      const glm::vec3 hang = rest[0] + glm::vec3(0, -1, 0) * (kSeg * float(k));
+      EXPECT_NEAR(glm::length(out[k] - hang), 0.0f, 1e-5f) << "law " << int(law) << " node " << k;
+    }
+  }
 }
 
 TEST(Gravity, NoNaNForDegenerateInputs) {
@@ -478,6 +501,51 @@ TEST(Wind, FieldIsUniformWithoutGustsAndTravelsWithThem) {
   float lo = 1e9f, hi = 0.0f;
   for (const glm::vec3& v : f0) lo = std::min(lo, glm::length(v)), hi = std::max(hi, glm::length(v));
   EXPECT_GT(hi - lo, 0.3f);
+}
+
+// dynamics.h: F_i(t) = d * strength * (1 + gust_scale * sin(2 pi (gust_frequency t -
+// (q_i.d) / L))), L = 2 R: a gust crest one object across, moving downwind. Kills the
+// phase's sign (a gust running upwind) and a wavelength of R instead of 2 R.
+TEST(Wind, GustsFollowTheDocumentedTravellingWave) {
+  FurParams p;
+  FurGeometry geo;
+  ASSERT_FALSE(build_fur_geometry(io::make_builtin_mesh("box:3"), p, geo).has_value());
+  const uint32_t N = geo.base_vertex_count;
+  WindParams w;
+  w.direction = {0.0f, 0.6f, 0.8f};
+  w.strength = 1.5f;
+  w.gust_scale = 0.5f;
+  w.gust_frequency = 2.0f;
+  const WindField field = make_wind_field(geo, w);
+  const glm::dvec3 d = glm::normalize(glm::dvec3(w.direction));
+  const double L = 2.0 * double(geo.bounds.radius);
+  std::vector<glm::vec3> f(N);
+  double spread = 0.0;  // the largest phase difference the check sees, in wavelengths
+  for (double t : {0.3, 1.1, 2.45}) {
+    field.forces(t, f, 0, N);
+    for (uint32_t i = 0; i < N; ++i) {
+      const double phase = glm::dot(glm::dvec3(geo.positions[i]) - glm::dvec3(geo.bounds.centre), d) / L;
+      spread = std::max(spread, std::fabs(phase));
+      const double m = 1.5 * (1.0 + 0.5 * std::sin(2.0 * 3.14159265358979 * (2.0 * t - phase)));
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[i][c], d[c] * m, 2e-5) << "vertex " << i << " t " << t;
+    }
+  }
+  EXPECT_GT(spread, 0.2);  // the box spans enough of a wavelength for the phase to matter
+  // Downwind means later: the vertex farthest along d sees the upwind vertex's force
+  // (q_j.d - q_i.d) / (L gust_frequency) seconds after it.
+  uint32_t up = 0, down = 0;
+  auto along = [&](uint32_t i) { return glm::dot(glm::dvec3(geo.positions[i]), d); };
+  for (uint32_t i = 1; i < N; ++i) {
+    if (along(i) < along(up)) up = i;
+    if (along(i) > along(down)) down = i;
+  }
+  const double delay = (along(down) - along(up)) / (L * 2.0);
+  std::vector<glm::vec3> a(N), b(N);
+  for (double t : {0.1, 0.4, 0.77}) {
+    field.forces(t, a, 0, N);
+    field.forces(t + delay, b, 0, N);
+    EXPECT_NEAR(glm::length(b[down]), glm::length(a[up]), 1e-4) << "t " << t;
+  }
 }
 
 // ---- animation ----

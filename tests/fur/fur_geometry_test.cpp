@@ -1,5 +1,6 @@
 #include "fur/fur_geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -339,6 +340,47 @@ TEST(FurGeometry, TeapotCountsMatchTheLlvmpipeHarness) {
   int boundary = 0;
   for (const FurEdge& e : t5.edges) boundary += e.face1 == kNoFace;
   EXPECT_EQ(boundary, 80);
+}
+
+// Kills a mutant that kept a degenerate triangle (one naming an edge twice) as the second
+// face of that edge: the edge's real neighbour would be lost, and the fin's silhouette test
+// (tools/render/fur_object.cpp) would read the degenerate face's fallback normal instead.
+TEST(FurGeometry, ADegenerateTriangleIsNotASecondFace) {
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}};
+  m.indices = {0, 1, 0, 0, 1, 2};  // face 0 is degenerate and names edge (0, 1) twice
+  const std::vector<FurEdge> edges = mesh_edges(m);
+  ASSERT_EQ(edges.size(), 3u);
+  EXPECT_EQ(edges[0].a, 0u);
+  EXPECT_EQ(edges[0].b, 1u);
+  EXPECT_EQ(edges[0].face0, 0u);
+  EXPECT_EQ(edges[0].face1, 1u);  // the real triangle, not face 0 again
+  // A degenerate triangle alone on an edge leaves it a boundary edge.
+  m.indices = {0, 1, 2, 1, 2, 1};
+  for (const FurEdge& e : mesh_edges(m)) {
+    EXPECT_NE(e.face0, e.face1) << e.a << "-" << e.b;
+    if (e.a == 1 && e.b == 2) {
+      EXPECT_EQ(e.face0, 0u);
+      EXPECT_EQ(e.face1, 1u);
+    } else {
+      EXPECT_EQ(e.face1, kNoFace) << e.a << "-" << e.b;
+    }
+  }
+}
+
+// fur_geometry.h: away from a true silhouette the fin follows the MORE edge-on of its two
+// faces (c = min(|c_a|, |c_b|)); a fin next to a face seen edge-on must show even when the
+// other face looks straight at the viewer. Kills min -> max.
+TEST(FinWeight, TheMoreEdgeOnFaceDecides) {
+  const glm::vec3 up(0, 1, 0), tilted = glm::normalize(glm::vec3(1, 0.2f, 0));
+  const glm::vec3 view = up;  // c_a = 1, c_b = 0.196: same sign, no silhouette
+  const float c = std::fabs(glm::dot(tilted, view));
+  const float x = std::clamp(c / 0.5f, 0.0f, 1.0f);
+  const float expect = 1.0f - x * x * (3.0f - 2.0f * x);
+  ASSERT_GT(expect, 0.5f);  // the setting shows a mostly visible fin
+  EXPECT_NEAR(fin_weight(up, tilted, view, FinMode::silhouette), expect, 1e-6f);
+  EXPECT_NEAR(fin_weight(tilted, up, view, FinMode::silhouette), expect, 1e-6f);
+  EXPECT_NEAR(fin_weight(up, tilted, -view, FinMode::silhouette), expect, 1e-6f);
 }
 
 TEST(FinWeight, ModesAndSilhouetteShape) {

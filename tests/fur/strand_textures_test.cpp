@@ -341,6 +341,35 @@ TEST(StrandTextures, FinShowsStrandsFromTheSide) {
   EXPECT_GT(c_mid, c_top);
 }
 
+// strand_textures.h: at height h a strand's texel is offset from its root by
+// (seed.x, seed.z) / seed.y * h * shell_volume_height, x and z independently (a strand leans
+// along its own direction; y being Y-up height). Kills x/z mixed up and * seed.y for / seed.y.
+TEST(StrandTextures, AStrandLeansByItsSeedOverItsHeight) {
+  ShellStrand st;
+  st.root_x = 10;
+  st.root_y = 20;
+  st.seed = {0.5f, 2.0f, -1.0f};
+  const int size = 256, layers = 5;
+  ASSERT_EQ(shell_volume_height(size), 16);
+  struct Want {
+    int s, x, y;
+  };
+  // h = s / 4; offset = (0.25, -0.5) * h * 16 = (4 h, -8 h).
+  for (const Want w : {Want{0, 10, 20}, Want{1, 11, 18}, Want{2, 12, 16}, Want{4, 14, 12}}) {
+    int x = -1, y = -1;
+    strand_texel(st, w.s, layers, size, x, y);
+    EXPECT_EQ(x, w.x) << "layer " << w.s;
+    EXPECT_EQ(y, w.y) << "layer " << w.s;
+  }
+  // The offset wraps around the texture, as the texture repeats over the surface.
+  st.root_x = 254;
+  st.root_y = 3;
+  int x = -1, y = -1;
+  strand_texel(st, 4, layers, size, x, y);
+  EXPECT_EQ(x, 2);    // 254 + 4
+  EXPECT_EQ(y, 251);  // 3 - 8
+}
+
 TEST(StrandTextures, RejectsBadParams) {
   FurParams p;
   p.texture_size = 300;

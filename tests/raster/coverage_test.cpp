@@ -176,5 +176,44 @@ TEST(Coverage, SquareSplitsItsDiagonalByTheTopLeftRule) {
   });
 }
 
+// Two draws of one tilted quad have bit-identical depths at every pixel: Less keeps the
+// first draw, LessEqual and Always let the second overwrite it (pipeline.h's DepthFunc; the
+// fur's first shell sits on the base mesh and relies on LessEqual). Random triangles almost
+// never tie, so the reference comparisons above cannot tell the two apart. Kills Less <-> LessEqual
+// (tile_kernels.cc, DepthPass).
+TEST(Coverage, EqualDepthsFollowTheDepthFunction) {
+  std::vector<glm::vec3> pos = {{-2, -2, -3.5f}, {2, -2, -2.5f}, {-2, 2, -3.5f}, {2, 2, -2.5f}};
+  std::vector<uint32_t> idx = {0, 1, 3, 0, 3, 2};
+  const ConstantShader first({1, 0, 0, 1}), second({0, 1, 0, 1});
+  DrawCall a;
+  a.positions = pos.data();
+  a.vertex_count = 4;
+  a.indices = idx.data();
+  a.triangle_count = 2;
+  a.clip_from_object = glm::perspective(glm::radians(60.0f), 1.0f, 0.5f, 20.0f);
+  a.shader = &first;
+  a.id_base = 0;
+  for (DepthFunc func : {DepthFunc::Less, DepthFunc::LessEqual, DepthFunc::Always}) {
+    DrawCall b = a;
+    b.shader = &second;
+    b.id_base = 100;
+    b.state.depth_func = func;
+    const DrawCall draws[2] = {a, b};
+    const bool second_wins = func != DepthFunc::Less;
+    for_each_target([&](const std::string& target) {
+      const Image img = render(draws, 64, 64, 1);
+      size_t covered = 0, wrong = 0;
+      for (size_t p = 0; p < img.id.size(); ++p) {
+        if (img.id[p] == 0) continue;
+        ++covered;
+        const bool from_second = img.id[p] > 100;
+        wrong += from_second != second_wins || img.color[p * 4 + 1] != (second_wins ? 1.0f : 0.0f);
+      }
+      EXPECT_GT(covered, 1000u) << target;
+      EXPECT_EQ(wrong, 0u) << target << " depth func " << int(func);
+    });
+  }
+}
+
 }  // namespace
 }  // namespace pelt::raster::test

@@ -2,6 +2,7 @@
 // translucent pass: compositing order and blending formulas with closed-form answers.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -160,6 +161,98 @@ TEST(Blending, ExactSortCompositesIntersectingLayersPerPixel) {
     EXPECT_GT(std::abs(raw.color[(32 * 64 + 12) * 4] - left[0]), 0.05f) << target;
     opt.sort = SortMode::Exact;
   });
+}
+
+// A translucent quad over the whole view at view depth 3, tilted so its depth varies.
+DrawCall translucent_quad(const Layers& l, const Shader* sh, BlendMode blend) {
+  DrawCall d;
+  d.positions = l.pos.data();
+  d.vertex_count = uint32_t(l.pos.size());
+  d.indices = l.idx.data();
+  d.triangle_count = uint32_t(l.idx.size() / 3);
+  d.clip_from_object = glm::perspective(glm::radians(60.0f), 1.0f, 0.5f, 20.0f);
+  d.shader = sh;
+  d.state.blend = blend;
+  d.state.depth_write = false;
+  return d;
+}
+
+// renderer.h: Exact composites far to near, and fragments of equal depth in submission order,
+// as the tile sort and no sort do (a coplanar decal drawn after its base lands on top). Two
+// copies of one quad give every pixel two fragments of bit-identical depth. Kills the exact
+// sort's tie-break reversed (tile_kernels.cc, CompositeExact).
+TEST(Blending, EqualDepthsCompositeInSubmissionOrderInEverySortMode) {
+  Layers l;
+  l.add_quad(-3.0f);
+  const glm::vec4 red(1, 0, 0, 0.5f), blue(0, 0, 1, 0.5f), bg(0.05f, 0.1f, 0.2f, 1.0f);
+  const ConstantShader sr(red), sb(blue);
+  const DrawCall draws[2] = {translucent_quad(l, &sr, BlendMode::AlphaOver),
+                             translucent_quad(l, &sb, BlendMode::AlphaOver)};
+  auto over = [](glm::vec4 src, glm::vec4 dst) {
+    return glm::vec4(glm::vec3(src) * src.a + glm::vec3(dst) * (1 - src.a), src.a + dst.a * (1 - src.a));
+  };
+  const glm::vec4 expect = over(blue, over(red, bg));
+  for_each_target([&](const std::string& target) {
+    for (SortMode sort : {SortMode::None, SortMode::Tile, SortMode::Exact}) {
+      RenderOptions opt;
+      opt.background = bg;
+      opt.sort = sort;
+      const Image img = render(draws, 64, 64, 2, opt);
+      for (size_t p : {size_t(32 * 64 + 32), size_t(5 * 64 + 60), size_t(60 * 64 + 3)})
+        for (int c = 0; c < 4; ++c)
+          EXPECT_NEAR(img.color[p * 4 + c], expect[c], 1e-6) << target << " sort " << int(sort) << " pixel " << p;
+    }
+  });
+}
+
+// pipeline.h: Additive is C = Cd + Cs a, A = Ad: the source is weighted by its alpha (a
+// quarter-transparent glow adds a quarter of its colour) and leaves the target's alpha alone.
+// Kills the additive blend dropping the alpha weight (tile_kernels.cc, FlushBatch).
+TEST(Blending, AdditiveAddsTheColourWeightedByAlpha) {
+  Layers l;
+  l.add_quad(-3.0f);
+  const glm::vec4 glow(0.8f, 0.4f, 0.2f, 0.25f), bg(0.1f, 0.2f, 0.3f, 0.5f);
+  const ConstantShader sh(glow);
+  const DrawCall draws[2] = {translucent_quad(l, &sh, BlendMode::Additive), translucent_quad(l, &sh, BlendMode::Additive)};
+  const glm::vec4 expect(0.1f + 2 * 0.2f, 0.2f + 2 * 0.1f, 0.3f + 2 * 0.05f, 0.5f);
+  for_each_target([&](const std::string& target) {
+    for (SortMode sort : {SortMode::None, SortMode::Tile, SortMode::Exact}) {
+      RenderOptions opt;
+      opt.background = bg;
+      opt.sort = sort;
+      const Image img = render(draws, 64, 64, 2, opt);
+      for (int c = 0; c < 4; ++c)
+        EXPECT_NEAR(img.color[(32 * 64 + 32) * 4 + c], expect[c], 1e-6) << target << " sort " << int(sort);
+    }
+  });
+}
+
+// A pixel with one translucent fragment has nothing to order: every sort mode must blend it
+// the same, including a shader alpha outside [0, 1], which the blend clamps (tile_kernels.cc:
+// an overshoot must not push the framebuffer out of range). Kills the per-pixel sort's
+// composite using the unclamped alpha (tile_kernels.cc, CompositeExact).
+TEST(Blending, OneFragmentBlendsTheSameInEverySortModeEvenWithAlphaOutOfRange) {
+  Layers l;
+  l.add_quad(-3.0f);
+  const glm::vec4 bg(0.05f, 0.1f, 0.2f, 1.0f);
+  for (const float alpha : {1.5f, -0.25f}) {
+    const ConstantShader sh({0.2f, 0.4f, 0.6f, alpha});
+    const DrawCall d = translucent_quad(l, &sh, BlendMode::AlphaOver);
+    const float a = std::clamp(alpha, 0.0f, 1.0f);
+    const glm::vec4 expect(0.2f * a + bg.r * (1 - a), 0.4f * a + bg.g * (1 - a), 0.6f * a + bg.b * (1 - a),
+                           a + bg.a * (1 - a));
+    for_each_target([&](const std::string& target) {
+      for (SortMode sort : {SortMode::None, SortMode::Tile, SortMode::Exact}) {
+        RenderOptions opt;
+        opt.background = bg;
+        opt.sort = sort;
+        const Image img = render({&d, 1}, 64, 64, 1, opt);
+        for (int c = 0; c < 4; ++c)
+          EXPECT_NEAR(img.color[(32 * 64 + 32) * 4 + c], expect[c], 1e-6)
+              << target << " sort " << int(sort) << " alpha " << alpha;
+      }
+    });
+  }
 }
 
 TEST(Blending, TranslucentFragmentsBehindOpaqueGeometryAreRejected) {

@@ -11,6 +11,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "raster/frame.h"
 #include "tests/raster/render_helpers.h"
 #include "tests/raster/test_shaders.h"
 
@@ -186,6 +187,20 @@ TEST(TranslucentPacking, AStripKeyedAsOneRunPacksAcrossItsQuads) {
 // triangles sorts by its own depth. Triangles 0 and 1 (one run of 2) are a far green triangle
 // over the centre and a near one off screen, whose mean depth lies in front of the red
 // triangle 2 over the centre; by their own depths the green one lies behind the red.
+// Sharing one vertex is not sharing an edge: a fan's triangles around a vertex are no strip
+// (DrawCall::sort_group keys a run together only when each triangle shares an EDGE with the one
+// before) and do not differentiate as one field. Kills shared >= 2 -> >= 1 (frame.h).
+TEST(TranslucentPacking, TrianglesShareAnEdgeOnlyWithTwoVerticesInCommon) {
+  const uint32_t t[3] = {0, 1, 2};
+  const uint32_t edge[3] = {2, 1, 7}, edge_rotated[3] = {7, 0, 2}, vertex[3] = {2, 8, 9}, none[3] = {3, 4, 5};
+  EXPECT_TRUE(triangles_share_edge(t, edge));
+  EXPECT_TRUE(triangles_share_edge(t, edge_rotated));
+  EXPECT_TRUE(triangles_share_edge(t, t));
+  EXPECT_FALSE(triangles_share_edge(t, vertex));
+  EXPECT_FALSE(triangles_share_edge(vertex, t));
+  EXPECT_FALSE(triangles_share_edge(t, none));
+}
+
 TEST(TranslucentPacking, ARunThatIsNotAChainSortsItsTrianglesByTheirOwnDepths) {
   std::vector<glm::vec3> pos = {{-3, -3, -8}, {3, -3, -8}, {0, 3, -8},      {-60, 0, -2}, {-59, 0, -2},
                                 {-60, 1, -2}, {-1, -1, -5.5f}, {1, -1, -5.5f}, {0, 1, -5.5f}};

@@ -30,6 +30,18 @@ TEST(FurParams, DefaultsAreValidAndAsDocumented) {
   EXPECT_FALSE(validate(p).has_value());
 }
 
+// fur_params.h: shells and authored_shells lie in [2, 128], both ends included; the
+// rejections below the range are tested next, the top of it here. Kills shells >= 128.
+TEST(FurParams, TheEndsOfTheShellRangeAreValid) {
+  for (int s : {2, 128}) {
+    FurParams p;
+    p.shells = s;
+    EXPECT_FALSE(validate(p).has_value()) << "shells " << s;
+    p.authored_shells = s;
+    EXPECT_FALSE(validate(p).has_value()) << "authored_shells " << s;
+  }
+}
+
 TEST(FurParams, EachBadFieldIsNamedByItsKeyPath) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();

@@ -116,5 +116,66 @@ TEST(Determinism, StartingWorkerThreadsEarlyLeavesPoolsAsTheyWere) {
   }
 }
 
+// A renderer is reused frame after frame (the CLI's animations, the benchmarks): a frame must
+// come out the same, image and RasterStats counters, whether the renderer is fresh or has
+// drawn other frames before, at any thread count. Kills a per-frame counter that is not reset
+// (renderer.cpp: fragments_visible accumulating over frames).
+TEST(Determinism, AReusedRendererGivesEachFrameItsOwnImageAndStats) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<glm::vec3> pos;
+  std::vector<float> var;
+  std::vector<uint32_t> idx;
+  for (int i = 0; i < 800; ++i) {
+    const glm::vec3 c(u(rng) * 3.0f, u(rng) * 3.0f, -5.0f + u(rng) * 3.0f);
+    for (int k = 0; k < 3; ++k) {
+      pos.push_back(c + 0.6f * glm::vec3(u(rng), u(rng), u(rng)));
+      var.insert(var.end(), {0.5f + 0.5f * u(rng), 0.5f + 0.5f * u(rng), 0.5f + 0.5f * u(rng)});
+      idx.push_back(uint32_t(pos.size() - 1));
+    }
+  }
+  const VaryingShader opaque_sh(1.0f), glass_sh(0.35f);
+  DrawCall opaque;
+  opaque.positions = pos.data();
+  opaque.vertex_count = uint32_t(pos.size());
+  opaque.indices = idx.data();
+  opaque.triangle_count = 400;
+  opaque.varyings = var.data();
+  opaque.varying_count = 3;
+  opaque.clip_from_object = glm::perspective(glm::radians(60.0f), 4.0f / 3.0f, 0.5f, 20.0f);
+  opaque.shader = &opaque_sh;
+  DrawCall glass = opaque;
+  glass.indices = idx.data() + 3 * 400;
+  glass.shader = &glass_sh;
+  glass.state.blend = BlendMode::AlphaOver;
+  glass.state.depth_write = false;
+  const DrawCall frame[2] = {opaque, glass};
+  const DrawCall other[1] = {glass};  // a different frame drawn in between
+  const int w = 200, h = 150;
+  auto counters = [](const RasterStats& s) {
+    return std::vector<uint64_t>{s.triangles_submitted, s.triangles_culled, s.triangles_clipped,
+                                 s.triangles_setup,     s.bin_items,        s.fragments_visible,
+                                 s.pixels_shaded,       s.fragments_blended, s.lanes_shaded};
+  };
+  for (int threads : {1, 2}) {
+    RenderOptions opt;
+    opt.sort = SortMode::Tile;
+    const Image fresh = render(frame, w, h, threads, opt);
+    ASSERT_GT(fresh.stats.fragments_visible, 1000u);
+    Renderer r(threads);
+    std::vector<float> color(size_t(w) * h * 4);
+    std::vector<uint32_t> id(size_t(w) * h);
+    const RenderTarget target{w, h, color.data(), nullptr, id.data()};
+    RasterStats st;
+    for (int k = 0; k < 3; ++k) {
+      r.render(other, opt, target, &st);
+      r.render(frame, opt, target, &st);
+      EXPECT_EQ(counters(st), counters(fresh.stats)) << threads << " threads, frame " << k;
+      EXPECT_EQ(0, std::memcmp(color.data(), fresh.color.data(), color.size() * 4)) << threads << " threads";
+      EXPECT_EQ(id, fresh.id) << threads << " threads";
+    }
+  }
+}
+
 }  // namespace
 }  // namespace pelt::raster::test

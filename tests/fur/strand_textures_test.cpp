@@ -6,6 +6,7 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -339,6 +340,43 @@ TEST(StrandTextures, FinShowsStrandsFromTheSide) {
   EXPECT_GT(c_top, 0u);
   EXPECT_LT(c_top, c0 / 2);
   EXPECT_GT(c_mid, c_top);
+}
+
+// strand_textures.h: a fin strand is a line from its root column leaning by up to 0.1 * size
+// over the fin height. With one fin strand per texture (density 0.4 at size 64) each row holds
+// one texel of it, moving at most a column a row; over a few seeds some strand must lean
+// (a uniform lean of several columns is rarely near zero). Kills the lean dropped (vertical strands).
+TEST(StrandTextures, FinStrandsLeanWithinATenthOfTheSize) {
+  const int N = 64;
+  int widest = 0;
+  for (uint32_t seed = 1; seed <= 8; ++seed) {
+    FurParams p;
+    p.texture_size = N;
+    p.density = 0.4f;  // round(0.004 * 64 * kFinDepthTexels) = 1 fin strand
+    p.seed = seed;
+    const StrandTextures t = grow(p);
+    std::vector<int> column;
+    for (int y = 0; y < N; ++y) {
+      std::vector<int> xs;
+      for (int x = 0; x < N; ++x)
+        if (t.fin.texel(0, x, y)[3] > 0) xs.push_back(x);
+      if (xs.empty()) break;  // above the strand's tip
+      ASSERT_EQ(xs.size(), 1u) << "seed " << seed << " row " << y;
+      column.push_back(xs[0]);
+    }
+    ASSERT_GE(column.size(), size_t(0.6 * N) - 1) << "seed " << seed;  // length >= 0.6
+    auto step = [&](int from, int to) {  // signed column change, wrapped (u repeats)
+      int d = (to - from) % N;
+      if (d > N / 2) d -= N;
+      if (d < -N / 2) d += N;
+      return d;
+    };
+    for (size_t y = 1; y < column.size(); ++y) EXPECT_LE(std::abs(step(column[y - 1], column[y])), 1) << "seed " << seed;
+    const int shift = step(column.front(), column.back());
+    EXPECT_LE(std::abs(shift), int(std::ceil(0.1 * N)) + 1) << "seed " << seed;
+    widest = std::max(widest, std::abs(shift));
+  }
+  EXPECT_GE(widest, 2);
 }
 
 // strand_textures.h: at height h a strand's texel is offset from its root by

@@ -127,40 +127,44 @@ TEST(Clipping, NonFiniteAndDegenerateInputIsDroppedQuietly) {
   });
 }
 
-// A ground plane running from behind the eye into the distance is cut by the near plane;
-// its depth at every pixel must still be the projection's depth of the point the pixel sees
-// (the vertices clipping makes lie on the near plane: depth 0). The reference rasterizer
+// A ground plane cut by a clip plane: the near plane (the plane runs from behind the eye
+// into the view) or the far plane (it runs past the far distance). Its depth at every pixel
+// must still be the projection's depth of the point the pixel sees: the vertices clipping
+// makes lie on the near plane (depth 0) or the far plane (depth 1). The reference rasterizer
 // clips with the same code, so only an analytic answer can tell. Kills the near-plane
-// vertex's z set to +w (depth 1) instead of -w (clip.cpp).
-TEST(Clipping, ANearPlaneCutKeepsTheProjectionsDepth) {
+// vertex's z set to +w instead of -w, and the far-plane vertex's to -w instead of +w (clip.cpp).
+TEST(Clipping, ANearOrFarPlaneCutKeepsTheProjectionsDepth) {
   const float n = 0.5f, f = 20.0f, fovy = glm::radians(60.0f);
-  Soup s;
-  const glm::vec3 a(-5, -1, 2), b(5, -1, 2), c(5, -1, -10), e(-5, -1, -10);  // y = -1, z from +2 to -10
-  s.add(a, b, c);
-  s.add(a, c, e);
   const ConstantShader sh({1, 1, 1, 1});
-  const DrawCall d = s.draw(&sh, glm::perspective(fovy, 1.0f, n, f));
   const int w = 64, h = 64;
-  for_each_target([&](const std::string& target) {
-    const Image img = render({&d, 1}, w, h);
-    EXPECT_GT(img.stats.triangles_clipped, 0u) << target;
-    double worst = 0.0;
-    size_t covered = 0;
-    for (int py = 0; py < h; ++py)
-      for (int px = 0; px < w; ++px) {
-        const size_t i = size_t(py) * w + px;
-        if (img.id[i] == 0) continue;
-        ++covered;
-        const double ny = 1.0 - (py + 0.5) / h * 2.0, dy = ny * std::tan(fovy / 2);
-        const double zv = 1.0 / dy;  // the ray (dx, dy, -1) meets y = -1 at z = 1 / dy (dy < 0)
-        const double ndc = (double(f) + n) / (double(f) - n) + 2.0 * f * n / ((double(f) - n) * zv);
-        worst = std::max(worst, std::abs(img.depth[i] - (0.5 * ndc + 0.5)));
-      }
-    EXPECT_GT(covered, size_t(w * h / 3)) << target;
-    // Float planes from 1/256-pixel snapped vertices stay within a few 1e-6 here; a wrong
-    // near-plane depth is off by tenths.
-    EXPECT_LT(worst, 5e-5) << target;
-  });
+  for (const glm::vec2 z_range : {glm::vec2(2.0f, -10.0f), glm::vec2(-2.0f, -60.0f)}) {
+    Soup s;  // y = -1, x in [-5, 5] (wider far away), z over z_range
+    const float near_x = 5.0f, far_x = 5.0f * -z_range.y / 10.0f;
+    const glm::vec3 a(-near_x, -1, z_range.x), b(near_x, -1, z_range.x), c(far_x, -1, z_range.y), e(-far_x, -1, z_range.y);
+    s.add(a, b, c);
+    s.add(a, c, e);
+    const DrawCall d = s.draw(&sh, glm::perspective(fovy, 1.0f, n, f));
+    for_each_target([&](const std::string& target) {
+      const Image img = render({&d, 1}, w, h);
+      EXPECT_GT(img.stats.triangles_clipped, 0u) << target;
+      double worst = 0.0;
+      size_t covered = 0;
+      for (int py = 0; py < h; ++py)
+        for (int px = 0; px < w; ++px) {
+          const size_t i = size_t(py) * w + px;
+          if (img.id[i] == 0) continue;
+          ++covered;
+          const double ny = 1.0 - (py + 0.5) / h * 2.0, dy = ny * std::tan(fovy / 2);
+          const double zv = 1.0 / dy;  // the ray (dx, dy, -1) meets y = -1 at z = 1 / dy (dy < 0)
+          const double ndc = (double(f) + n) / (double(f) - n) + 2.0 * f * n / ((double(f) - n) * zv);
+          worst = std::max(worst, std::abs(img.depth[i] - (0.5 * ndc + 0.5)));
+        }
+      EXPECT_GT(covered, size_t(w * h / 4)) << target << " z from " << z_range.x;
+      // Float planes from 1/256-pixel snapped vertices stay within a few 1e-6 here; a wrong
+      // clip-plane depth is off by tenths.
+      EXPECT_LT(worst, 5e-5) << target << " z from " << z_range.x;
+    });
+  }
 }
 
 }  // namespace

@@ -698,7 +698,8 @@ void CompositeExact(TileScratch& s) {
     float c[4] = {s.color[0][p], s.color[1][p], s.color[2][p], s.color[3][p]};
     for (uint32_t* it = first; it != last; ++it) {
       const TileScratch::Fragment& f = s.fragments[*it];
-      const float a = std::min(std::max(f.rgba[3], 0.0f), 1.0f), keep = 1.0f - a;
+      // As FlushBatch's Max/Min: a NaN alpha counts as 0, so the sort mode changes only the order.
+      const float a = f.rgba[3] > 0.0f ? std::min(f.rgba[3], 1.0f) : 0.0f, keep = 1.0f - a;
       for (int k = 0; k < 3; ++k) c[k] = f.rgba[k] * a + c[k] * keep;
       c[3] = a + c[3] * keep;
     }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -235,10 +236,11 @@ TEST(Blending, OneFragmentBlendsTheSameInEverySortModeEvenWithAlphaOutOfRange) {
   Layers l;
   l.add_quad(-3.0f);
   const glm::vec4 bg(0.05f, 0.1f, 0.2f, 1.0f);
-  for (const float alpha : {1.5f, -0.25f}) {
+  // A NaN alpha (a shader's 0/0) is no alpha: the sort mode changes only the order.
+  for (const float alpha : {1.5f, -0.25f, std::numeric_limits<float>::quiet_NaN()}) {
     const ConstantShader sh({0.2f, 0.4f, 0.6f, alpha});
     const DrawCall d = translucent_quad(l, &sh, BlendMode::AlphaOver);
-    const float a = std::clamp(alpha, 0.0f, 1.0f);
+    const float a = alpha > 0.0f ? std::min(alpha, 1.0f) : 0.0f;
     const glm::vec4 expect(0.2f * a + bg.r * (1 - a), 0.4f * a + bg.g * (1 - a), 0.6f * a + bg.b * (1 - a),
                            a + bg.a * (1 - a));
     for_each_target([&](const std::string& target) {

@@ -151,7 +151,8 @@ struct alignas(64) TileScratch {
     uint32_t pixel;  // block-major index in the tile planes
   };
   std::vector<Fragment> fragments;
-  std::vector<uint32_t> fragment_order;  // scratch: fragment indices grouped by pixel
+  std::vector<Fragment> by_pixel;        // scratch: the fragments grouped by pixel, submission order within
+  std::vector<uint32_t> fragment_order;  // scratch: one long pixel's sorted order
   std::vector<uint32_t> pixel_start;     // kTilePixels + 1
 
   uint64_t fragments_visible = 0, pixels_shaded = 0, fragments_blended = 0, lanes_shaded = 0;

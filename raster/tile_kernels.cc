@@ -672,36 +672,52 @@ void FillEmptyTile(const FrameView& frame, int32_t tx0, int32_t ty0) {
 
 // SortMode::Exact: each pixel's fragments, farthest first (submission order among equal
 // depths), composited src-over onto the opaque result. Called per tile, after pass 3.
+//
+// The fragments are first copied into runs, one per pixel, each in submission order: sorting
+// indices into the tile's whole list (a few MB on a furry tile) made every comparison a cache
+// miss, 43 % of an exact-sorted box frame. A short run is sorted in place by insertion, which
+// moves a fragment only past strictly nearer ones and so keeps equal depths in submission
+// order; a long one (a pile of translucent layers) through its indices, by the same order.
 void CompositeExact(TileScratch& s) {
   const size_t count = s.fragments.size();
   if (count == 0) return;
   s.pixel_start.assign(kTilePixels + 1, 0);
   for (const auto& f : s.fragments) ++s.pixel_start[f.pixel + 1];
   for (uint32_t p = 0; p < kTilePixels; ++p) s.pixel_start[p + 1] += s.pixel_start[p];
-  s.fragment_order.resize(count);
+  s.by_pixel.resize(count);
   {
-    std::vector<uint32_t>& cursor = s.fragment_order;  // filled in submission order per pixel
     thread_local std::vector<uint32_t> next;
     next.assign(s.pixel_start.begin(), s.pixel_start.end() - 1);
-    for (uint32_t i = 0; i < count; ++i) cursor[next[s.fragments[i].pixel]++] = i;
+    for (const auto& f : s.fragments) s.by_pixel[next[f.pixel]++] = f;
   }
+  constexpr uint32_t kInsertionMax = 64;
   for (uint32_t p = 0; p < kTilePixels; ++p) {
-    uint32_t* first = s.fragment_order.data() + s.pixel_start[p];
-    uint32_t* last = s.fragment_order.data() + s.pixel_start[p + 1];
-    if (first == last) continue;
-    // Indices are in submission order, so breaking depth ties by index is the stable order
-    // (std::stable_sort would allocate its buffer for every pixel).
-    std::sort(first, last, [&](uint32_t a, uint32_t b) {
-      const float da = s.fragments[a].depth, db = s.fragments[b].depth;
-      return da > db || (da == db && a < b);
-    });
+    TileScratch::Fragment* run = s.by_pixel.data() + s.pixel_start[p];
+    const uint32_t n = s.pixel_start[p + 1] - s.pixel_start[p];
+    if (n == 0) continue;
     float c[4] = {s.color[0][p], s.color[1][p], s.color[2][p], s.color[3][p]};
-    for (uint32_t* it = first; it != last; ++it) {
-      const TileScratch::Fragment& f = s.fragments[*it];
-      // As FlushBatch's Max/Min: a NaN alpha counts as 0, so the sort mode changes only the order.
+    // As FlushBatch's Max/Min: a NaN alpha counts as 0, so the sort mode changes only the order.
+    auto blend = [&](const TileScratch::Fragment& f) {
       const float a = f.rgba[3] > 0.0f ? std::min(f.rgba[3], 1.0f) : 0.0f, keep = 1.0f - a;
       for (int k = 0; k < 3; ++k) c[k] = f.rgba[k] * a + c[k] * keep;
       c[3] = a + c[3] * keep;
+    };
+    if (n <= kInsertionMax) {
+      for (uint32_t i = 1; i < n; ++i) {
+        const TileScratch::Fragment f = run[i];
+        uint32_t j = i;
+        for (; j > 0 && run[j - 1].depth < f.depth; --j) run[j] = run[j - 1];
+        run[j] = f;
+      }
+      for (uint32_t i = 0; i < n; ++i) blend(run[i]);
+    } else {
+      std::vector<uint32_t>& order = s.fragment_order;
+      order.resize(n);
+      for (uint32_t i = 0; i < n; ++i) order[i] = i;
+      std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        return run[a].depth > run[b].depth || (run[a].depth == run[b].depth && a < b);
+      });
+      for (uint32_t i : order) blend(run[i]);
     }
     for (int k = 0; k < 4; ++k) s.color[k][p] = c[k];
   }

@@ -206,6 +206,49 @@ TEST(Blending, EqualDepthsCompositeInSubmissionOrderInEverySortMode) {
   });
 }
 
+// The exact sort orders a pixel's pile the same way whatever its height: a short pile in place,
+// one of more than 64 fragments through its indices (tile_kernels.cc, CompositeExact). Layers
+// submitted in a scrambled order, every depth shared by two of them (submission order decides
+// between those), composite farthest first.
+TEST(Blending, ExactSortCompositesShortAndTallPilesFarthestFirst) {
+  for (const int n : {20, 150}) {
+    std::vector<int> order(n);
+    for (int k = 0; k < n; ++k) order[k] = k;
+    std::shuffle(order.begin(), order.end(), std::mt19937(11));
+    std::vector<Layers> layers(n);
+    std::vector<std::unique_ptr<ConstantShader>> shaders;
+    std::vector<DrawCall> draws;
+    auto colour = [](int k) {
+      return glm::vec4(0.1f + 0.8f * float(k % 7) / 6.0f, 0.9f - 0.8f * float(k % 5) / 4.0f, 0.3f, 0.05f + 0.1f * float(k % 4));
+    };
+    auto depth = [](int k) { return -2.0f - 0.05f * float(k / 2); };  // layers 2j and 2j + 1 share a depth
+    for (int i = 0; i < n; ++i) {
+      const int k = order[i];
+      layers[i].add_quad(depth(k));
+      shaders.push_back(std::make_unique<ConstantShader>(colour(k)));
+      draws.push_back(translucent_quad(layers[i], shaders.back().get(), BlendMode::AlphaOver));
+    }
+    // Farthest first; between equal depths, the one submitted first.
+    std::vector<int> by_depth(order);
+    std::stable_sort(by_depth.begin(), by_depth.end(), [&](int a, int b) { return depth(a) < depth(b); });
+    const glm::vec4 bg(0.05f, 0.1f, 0.2f, 1.0f);
+    glm::vec4 expect = bg;
+    for (int k : by_depth) {
+      const glm::vec4 c = colour(k);
+      expect = glm::vec4(glm::vec3(c) * c.a + glm::vec3(expect) * (1 - c.a), c.a + expect.a * (1 - c.a));
+    }
+    for_each_target([&](const std::string& target) {
+      RenderOptions opt;
+      opt.background = bg;
+      opt.sort = SortMode::Exact;
+      const Image img = render(draws, 64, 64, 2, opt);
+      for (size_t p : {size_t(32 * 64 + 32), size_t(5 * 64 + 60), size_t(60 * 64 + 3)})
+        for (int c = 0; c < 4; ++c)
+          EXPECT_NEAR(img.color[p * 4 + c], expect[c], 1e-5) << target << " layers " << n << " pixel " << p;
+    });
+  }
+}
+
 // pipeline.h: Additive is C = Cd + Cs a, A = Ad: the source is weighted by its alpha (a
 // quarter-transparent glow adds a quarter of its colour) and leaves the target's alpha alone.
 // Kills the additive blend dropping the alpha weight (tile_kernels.cc, FlushBatch).

@@ -282,5 +282,36 @@ TEST(NormalBlur, BadInputNamesTheField) {
   EXPECT_EQ(e->field, "normal_blur_radius[1]");
 }
 
+// The documented weights, by hand, at one vertex: exp(-d^2 / (2 sigma^2)) times the vertex's area
+// (a third of its triangles' areas), for every vertex within 3 sigma along the edges, then
+// normalised. Vertex 0 has neighbours at edge distances 1 (areas 1/6 and 1/2, normals +x, +y) and
+// 2 (area 1/3, normal -x); the three sigmas put those distances on each side of 2 sigma and 3
+// sigma, so a changed exponent, cut-off or area weight each moves the result.
+TEST(NormalBlur, WeightsAreGaussianInEdgeDistanceTimesVertexArea) {
+  TestMesh m;
+  m.pos = {0, 0, 0, 1, 0, 0, 0, 1, 0, -2, 0, 0};
+  m.nrm = {0, 0, 1, 1, 0, 0, 0, 1, 0, -1, 0, 0};
+  m.idx = {0, 1, 2, 0, 2, 3};  // areas 1/2 and 1
+  const double area[4] = {0.5, 0.5 / 3, 0.5, 1.0 / 3}, dist[4] = {0, 1, 1, 2};
+  const double n[4][3] = {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}};
+  const float sigma[3] = {0.8f, 0.4f, 0.3f};
+  BlurredNormals out;
+  ASSERT_FALSE(blur_normals(m.input(), sigma, out).has_value());
+  for (int c = 0; c < 3; ++c) {
+    const double s = sigma[c];
+    double sum[3] = {0, 0, 0};
+    for (int v = 0; v < 4; ++v) {
+      if (dist[v] > 3 * s) continue;
+      const double w = area[v] * std::exp(-dist[v] * dist[v] / (2 * s * s));
+      for (int a = 0; a < 3; ++a) sum[a] += w * n[v][a];
+    }
+    const double len = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(out.channel[c][a], sum[a] / len, 1e-6) << "channel " << c << " axis " << a;
+  }
+  EXPECT_NE(out.channel[1][0], 0.0f) << "sigma 0.4 reaches the neighbours at distance 1";
+  EXPECT_EQ(out.channel[2][0], 0.0f) << "sigma 0.3 reaches no neighbour";
+  EXPECT_EQ(out.channel[2][2], 1.0f);
+}
+
 }  // namespace
 }  // namespace pelt::shading

@@ -414,6 +414,39 @@ TEST(FurLighting, KnownValuesForASimpleFrame) {
   });
 }
 
+// The lobe's exponent on the sine is the shininess itself (sin^shininess, evaluated as
+// (sin^2)^(shininess/2)). The known values above put H perpendicular to T, where any exponent
+// gives 1: here H is 60 degrees from T, sin = sqrt(3)/2, so the lobe is 0.75^(shininess/2).
+TEST(FurLighting, SpecularLobeIsTheSineToTheShininess) {
+  Inputs in(16);
+  const float c30 = std::sqrt(0.75f);
+  for (size_t i = 0; i < 16; ++i) {
+    in.set3(&Inputs::pos, i, 0, 0, 0);
+    in.set3(&Inputs::tangent, i, 2, 0, 0);
+    in.set3(&Inputs::normal, i, 0, 0, 3);
+    in.height()[i] = 1.0f;
+    for (int c = 0; c < 4; ++c) in.texel(c)[i] = 0.5f;
+  }
+  // Eye and light along the same direction, 30 degrees from N toward T: H = L, N.L = cos 30.
+  const Light l{Light::Type::Directional, {0.5f, 0, c30}, {1, 1, 1}};
+  const float eye[3] = {2.0f, 0, 4.0f * c30};
+  for (float shininess : {40.0f, 7.0f, 12.5f}) {
+    FurLightParams p;
+    p.diffuse = 0.0f;
+    p.specular = 0.5f;
+    p.shininess = shininess;
+    const double want = 0.5 * std::pow(0.75, shininess / 2.0) * std::sqrt(0.75);
+    Outputs r(16);
+    shade_fur_reference(p, &l, 1, eye, in.soa(), r.soa());
+    EXPECT_NEAR(r.at(0, 0), want, 1e-6 * want) << "reference, shininess " << shininess;
+    for_each_target([&](int64_t) {
+      Outputs o(16);
+      shade_fur(p, &l, 1, eye, in.soa(), o.soa());
+      EXPECT_NEAR(o.at(0, 0), want, 1e-5 * want) << "kernel, shininess " << shininess;
+    });
+  }
+}
+
 TEST(FurLighting, MatchLlvmpipeMatchesReference) {
   Rng r(0x11f3);
   const size_t n = 65536;

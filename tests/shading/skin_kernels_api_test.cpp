@@ -50,6 +50,12 @@ TEST(ShadingApi, ErrorsNameTheField) {
   Light bad = light;
   bad.color[2] = -1.0f;
   EXPECT_EQ(error_of([&] { shade_lambert(&bad, 1, eye, in.soa(), out.soa()); }).rfind("lights[0].color[2]:", 0), 0u);
+  // light.h: each colour channel in [0, 1e6] (the kernels' float sums stay finite below it).
+  bad = light;
+  bad.color[1] = 1e6f;
+  EXPECT_NO_THROW(shade_lambert(&bad, 1, eye, in.soa(), out.soa()));
+  bad.color[1] = 1.5e6f;
+  EXPECT_EQ(error_of([&] { shade_lambert(&bad, 1, eye, in.soa(), out.soa()); }).rfind("lights[0].color[1]:", 0), 0u);
   bad = light;
   bad.vec[0] = bad.vec[1] = bad.vec[2] = 0.0f;
   EXPECT_EQ(error_of([&] { shade_lambert(&bad, 1, eye, in.soa(), out.soa()); }).rfind("lights[0].vec:", 0), 0u);

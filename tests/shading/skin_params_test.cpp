@@ -55,6 +55,21 @@ TEST(SkinParams, RangeEndsAreValid) {
   EXPECT_FALSE(validate(p).has_value());
 }
 
+// normal_blur_mix is a mix weight, documented as [0, 1]: above 1 the flat N.L term would be
+// subtracted ((1 - w) < 0). Both ends are valid, just past the top is not.
+TEST(SkinParams, NormalBlurMixIsAWeightInZeroOne) {
+  SkinParams p;
+  for (float& w : p.normal_blur_mix) w = 1.0f;
+  EXPECT_FALSE(validate(p).has_value());
+  for (float& w : p.normal_blur_mix) w = 0.0f;
+  EXPECT_FALSE(validate(p).has_value());
+  p.normal_blur_mix[2] = 1.001f;
+  const auto e = validate(p);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "normal_blur_mix[2]");
+  EXPECT_NE(e->reason.find("[0, 1]"), std::string::npos) << e->reason;
+}
+
 TEST(SkinParams, SwitchNamesRoundTrip) {
   for (auto v : {SingleScattering::off, SingleScattering::paper, SingleScattering::correct}) {
     SingleScattering out = SingleScattering::off;

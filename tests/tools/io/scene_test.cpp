@@ -278,6 +278,21 @@ TEST_F(SceneFixture, OutOfRange) {
   expect_error(edited("\"Eta\": 1.3", "\"Eta\": 9"), "objects[3].material.skin.Eta", "must be in [0.25, 4]");
 }
 
+// The documented ranges at their edges (README, scene format): far must exceed near, not equal
+// it (a zero-depth frustum); a directional light's direction is required, not defaulted; the
+// background's channels are >= 0 and its alpha at most 1; a light's colour at most 1e6 even
+// where its intensity would keep the product in range.
+TEST_F(SceneFixture, RangeEdgesAndRequiredDirection) {
+  expect_error(edited("\"far\": 50", "\"far\": 0.5"), "camera.far", "must be greater than near");
+  expect_error(edited("\"direction\": [0, 0, 2], ", ""), "lights[0].direction", "required field is missing");
+  expect_error(edited("\"background\": [0.1, 0.2, 0.3, 1.0]", "\"background\": [0.1, -0.2, 0.3, 1.0]"),
+               "image.background[1]", "must be >= 0");
+  expect_error(edited("\"background\": [0.1, 0.2, 0.3, 1.0]", "\"background\": [0.1, 0.2, 0.3, 1.5]"),
+               "image.background[3]", "alpha must be in [0, 1]");
+  expect_error(edited("\"color\": [1, 0.9, 0.8], \"intensity\": 2", "\"color\": [1, 2e6, 0.8], \"intensity\": 0.1"),
+               "lights[0].color[1]", "must be in [0, 1e+06]");
+}
+
 TEST_F(SceneFixture, NonFiniteNumber) {
   // JSON has no NaN or infinity; a number beyond double range is the way to write one.
   expect_error(edited("\"eye\": [0, 2, 8]", "\"eye\": [0, 2e999, 8]"), "", "number overflow parsing '2e999'");

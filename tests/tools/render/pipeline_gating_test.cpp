@@ -111,6 +111,20 @@ TEST(Gating, GustingWindIsReevaluatedEveryFrameAndNothingElse) {
   EXPECT_EQ(count_ran(run, "fur_textures"), 1);
 }
 
+// Blurred normals are built for a skin whose multiple_scattering is normal_blur, and only for
+// it: no other epidermis reads them, so --stats must not report the stage (README: "once per
+// `normal_blur` skin mesh").
+TEST(Gating, NormalBlurRunsOnlyForNormalBlurSkin) {
+  for (const char* mode : {"paper", "reference", "off", "normal_blur"}) {
+    const std::string json = R"({"pelt": 1, "image": {"width": 32, "height": 24},
+        "camera": {"eye": [0, 0, 4], "target": [0, 0, 0]},
+        "objects": [{"mesh": "sphere:12", "material": {"type": "skin", "skin": {"multiple_scattering": ")" +
+                             std::string(mode) + R"("}}}], "animation": {"frames": 2}})";
+    const Frames run = render_frames(json, 2);
+    EXPECT_EQ(count_ran(run, "normal_blur"), std::string(mode) == "normal_blur" ? 1 : 0) << mode;
+  }
+}
+
 TEST(Gating, StaticFurIsPosedOnceAndFinsWeighedOnce) {
   const Frames run = render_frames(furry_box_scene("", 4), 4);
   EXPECT_EQ(count_ran(run, "fur_pose"), 1);

@@ -116,6 +116,20 @@ TEST_F(RenderCommand, ShardsTogetherEqualTheWholeRange) {
   EXPECT_FALSE(fs::exists(dir.path() / "none"));
 }
 
+// A shard with no frames in its range still answers --stats, with an empty frame list: a farm
+// that collects every shard's statistics finds a file for each, as for -o's checked folder.
+TEST_F(RenderCommand, StatsOfAShardWithNothingToRenderListNoFrame) {
+  const fs::path stats = dir.path() / "st" / "empty.json";
+  const Result r = pelt({"-o", (dir.path() / "none/f_###.png").string(), "--frames", "0:1", "--shard", "5/8",
+                         "--stats", stats.string(), "-q"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(stats));
+  const nlohmann::json j = nlohmann::json::parse(read_text(stats));
+  ASSERT_TRUE(j["frames"].is_array()) << j.dump();
+  EXPECT_EQ(j["frames"].size(), 0u);
+  EXPECT_FALSE(fs::exists(dir.path() / "none"));
+}
+
 TEST_F(RenderCommand, ResumeRendersOnlyMissingFramesAndMatches) {
   const std::string out = (dir.path() / "run/f_###.png").string();
   const Result first = pelt({"-o", out, "-q"});  // default range: every frame

@@ -166,6 +166,31 @@ TEST(SkinClosedForms, DermisUsesTheRefractedCosinesAndBothTransmissions) {
     }
 }
 
+// README, listing bug 3: the paper's Kr is <= 0 everywhere and efresnel maps it to 0, so the
+// `paper` dermis transmits Kt = 1 in and out at every angle, whatever `fresnel` says, and (item 6)
+// takes no factor pi. With its phase at g = 0 equal to 1, at Eta = 1.4:
+//   dermis = SSC Cl cos_i a (1 - exp(-d (1/ct_i + 1/ct_o))) / (ct_i + ct_o).
+// PaperDermisIsTheListingsArithmetic runs at Eta = 1, where exact Fresnel also gives Kt = 1.
+TEST(SkinClosedForms, PaperDermisTransmitsEverythingAtEta14) {
+  const double eta = double(1.4f), d = 0.5;
+  for (Fresnel fr : {Fresnel::exact, Fresnel::efresnel}) {
+    SkinParams p = bare();
+    p.single_scattering = SingleScattering::paper;
+    p.phase = Phase::paper;
+    p.fresnel = fr;
+    p.g = 0.0f;
+    p.Thickness = float(d);
+    p.SingleScatteringCoeff = 2.0f;
+    const double ti = 70.0 * kPi / 180.0, to = 35.0 * kPi / 180.0;
+    const double cti = std::sqrt(1.0 - std::sin(ti) * std::sin(ti) / (eta * eta));
+    const double cto = std::sqrt(1.0 - std::sin(to) * std::sin(to) / (eta * eta));
+    const double want = 2.0 * std::cos(ti) * -std::expm1(-d * (1.0 / cti + 1.0 / cto)) / (cti + cto);
+    Point pt;
+    pt.view = tilted(-35.0);
+    expect_layer(p, {directional(tilted(70.0))}, pt, 10, want, 2e-5);
+  }
+}
+
 // Forward scattering for g > 0. Light and view along the normal make the refracted directions
 // exactly opposite (cos theta = -1), so the dermis carries the phase function's backward value
 // (1 - g) / (4 pi (1 + g)^2): with g = 0.5 it is 27 times smaller than with g = -0.5.

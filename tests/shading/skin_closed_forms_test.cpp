@@ -230,6 +230,43 @@ TEST(SkinClosedForms, PhongSebumPeaksAtTheMirrorDirection) {
   expect_layer(p, {l}, pt, 4, 0.5 * 2.0 * std::pow(std::cos(10.0 * kPi / 180.0), 7.0), 1e-4);
 }
 
+// Blinn-Phong: the lobe is (N.H)^Power with H the UNIT half vector of L and V. Light 40 degrees
+// one side of the normal and view on it (or 60 and -20) put H 20 degrees off N: cos(20)^Power.
+TEST(SkinClosedForms, BlinnSebumUsesTheUnitHalfVector) {
+  SkinParams p = bare();
+  p.specular = Specular::blinn;
+  p.Specularity = 0.5f;
+  p.Power = 20.0f;
+  const double lobe = std::pow(std::cos(20.0 * kPi / 180.0), 20.0);
+  for (auto [li, vi] : {std::pair{40.0, 0.0}, {60.0, -20.0}}) {
+    Point pt;
+    pt.view = tilted(vi);
+    expect_layer(p, {directional(tilted(li))}, pt, 4, 0.5 * lobe, 1e-4);
+  }
+}
+
+// The basic Blinn material of the same form: rgb = Cl (albedo N.L + specular (N.H)^shininess),
+// here with albedo 0, so the specular term alone.
+TEST(SkinClosedForms, BasicBlinnUsesTheUnitHalfVector) {
+  BasicParams bp;
+  for (float& s : bp.specular) s = 0.5f;
+  bp.shininess = 32.0f;
+  const Light l = directional(tilted(40.0));
+  const double want = 0.5 * std::pow(std::cos(20.0 * kPi / 180.0), 32.0);
+  ref::Sample s{};
+  s.normal[2] = 1.0;
+  const double eye_d[3] = {0.0, 0.0, 10.0};
+  EXPECT_NEAR(ref::shade_blinn_pixel(bp, &l, 1, eye_d, s).rgb[0], want, 1e-6 * want);
+  testing::Inputs in(16);
+  for (size_t i = 0; i < 16; ++i) in.normal(2)[i] = 1.0f;
+  const float eye[3] = {0.0f, 0.0f, 10.0f};
+  testing::for_each_target([&](int64_t) {
+    testing::Outputs out(16);
+    shade_blinn(bp, &l, 1, eye, in.soa(), out.soa());
+    EXPECT_NEAR(out.at(0, 7), want, 1e-4 * want);
+  });
+}
+
 // The paper's epidermis is "used like an ambient component", per light with no direction and
 // (README) ambient lights included: an ambient light alone gives C_d I_ms Cl / (abs(I.N) + l_c).
 TEST(SkinClosedForms, FakeEpidermisIsLitByAmbientLightsToo) {

@@ -285,10 +285,34 @@ TEST(SkinClosedForms, FakeEpidermisIsLitByAmbientLightsToo) {
   expect_layer(p, {amb, directional(tilted(-20.0), 0.4f)}, pt, 7, want * (0.6 + 0.4) / 0.6, 1e-5);
 }
 
+// README (Opacity): the shading functions return rgb and every layer premultiplied by Opacity
+// (RenderMan's Ci = Oi * ...), so halving Opacity halves each of them, in every epidermis model.
+TEST(SkinClosedForms, EveryLayerIsPremultipliedByOpacity) {
+  const std::vector<Light> lights = {directional(tilted(30.0)), {Light::Type::Ambient, {0, 0, 0}, {0.2f, 0.2f, 0.2f}}};
+  Point pt;
+  pt.view = tilted(-20.0);
+  for (MultipleScattering ms : {MultipleScattering::paper, MultipleScattering::normal_blur, MultipleScattering::reference}) {
+    SCOPED_TRACE(std::string(to_string(ms)));
+    SkinParams p;
+    p.multiple_scattering = ms;
+    SkinParams half = p;
+    half.Opacity = 0.5f;
+    for (int k : {0, 4, 7, 10}) {
+      const double full = reference_layer(p, lights, pt, k);
+      ASSERT_GT(full, 0.0) << testing::output_name(k);
+      expect_layer(half, lights, pt, k, 0.5 * full, 1e-5);
+    }
+    expect_layer(half, lights, pt, 3, 0.5, 0.0);
+  }
+}
+
 // Normal blur: C_d I_ms Cl ((1 - w) max(0, N.L) + w max(0, N_blur.L)), w = normal_blur_mix[c].
 TEST(SkinClosedForms, NormalBlurMixWeighsTheBlurredNormal) {
   SkinParams p = bare();
   p.multiple_scattering = MultipleScattering::normal_blur;
+  p.DiffusionColor[0] = 0.8f;
+  p.DiffusionColor[1] = 0.5f;
+  p.DiffusionColor[2] = 0.3f;
   p.normal_blur_mix[0] = 0.9f;
   p.normal_blur_mix[1] = 0.25f;
   p.normal_blur_mix[2] = 0.0f;
@@ -298,7 +322,7 @@ TEST(SkinClosedForms, NormalBlurMixWeighsTheBlurredNormal) {
   const Light l = directional(tilted(30.0));  // N.L = cos 30, N_blur.L = 1/2
   for (int c = 0; c < 3; ++c) {
     const double w = p.normal_blur_mix[c];
-    expect_layer(p, {l}, pt, 7 + c, (1 - w) * std::cos(kPi / 6) + w * 0.5, 1e-5);
+    expect_layer(p, {l}, pt, 7 + c, p.DiffusionColor[c] * ((1 - w) * std::cos(kPi / 6) + w * 0.5), 1e-5);
   }
 }
 

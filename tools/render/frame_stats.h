@@ -26,6 +26,7 @@ inline constexpr const char* kStageNames[] = {
     "fur_pose",      // lerp of the two poses, strand tangents, fur varyings
     "fur_lighting",  // strand lighting per fur vertex (when pose, view or lights change)
     "fins",          // view-dependent fin weights and the list of visible fins
+    "fur_sort",      // the surface sort's keys (sort surface only; when the pose or camera moves)
     "raster_front",  // transform, clip, set-up, binning
     "raster_tiles",  // rasterize, shade, blend, resolve
     "write",         // image output

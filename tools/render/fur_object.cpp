@@ -379,6 +379,7 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
   if (poses_dirty_ || !pose_t_ || *pose_t_ != t) {
     StageTimer st(stats, "fur_pose");
     rebuild_pose(t);
+    keyed_clip_.reset();
     pose_t_ = t;
     poses_dirty_ = false;
     lighting_dirty_ = true;
@@ -422,6 +423,16 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
     fins_eye_ = f.eye;
     fin_list_dirty_ = false;
   }
+  // A subpixel jitter of the projection (supersampling) moves no key: depths are w, and the
+  // lean on screen is a difference of positions.
+  if (f.sort == FurSort::surface && (!keyed_clip_ || *keyed_clip_ != f.clip_from_world)) {
+    StageTimer st(stats, "fur_sort");
+    if (!surface_order_) surface_order_.emplace(geo_);
+    pose_clip_.resize(pose_.size());
+    for (size_t i = 0; i < pose_.size(); ++i) pose_clip_[i] = f.clip_from_world * glm::vec4(pose_[i], 1.0f);
+    surface_order_->compute(pose_clip_, shell_keys_);
+    keyed_clip_ = f.clip_from_world;
+  }
 }
 
 void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::mat4& clip_from_world,
@@ -461,19 +472,14 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
     sh->set_grey_lighting(grey_);
   }
 
-  if (sort == FurSort::surface) {
-    if (!surface_order_) surface_order_.emplace(geo_);
-    pose_clip_.resize(pose_.size());
-    for (size_t i = 0; i < pose_.size(); ++i) pose_clip_[i] = clip_from_world * glm::vec4(pose_[i], 1.0f);
-    surface_order_->compute(pose_clip_, shell_keys_);
-  }
   auto draw = [&](bool fin, uint32_t first_tri, uint32_t count, FurShader* sh) {
     if (count == 0) return;
     raster::DrawCall d;
     d.positions = pose_.data();
     // Fins keep their mean-depth keys: keyed after the shells at their root layer instead, the
     // shipped scenes' silhouette fins measured further from the exact sort (README).
-    if (sort == FurSort::surface && !fin) d.sort_keys = shell_keys_.data() + first_tri;
+    if (sort == FurSort::surface && !fin && shell_keys_.size() == geo_.shell_indices.size() / 3)
+      d.sort_keys = shell_keys_.data() + first_tri;
     d.vertex_count = static_cast<uint32_t>(pose_.size());
     d.indices = (fin ? fin_list_.data() : geo_.shell_indices.data()) + 3 * size_t{first_tri};
     d.triangle_count = count;

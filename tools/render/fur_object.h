@@ -73,6 +73,7 @@ struct FurFrame {
   bool still = false;  // the scene has no animation: the wind pose, not a point of the swing
   FurSort sort = FurSort::tile;  // the order append_draws draws in (the fin list's layout follows it)
   glm::vec3 eye{0.0f};
+  glm::mat4 clip_from_world{1.0f};  // the camera (projection * view): the surface sort's screen
   std::optional<fur::WindParams> wind;
   std::optional<fur::GravityParams> gravity;
 };
@@ -88,7 +89,7 @@ class FurObject {
             const FurOrigin& origin, FrameStats& setup);
 
   // Brings poses, tangents, lighting, varyings and fins up to date for `f` seen under
-  // `lights`; records the "gravity", "wind", "fur_pose", "fur_lighting" and "fins" stages
+  // `lights`; records the "gravity", "wind", "fur_pose", "fur_lighting", "fins" and "fur_sort" stages
   // that ran. A wind of strength 0 in `f` (static, or an animated strength at 0 this frame)
   // pushes nothing, whatever its gusts: it is no wind, and frames that differ only in time
   // are not re-simulated.
@@ -144,10 +145,12 @@ class FurObject {
   bool merge_fins_;
   std::vector<uint64_t> fin_breaks_;  // merge_fins_: per base vertex, fur::fin_chain_breaks of pose_
   std::vector<uint32_t> fin_ends_;    // one fin's fur::fin_quad_ends
-  // FurSort::surface: the shells' keys, made per draw from the pose in clip space.
+  // FurSort::surface: the shells' keys from the pose in clip space, made by update() when the
+  // pose or the camera moves (nullopt: not made for the current pose).
   std::optional<fur::SurfaceOrder> surface_order_;
   std::vector<glm::vec4> pose_clip_;
   std::vector<float> shell_keys_;
+  std::optional<glm::mat4> keyed_clip_;
 
   // Per-vertex lighting: SoA inputs and outputs padded to whole 16-lane batches.
   struct Soa {

@@ -393,6 +393,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
     f.still = !scene_.animation;
     f.sort = fur_sort;
     f.eye = camera.eye;
+    f.clip_from_world = clip_from_world;
     f.wind = inputs.fur[i].wind;
     f.gravity = inputs.fur[i].gravity;
     objects_[i]->fur->update(f, lights_, stats);

@@ -133,6 +133,19 @@ TEST(Gating, StaticFurIsPosedOnceAndFinsWeighedOnce) {
   for (int f = 1; f < 4; ++f) EXPECT_EQ(run.images[f].color, run.images[0].color) << f;
 }
 
+// The surface sort's keys are made only for that sort, and again only when the pose or the
+// camera moves: once for a static furry box, every frame while a gusting wind moves it.
+TEST(Gating, SurfaceSortKeysAreMadeOnlyWhenThePoseOrCameraMoves) {
+  auto with_surface = [](std::string json) {
+    json.insert(json.find('{') + 1, R"("quality": {"sort": "surface"}, )");
+    return json;
+  };
+  EXPECT_EQ(count_ran(render_frames(furry_box_scene("", 4), 4), "fur_sort"), 0);
+  EXPECT_EQ(count_ran(render_frames(with_surface(furry_box_scene("", 4)), 4), "fur_sort"), 1);
+  const std::string gusts = furry_box_scene(R"("wind": {"strength": 1, "gust_frequency": 0.5, "gust_scale": 0.3})", 4);
+  EXPECT_EQ(count_ran(render_frames(with_surface(gusts), 4), "fur_sort"), 4);
+}
+
 TEST(Gating, FurryBoxIsIdenticalOnOneAndTwoThreads) {
   const std::string json = furry_box_scene(R"("gravity": {}, "wind": {})", 3);
   const Frames one = render_frames(json, 3, 1), two = render_frames(json, 3, 2);

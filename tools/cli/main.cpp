@@ -13,6 +13,7 @@
 
 int main(int argc, char** argv) {
   CLI::App app{"pelt: tiled SIMD rasterizer for fur and skin"};
+  app.set_version_flag("--version", std::string("pelt ") + PELT_VERSION, "Print pelt's version and exit");
   app.require_subcommand(1);
   std::map<CLI::App*, pelt::cli::Run> runs;
   for (auto add : {pelt::cli::add_render_command, pelt::cli::add_info_command,
@@ -25,6 +26,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);

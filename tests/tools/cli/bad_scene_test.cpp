@@ -125,5 +125,17 @@ TEST(RenderMeshWarnings, AreShownAndTheFrameStillRenders) {
   EXPECT_TRUE(fs::exists(out));
 }
 
+// `pelt --version` answers with the project's version and exit code 0, no subcommand needed;
+// without either, pelt asks for a subcommand (exit 2).
+TEST(PeltVersion, PrintsTheProjectVersion) {
+  TempDir dir;
+  const Result v = run_pelt({"--version"}, dir.path());
+  EXPECT_EQ(v.code, 0) << v.err;
+  EXPECT_EQ(v.out, "pelt 0.1\n");
+  const Result none = run_pelt({}, dir.path());
+  EXPECT_EQ(none.code, 2);
+  EXPECT_NE(none.err.find("subcommand"), std::string::npos) << none.err;
+}
+
 }  // namespace
 }  // namespace pelt::cli_test

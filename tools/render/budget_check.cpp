@@ -6,6 +6,7 @@
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "fur/fur_geometry.h"
 #include "raster/renderer.h"
@@ -23,16 +24,19 @@ using io::sat_mul;
 // Per base vertex: unit normal, growth direction, dynamics force.
 constexpr uint64_t kFurBytesPerBaseVertex = 3 * sizeof(glm::vec3);
 // Per fur vertex: rest position, shell and fin uvs, layer, the gravity, wind and current
-// poses, tangent, the 26-row lighting SoA of vertex lighting, and shell and fin varyings of
-// the larger (pixel lighting) layout.
+// poses, tangent, the 26-row lighting SoA of vertex lighting, shell and fin varyings of the
+// larger (pixel lighting) layout, and the pose in clip space (the surface sort's keys;
+// counted whatever the sort, as the scene's own quality may be overridden).
 constexpr uint64_t kFurBytesPerVertex = sizeof(glm::vec3) + 2 * sizeof(glm::vec2) + sizeof(uint16_t) +
-                                        4 * sizeof(glm::vec3) + 26 * sizeof(float) +
+                                        4 * sizeof(glm::vec3) + 26 * sizeof(float) + sizeof(glm::vec4) +
                                         2 * std::max(FurVaryings::kCount, FurPixelVaryings::kCount) * sizeof(float);
-// Per base face: its unit normal. Per shell or fin triangle: three indices. Per edge: the
+// Per base face: its unit normal. Per shell triangle: the surface sort's key. Per shell or
+// fin triangle: three indices. Per edge: the
 // FurEdge, its fin weight, and the fin list entries of its (shells - 1) quads, counted
 // per fin triangle (one uint32 per quad, two triangles a quad).
 constexpr uint64_t kFurBytesPerBaseFace = sizeof(glm::vec3);
 constexpr uint64_t kFurBytesPerTriangle = 3 * sizeof(uint32_t);
+constexpr uint64_t kFurBytesPerShellTriangle = sizeof(float);
 constexpr uint64_t kFurBytesPerEdge = sizeof(fur::FurEdge) + sizeof(float);
 constexpr uint64_t kFurBytesPerFinTriangle = sizeof(uint32_t) / 2;
 
@@ -122,6 +126,7 @@ void add_fur_parts(const io::Scene& scene, const Mesh& m, size_t i, int threads,
   g = sat_add(g, sat_mul(c.shell_vertices, kFurBytesPerVertex));
   g = sat_add(g, sat_mul(c.base_faces, kFurBytesPerBaseFace));
   g = sat_add(g, sat_mul(sat_add(c.shell_faces, c.fin_faces), kFurBytesPerTriangle));
+  g = sat_add(g, sat_mul(c.shell_faces, kFurBytesPerShellTriangle));
   g = sat_add(g, sat_mul(c.edges, kFurBytesPerEdge));
   g = sat_add(g, sat_mul(c.fin_faces, kFurBytesPerFinTriangle));
   geo.bytes = g;

@@ -174,6 +174,18 @@ TEST(MemoryEstimate, BoundsWhatTheRendererHolds) {
   const uint64_t held = r.memory_estimate();
   EXPECT_GE(e.total, held);
   EXPECT_LE(e.total, held * 5 / 2);
+  // After a frame of the surface sort, which also holds the pose in clip space and a key per
+  // shell triangle.
+  io::Quality q;
+  q.sort = io::SortQuality::surface;
+  rs.quality = q;
+  SceneRenderer drawn(s, meshes, rs);
+  FrameImage img;
+  FrameStats st;
+  drawn.render(0, img, st);
+  EXPECT_TRUE(st.stage("fur_sort").ran);
+  EXPECT_GT(drawn.memory_estimate(), held);
+  EXPECT_GE(e.total, drawn.memory_estimate());
 }
 
 TEST(MemoryEstimate, ColourMapSizedFromItsHeader) {

@@ -89,8 +89,8 @@ class FurObject {
             const FurOrigin& origin, FrameStats& setup);
 
   // Brings poses, tangents, lighting, varyings and fins up to date for `f` seen under
-  // `lights`; records the "gravity", "wind", "fur_pose", "fur_lighting", "fins" and "fur_sort" stages
-  // that ran. A wind of strength 0 in `f` (static, or an animated strength at 0 this frame)
+  // `lights`; records the "gravity", "wind", "fur_pose", "fur_lighting", "fins" and
+  // "fur_sort" stages that ran. A wind of strength 0 in `f` (static, or an animated strength at 0 this frame)
   // pushes nothing, whatever its gusts: it is no wind, and frames that differ only in time
   // are not re-simulated.
   void update(const FurFrame& f, const std::vector<shading::Light>& lights, FrameStats& stats);

@@ -12,11 +12,12 @@ namespace pelt::fur {
 namespace {
 
 // Keys `key` below `bound` (drawn after it). Non-finite keys and bounds take no part: set-up
-// culls such triangles anyway, and one must not drag its neighbours to infinity.
+// culls such triangles anyway, and one must not drag its neighbours to infinity. A key already
+// below the bound keeps its value (the float just below the bound would not be lower), so
+// nextafter, a library call, runs only where a rule moves a key.
 void key_below(float& key, float bound) {
-  if (!std::isfinite(key) || !std::isfinite(bound)) return;
-  const float below = std::nextafter(bound, -std::numeric_limits<float>::infinity());
-  if (below < key) key = below;
+  if (!(bound <= key) || !std::isfinite(key) || !std::isfinite(bound)) return;
+  key = std::nextafter(bound, -std::numeric_limits<float>::infinity());
 }
 
 }  // namespace

@@ -154,6 +154,7 @@ struct alignas(64) TileScratch {
   std::vector<Fragment> by_pixel;        // scratch: the fragments grouped by pixel, submission order within
   std::vector<uint32_t> fragment_order;  // scratch: one long pixel's sorted order
   std::vector<uint32_t> pixel_start;     // kTilePixels + 1
+  std::vector<uint32_t> pixel_next;      // scratch: per pixel, where its next fragment goes
 
   uint64_t fragments_visible = 0, pixels_shaded = 0, fragments_blended = 0, lanes_shaded = 0;
 };

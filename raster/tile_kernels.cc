@@ -685,11 +685,8 @@ void CompositeExact(TileScratch& s) {
   for (const auto& f : s.fragments) ++s.pixel_start[f.pixel + 1];
   for (uint32_t p = 0; p < kTilePixels; ++p) s.pixel_start[p + 1] += s.pixel_start[p];
   s.by_pixel.resize(count);
-  {
-    thread_local std::vector<uint32_t> next;
-    next.assign(s.pixel_start.begin(), s.pixel_start.end() - 1);
-    for (const auto& f : s.fragments) s.by_pixel[next[f.pixel]++] = f;
-  }
+  s.pixel_next.assign(s.pixel_start.begin(), s.pixel_start.end() - 1);
+  for (const auto& f : s.fragments) s.by_pixel[s.pixel_next[f.pixel]++] = f;
   constexpr uint32_t kInsertionMax = 64;
   for (uint32_t p = 0; p < kTilePixels; ++p) {
     TileScratch::Fragment* run = s.by_pixel.data() + s.pixel_start[p];

@@ -15,39 +15,50 @@
 namespace pelt::raster::test {
 namespace {
 
-TEST(Determinism, OneTwoAndEightThreadsGiveIdenticalImages) {
-  std::mt19937 rng(42);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+// `count` random triangles in front of the camera, of side about `size` (0: each its own, in
+// [0.05, 1.05]), with random colours: the first half drawn opaque, the second through glass
+// (alpha 0.35, no depth write).
+struct GlassSoup {
   std::vector<glm::vec3> pos;
   std::vector<float> var;
   std::vector<uint32_t> idx;
-  for (int i = 0; i < 6000; ++i) {
-    const glm::vec3 c(u(rng) * 3.0f, u(rng) * 3.0f, -5.0f + u(rng) * 3.0f);
-    const float s = 0.05f + 0.5f * (u(rng) + 1.0f);
-    for (int k = 0; k < 3; ++k) {
-      pos.push_back(c + s * glm::vec3(u(rng), u(rng), u(rng)));
-      var.insert(var.end(), {0.5f + 0.5f * u(rng), 0.5f + 0.5f * u(rng), 0.5f + 0.5f * u(rng)});
-      idx.push_back(uint32_t(pos.size() - 1));
+  VaryingShader opaque_sh{1.0f}, glass_sh{0.35f};
+  DrawCall opaque, glass;
+
+  GlassSoup(unsigned seed, int count, float size) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int i = 0; i < count; ++i) {
+      const glm::vec3 c(u(rng) * 3.0f, u(rng) * 3.0f, -5.0f + u(rng) * 3.0f);
+      const float s = size > 0.0f ? size : 0.05f + 0.5f * (u(rng) + 1.0f);
+      for (int k = 0; k < 3; ++k) {
+        pos.push_back(c + s * glm::vec3(u(rng), u(rng), u(rng)));
+        var.insert(var.end(), {0.5f + 0.5f * u(rng), 0.5f + 0.5f * u(rng), 0.5f + 0.5f * u(rng)});
+        idx.push_back(uint32_t(pos.size() - 1));
+      }
     }
+    const uint32_t half = uint32_t(count / 2);
+    opaque.positions = pos.data();
+    opaque.vertex_count = uint32_t(pos.size());
+    opaque.indices = idx.data();
+    opaque.triangle_count = half;
+    opaque.varyings = var.data();
+    opaque.varying_count = 3;
+    opaque.clip_from_object = glm::perspective(glm::radians(60.0f), 4.0f / 3.0f, 0.5f, 20.0f);
+    opaque.shader = &opaque_sh;
+    glass = opaque;
+    glass.indices = idx.data() + 3 * size_t{half};
+    glass.shader = &glass_sh;
+    glass.state.blend = BlendMode::AlphaOver;
+    glass.state.depth_write = false;
   }
-  const glm::mat4 proj = glm::perspective(glm::radians(60.0f), 4.0f / 3.0f, 0.5f, 20.0f);
-  const VaryingShader opaque_sh(1.0f), glass_sh(0.35f);
-  DrawCall opaque;
-  opaque.positions = pos.data();
-  opaque.vertex_count = uint32_t(pos.size());
-  opaque.indices = idx.data();
-  opaque.triangle_count = 3000;
-  opaque.varyings = var.data();
-  opaque.varying_count = 3;
-  opaque.clip_from_object = proj;
-  opaque.shader = &opaque_sh;
-  DrawCall glass = opaque;
-  glass.indices = idx.data() + 3 * 3000;
-  glass.triangle_count = 3000;
-  glass.shader = &glass_sh;
-  glass.state.blend = BlendMode::AlphaOver;
-  glass.state.depth_write = false;
-  const DrawCall draws[2] = {opaque, glass};
+  GlassSoup(const GlassSoup&) = delete;
+  GlassSoup& operator=(const GlassSoup&) = delete;
+};
+
+TEST(Determinism, OneTwoAndEightThreadsGiveIdenticalImages) {
+  const GlassSoup soup(42, 6000, 0.0f);
+  const DrawCall draws[2] = {soup.opaque, soup.glass};
   for (SortMode sort : {SortMode::None, SortMode::Tile, SortMode::Exact}) {
     RenderOptions opt;
     opt.sort = sort;
@@ -121,36 +132,9 @@ TEST(Determinism, StartingWorkerThreadsEarlyLeavesPoolsAsTheyWere) {
 // drawn other frames before, at any thread count. Kills a per-frame counter that is not reset
 // (renderer.cpp: fragments_visible accumulating over frames).
 TEST(Determinism, AReusedRendererGivesEachFrameItsOwnImageAndStats) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<glm::vec3> pos;
-  std::vector<float> var;
-  std::vector<uint32_t> idx;
-  for (int i = 0; i < 800; ++i) {
-    const glm::vec3 c(u(rng) * 3.0f, u(rng) * 3.0f, -5.0f + u(rng) * 3.0f);
-    for (int k = 0; k < 3; ++k) {
-      pos.push_back(c + 0.6f * glm::vec3(u(rng), u(rng), u(rng)));
-      var.insert(var.end(), {0.5f + 0.5f * u(rng), 0.5f + 0.5f * u(rng), 0.5f + 0.5f * u(rng)});
-      idx.push_back(uint32_t(pos.size() - 1));
-    }
-  }
-  const VaryingShader opaque_sh(1.0f), glass_sh(0.35f);
-  DrawCall opaque;
-  opaque.positions = pos.data();
-  opaque.vertex_count = uint32_t(pos.size());
-  opaque.indices = idx.data();
-  opaque.triangle_count = 400;
-  opaque.varyings = var.data();
-  opaque.varying_count = 3;
-  opaque.clip_from_object = glm::perspective(glm::radians(60.0f), 4.0f / 3.0f, 0.5f, 20.0f);
-  opaque.shader = &opaque_sh;
-  DrawCall glass = opaque;
-  glass.indices = idx.data() + 3 * 400;
-  glass.shader = &glass_sh;
-  glass.state.blend = BlendMode::AlphaOver;
-  glass.state.depth_write = false;
-  const DrawCall frame[2] = {opaque, glass};
-  const DrawCall other[1] = {glass};  // a different frame drawn in between
+  const GlassSoup soup(7, 800, 0.6f);
+  const DrawCall frame[2] = {soup.opaque, soup.glass};
+  const DrawCall other[1] = {soup.glass};  // a different frame drawn in between
   const int w = 200, h = 150;
   auto counters = [](const RasterStats& s) {
     return std::vector<uint64_t>{s.triangles_submitted, s.triangles_culled, s.triangles_clipped,

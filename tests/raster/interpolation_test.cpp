@@ -69,6 +69,19 @@ struct Layers {
   }
 };
 
+// src over dst, straight colour: what every translucent fragment does to its pixel.
+glm::vec4 over(glm::vec4 src, glm::vec4 dst) {
+  return glm::vec4(glm::vec3(src) * src.a + glm::vec3(dst) * (1 - src.a), src.a + dst.a * (1 - src.a));
+}
+
+// A 64 x 64 frame of `draws` over `bg`, translucent fragments in `sort`.
+Image render_over(std::span<const DrawCall> draws, glm::vec4 bg, SortMode sort, int threads = 2) {
+  RenderOptions opt;
+  opt.background = bg;
+  opt.sort = sort;
+  return render(draws, 64, 64, threads, opt);
+}
+
 // Constant-alpha layers submitted in a scrambled order composite, with per-tile sorting,
 // to the closed-form back-to-front result.
 TEST(Blending, TileSortCompositesLayersBackToFrontInAnyDrawOrder) {
@@ -142,9 +155,6 @@ TEST(Blending, ExactSortCompositesIntersectingLayersPerPixel) {
     return d;
   };
   const DrawCall draws[2] = {quad(pa, &sa), quad(pb, &sb)};
-  auto over = [](glm::vec4 src, glm::vec4 dst) {
-    return glm::vec4(glm::vec3(src) * src.a + glm::vec3(dst) * (1 - src.a), src.a + dst.a * (1 - src.a));
-  };
   const glm::vec4 bg(0, 0, 0, 1);
   const glm::vec4 left = over(ca, over(cb, bg));   // A nearer: B first, then A
   const glm::vec4 right = over(cb, over(ca, bg));
@@ -189,16 +199,10 @@ TEST(Blending, EqualDepthsCompositeInSubmissionOrderInEverySortMode) {
   const ConstantShader sr(red), sb(blue);
   const DrawCall draws[2] = {translucent_quad(l, &sr, BlendMode::AlphaOver),
                              translucent_quad(l, &sb, BlendMode::AlphaOver)};
-  auto over = [](glm::vec4 src, glm::vec4 dst) {
-    return glm::vec4(glm::vec3(src) * src.a + glm::vec3(dst) * (1 - src.a), src.a + dst.a * (1 - src.a));
-  };
   const glm::vec4 expect = over(blue, over(red, bg));
   for_each_target([&](const std::string& target) {
     for (SortMode sort : {SortMode::None, SortMode::Tile, SortMode::Exact}) {
-      RenderOptions opt;
-      opt.background = bg;
-      opt.sort = sort;
-      const Image img = render(draws, 64, 64, 2, opt);
+      const Image img = render_over(draws, bg, sort);
       for (size_t p : {size_t(32 * 64 + 32), size_t(5 * 64 + 60), size_t(60 * 64 + 3)})
         for (int c = 0; c < 4; ++c)
           EXPECT_NEAR(img.color[p * 4 + c], expect[c], 1e-6) << target << " sort " << int(sort) << " pixel " << p;
@@ -234,14 +238,10 @@ TEST(Blending, ExactSortCompositesShortAndTallPilesFarthestFirst) {
     const glm::vec4 bg(0.05f, 0.1f, 0.2f, 1.0f);
     glm::vec4 expect = bg;
     for (int k : by_depth) {
-      const glm::vec4 c = colour(k);
-      expect = glm::vec4(glm::vec3(c) * c.a + glm::vec3(expect) * (1 - c.a), c.a + expect.a * (1 - c.a));
+      expect = over(colour(k), expect);
     }
     for_each_target([&](const std::string& target) {
-      RenderOptions opt;
-      opt.background = bg;
-      opt.sort = SortMode::Exact;
-      const Image img = render(draws, 64, 64, 2, opt);
+      const Image img = render_over(draws, bg, SortMode::Exact);
       for (size_t p : {size_t(32 * 64 + 32), size_t(5 * 64 + 60), size_t(60 * 64 + 3)})
         for (int c = 0; c < 4; ++c)
           EXPECT_NEAR(img.color[p * 4 + c], expect[c], 1e-5) << target << " layers " << n << " pixel " << p;
@@ -261,10 +261,7 @@ TEST(Blending, AdditiveAddsTheColourWeightedByAlpha) {
   const glm::vec4 expect(0.1f + 2 * 0.2f, 0.2f + 2 * 0.1f, 0.3f + 2 * 0.05f, 0.5f);
   for_each_target([&](const std::string& target) {
     for (SortMode sort : {SortMode::None, SortMode::Tile, SortMode::Exact}) {
-      RenderOptions opt;
-      opt.background = bg;
-      opt.sort = sort;
-      const Image img = render(draws, 64, 64, 2, opt);
+      const Image img = render_over(draws, bg, sort);
       for (int c = 0; c < 4; ++c)
         EXPECT_NEAR(img.color[(32 * 64 + 32) * 4 + c], expect[c], 1e-6) << target << " sort " << int(sort);
     }
@@ -288,10 +285,7 @@ TEST(Blending, OneFragmentBlendsTheSameInEverySortModeEvenWithAlphaOutOfRange) {
                            a + bg.a * (1 - a));
     for_each_target([&](const std::string& target) {
       for (SortMode sort : {SortMode::None, SortMode::Tile, SortMode::Exact}) {
-        RenderOptions opt;
-        opt.background = bg;
-        opt.sort = sort;
-        const Image img = render({&d, 1}, 64, 64, 1, opt);
+        const Image img = render_over({&d, 1}, bg, sort, 1);
         for (int c = 0; c < 4; ++c)
           EXPECT_NEAR(img.color[(32 * 64 + 32) * 4 + c], expect[c], 1e-6)
               << target << " sort " << int(sort) << " alpha " << alpha;

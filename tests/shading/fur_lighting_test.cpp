@@ -377,17 +377,23 @@ TEST(FurLighting, OutputScalesLinearlyWithLightColour) {
   }
 }
 
-// Kajiya-Kay by hand for one fragment: tangent along +x, normal +z, light straight above the
-// normal (sin(T, L) = 1, N.L = 1) and behind the surface (N.L = -1: the wrap factor alone).
-TEST(FurLighting, KnownValuesForASimpleFrame) {
-  Inputs in(16);
-  for (size_t i = 0; i < 16; ++i) {
+// Every lane of `in` one fragment at the origin: tangent along +x, normal +z (unnormalised, as
+// interpolation leaves them), at the tip, texel 0.5.
+void fill_simple_frame(Inputs& in) {
+  for (size_t i = 0; i < in.n; ++i) {
     in.set3(&Inputs::pos, i, 0, 0, 0);
     in.set3(&Inputs::tangent, i, 2, 0, 0);
     in.set3(&Inputs::normal, i, 0, 0, 3);
     in.height()[i] = 1.0f;
     for (int c = 0; c < 4; ++c) in.texel(c)[i] = 0.5f;
   }
+}
+
+// Kajiya-Kay by hand for one fragment: tangent along +x, normal +z, light straight above the
+// normal (sin(T, L) = 1, N.L = 1) and behind the surface (N.L = -1: the wrap factor alone).
+TEST(FurLighting, KnownValuesForASimpleFrame) {
+  Inputs in(16);
+  fill_simple_frame(in);
   FurLightParams p;
   p.specular = 0.0f;
   p.diffuse = 0.8f;
@@ -420,13 +426,7 @@ TEST(FurLighting, KnownValuesForASimpleFrame) {
 TEST(FurLighting, SpecularLobeIsTheSineToTheShininess) {
   Inputs in(16);
   const float c30 = std::sqrt(0.75f);
-  for (size_t i = 0; i < 16; ++i) {
-    in.set3(&Inputs::pos, i, 0, 0, 0);
-    in.set3(&Inputs::tangent, i, 2, 0, 0);
-    in.set3(&Inputs::normal, i, 0, 0, 3);
-    in.height()[i] = 1.0f;
-    for (int c = 0; c < 4; ++c) in.texel(c)[i] = 0.5f;
-  }
+  fill_simple_frame(in);
   // Eye and light along the same direction, 30 degrees from N toward T: H = L, N.L = cos 30.
   const Light l{Light::Type::Directional, {0.5f, 0, c30}, {1, 1, 1}};
   const float eye[3] = {2.0f, 0, 4.0f * c30};

@@ -15,6 +15,7 @@
 #include "shading/skin_kernels.h"
 #include "shading/skin_reference.h"
 #include "tests/shading/batch_harness.h"
+#include "tests/shading/skin_test_params.h"
 
 namespace pelt::shading {
 namespace {
@@ -47,19 +48,6 @@ double fresnel_angles(double theta_i, double eta) {
 double smoothstep_to_half(double x) {
   const double t = std::clamp(x / 0.5, 0.0, 1.0);
   return t * t * (3.0 - 2.0 * t);
-}
-
-// Every layer switched off, white, unit coefficients: a test turns on the term it checks.
-SkinParams bare() {
-  SkinParams p;
-  p.single_scattering = SingleScattering::off;
-  p.multiple_scattering = MultipleScattering::off;
-  p.AmbientCoeff = 0.0f;
-  p.Specularity = 0.0f;
-  p.SingleScatteringCoeff = 1.0f;
-  p.MultipleScatteringCoeff = 1.0f;
-  for (int c = 0; c < 3; ++c) p.SkinColor[c] = p.DiffusionColor[c] = p.SheenColor[c] = 1.0f;
-  return p;
 }
 
 // One shading point at the origin with the given normal, blurred normal (every channel) and
@@ -146,7 +134,7 @@ TEST(SkinClosedForms, DermisUsesTheRefractedCosinesAndBothTransmissions) {
   for (Fresnel fr : {Fresnel::exact, Fresnel::efresnel})
     for (auto [li, vi] : {std::pair{0.0, 0.0}, {60.0, -30.0}, {75.0, 40.0}, {20.0, 80.0}}) {
       SCOPED_TRACE(std::string(to_string(fr)) + " light " + std::to_string(li) + " view " + std::to_string(vi));
-      SkinParams p = bare();
+      SkinParams p = testing::bare_skin();
       p.single_scattering = SingleScattering::correct;
       p.fresnel = fr;
       p.g = 0.0f;
@@ -174,7 +162,7 @@ TEST(SkinClosedForms, DermisUsesTheRefractedCosinesAndBothTransmissions) {
 TEST(SkinClosedForms, PaperDermisTransmitsEverythingAtEta14) {
   const double eta = double(1.4f), d = 0.5;
   for (Fresnel fr : {Fresnel::exact, Fresnel::efresnel}) {
-    SkinParams p = bare();
+    SkinParams p = testing::bare_skin();
     p.single_scattering = SingleScattering::paper;
     p.phase = Phase::paper;
     p.fresnel = fr;
@@ -197,7 +185,7 @@ TEST(SkinClosedForms, PaperDermisTransmitsEverythingAtEta14) {
 TEST(SkinClosedForms, PositiveGScattersForwardSoItsBackscatterIsDim) {
   const double eta = double(1.4f), d = 0.5, kt = 1.0 - std::pow((eta - 1) / (eta + 1), 2);
   for (double g : {0.5, -0.5, 0.8}) {
-    SkinParams p = bare();
+    SkinParams p = testing::bare_skin();
     p.single_scattering = SingleScattering::correct;
     p.g = float(g);
     p.Thickness = float(d);
@@ -212,7 +200,7 @@ TEST(SkinClosedForms, PositiveGScattersForwardSoItsBackscatterIsDim) {
 // Phong sebum: Specularity SheenColor Cl (R.V)^Power with R = 2 (N.L) N - L, the mirror of L.
 // At the mirror direction the lobe is 1; 10 degrees off it, cos(10 deg)^Power.
 TEST(SkinClosedForms, PhongSebumPeaksAtTheMirrorDirection) {
-  SkinParams p = bare();
+  SkinParams p = testing::bare_skin();
   p.Specularity = 0.5f;
   p.SheenColor[1] = 0.4f;
   p.Power = 20.0f;
@@ -233,7 +221,7 @@ TEST(SkinClosedForms, PhongSebumPeaksAtTheMirrorDirection) {
 // Blinn-Phong: the lobe is (N.H)^Power with H the UNIT half vector of L and V. Light 40 degrees
 // one side of the normal and view on it (or 60 and -20) put H 20 degrees off N: cos(20)^Power.
 TEST(SkinClosedForms, BlinnSebumUsesTheUnitHalfVector) {
-  SkinParams p = bare();
+  SkinParams p = testing::bare_skin();
   p.specular = Specular::blinn;
   p.Specularity = 0.5f;
   p.Power = 20.0f;
@@ -270,7 +258,7 @@ TEST(SkinClosedForms, BasicBlinnUsesTheUnitHalfVector) {
 // The paper's epidermis is "used like an ambient component", per light with no direction and
 // (README) ambient lights included: an ambient light alone gives C_d I_ms Cl / (abs(I.N) + l_c).
 TEST(SkinClosedForms, FakeEpidermisIsLitByAmbientLightsToo) {
-  SkinParams p = bare();
+  SkinParams p = testing::bare_skin();
   p.multiple_scattering = MultipleScattering::paper;
   p.MultipleScatteringCoeff = 0.25f;
   p.ClampCoeff = 0.5f;
@@ -308,7 +296,7 @@ TEST(SkinClosedForms, EveryLayerIsPremultipliedByOpacity) {
 
 // Normal blur: C_d I_ms Cl ((1 - w) max(0, N.L) + w max(0, N_blur.L)), w = normal_blur_mix[c].
 TEST(SkinClosedForms, NormalBlurMixWeighsTheBlurredNormal) {
-  SkinParams p = bare();
+  SkinParams p = testing::bare_skin();
   p.multiple_scattering = MultipleScattering::normal_blur;
   p.DiffusionColor[0] = 0.8f;
   p.DiffusionColor[1] = 0.5f;
@@ -329,7 +317,7 @@ TEST(SkinClosedForms, NormalBlurMixWeighsTheBlurredNormal) {
 // Seen from behind, the normal is turned toward the viewer, and the blurred normals with it: a
 // blurred normal equal to the normal then changes nothing, whatever the mix.
 TEST(SkinClosedForms, BlurredNormalsTurnWithTheNormalSeenFromBehind) {
-  SkinParams p = bare();
+  SkinParams p = testing::bare_skin();
   p.multiple_scattering = MultipleScattering::normal_blur;
   for (float& w : p.normal_blur_mix) w = 0.75f;
   Point pt;
@@ -343,7 +331,7 @@ TEST(SkinClosedForms, BlurredNormalsTurnWithTheNormalSeenFromBehind) {
 // times cos_i it must be reciprocal: the value over cos_i is the same with light and view
 // exchanged. Both transmissions are also pinned to the angle-form Fresnel.
 TEST(SkinClosedForms, DipoleEpidermisIsReciprocalAndTransmitsBothWays) {
-  SkinParams p = bare();
+  SkinParams p = testing::bare_skin();
   p.multiple_scattering = MultipleScattering::reference;
   p.DiffusionColor[0] = 0.7f;
   const double eta = p.Eta, rd = ref::dipole_total_rd(0.7f, eta);

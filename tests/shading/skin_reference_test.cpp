@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "tests/shading/skin_test_params.h"
+
 namespace pelt::shading::ref {
 namespace {
 
@@ -103,16 +105,11 @@ TEST(SkinReference, SingleScatteringBoundAndLimits) {
 // over the view hemisphere, per unit cos_i, is R. Before the dermis carried the factor pi this came
 // out at R / pi (0.0488 at normal incidence).
 SkinParams white_isotropic_slab() {
-  SkinParams p;
+  SkinParams p = testing::bare_skin();
   p.single_scattering = SingleScattering::correct;
-  p.multiple_scattering = MultipleScattering::off;
   p.Eta = 1.0f;
   p.g = 0.0f;
   p.Thickness = 1e6f;
-  p.SingleScatteringCoeff = 1.0f;
-  p.AmbientCoeff = 0.0f;
-  p.Specularity = 0.0f;
-  for (float& c : p.SkinColor) c = 1.0f;
   return p;
 }
 

@@ -2,13 +2,21 @@
 // function that runs it; errors in user input are io::InputError (exit code 2).
 #pragma once
 
+#include <algorithm>
 #include <functional>
+#include <thread>
 
 #include <CLI/CLI.hpp>
 
 namespace pelt::cli {
 
 using Run = std::function<int()>;
+
+// The worker threads of a command: `requested` when given (> 0), else every core (at least
+// one: hardware_concurrency may not know and say 0).
+inline int worker_threads(int requested) {
+  return requested > 0 ? requested : std::max(1, int(std::thread::hardware_concurrency()));
+}
 
 Run add_render_command(CLI::App& app);
 Run add_info_command(CLI::App& app);

@@ -1,6 +1,5 @@
 // `pelt info SCENE.json`: what a scene will compute, without rendering.
 #include <cstdio>
-#include <thread>
 
 #include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
@@ -33,7 +32,7 @@ int run_info(const InfoOptions& o) {
   const io::Scene file_scene = io::load_scene(path);
   render::RenderSettings rs;
   // As `pelt render` sets it, so the memory estimate counts the same workers' scratch.
-  rs.threads = int(std::thread::hardware_concurrency());
+  rs.threads = worker_threads(0);
   rs.quality = resolve_quality(file_scene, o.quality);
   rs.budget = o.budget;
   render::SceneRenderer r(file_scene, rs);

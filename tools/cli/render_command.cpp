@@ -126,9 +126,8 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
                              ", which a PNG cannot store; write it as " +
                              (aov == render::Aov::depth ? ".exr or .tif" : ".tif (32-bit unsigned) or .exr"));
   if (render::skin_layer(aov)) {
-    bool skin = false;
-    for (const io::SceneObject& obj : scene.objects) skin = skin || obj.material.type == io::MaterialType::skin;
-    if (!skin)
+    if (std::none_of(scene.objects.begin(), scene.objects.end(),
+                     [](const io::SceneObject& obj) { return obj.material.type == io::MaterialType::skin; }))
       throw io::InputError("", "--aov",
                            "the " + o.aov + " AOV is a layer of the skin shader, and no object of " +
                                scene.file.string() + " has a skin material");
@@ -205,7 +204,7 @@ int run_render(const RenderOptions& o) {
   render::RenderSettings rs;
   rs.width = o.width;
   rs.height = o.height;
-  rs.threads = o.threads > 0 ? o.threads : int(std::thread::hardware_concurrency());
+  rs.threads = worker_threads(o.threads);
   // OpenImageIO's module loads on a thread of its own while the scene is set up and the first
   // frame renders, rather than before everything (tools/io/image_backend.h); the render's
   // worker threads start first, as no thread can start during the load (raster/parallel.h).

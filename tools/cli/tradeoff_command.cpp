@@ -11,7 +11,6 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
-#include <thread>
 #include <vector>
 
 #include "tools/cli/budget_options.h"
@@ -111,7 +110,7 @@ int run_tradeoff(const TradeoffOptions& o) {
   const fs::path dir = o.output.empty() ? fs::path("out") / "tradeoff" / fs::path(o.scene).stem() : fs::path(o.output);
   if (fs::exists(dir) && !fs::is_directory(dir))
     throw io::InputError(dir.string(), "-o", "exists and is not a folder");
-  const int threads = o.threads > 0 ? o.threads : std::max(1, int(std::thread::hardware_concurrency()));
+  const int threads = worker_threads(o.threads);
   const std::vector<tradeoff::Setting> plan = tradeoff::plan_sweep(scene.quality, knobs);
   io::prepare_output(dir / "tradeoff.csv", "-o");  // before the reference, which can take minutes
   if (o.images) io::prepare_output(dir / "images" / "reference.png", "--images");

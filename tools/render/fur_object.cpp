@@ -317,6 +317,7 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
                        FrameStats& stats) {
   const uint32_t n = geo_.base_vertex_count, s = geo_.layers;
   sort_ = f.sort;
+  clip_from_world_ = f.clip_from_world;
   // The tile, surface and exact sorts take each fin root to tip as a strip, the others layer by
   // layer.
   const bool strips = f.sort == FurSort::tile || f.sort == FurSort::surface || f.sort == FurSort::exact;
@@ -435,7 +436,7 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
   }
 }
 
-void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::mat4& clip_from_world,
+void FurObject::append_draws(std::vector<raster::DrawCall>& draws,
                              const std::vector<shading::Light>& lights, const glm::vec3& eye) {
   const FurSort sort = sort_;
   const uint32_t faces = static_cast<uint32_t>(geo_.counts.base_faces);
@@ -485,7 +486,7 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws, const glm::ma
     d.triangle_count = count;
     d.varyings = fin ? fin_varyings_.data() : shell_varyings_.data();
     d.varying_count = static_cast<uint32_t>(varying_count());
-    d.clip_from_object = clip_from_world;
+    d.clip_from_object = clip_from_world_;
     d.shader = sh;
     d.state.blend = raster::BlendMode::AlphaOver;
     d.state.depth_func = raster::DepthFunc::LessEqual;  // shell 0 lies exactly on the base

@@ -73,7 +73,7 @@ struct FurFrame {
   bool still = false;  // the scene has no animation: the wind pose, not a point of the swing
   FurSort sort = FurSort::tile;  // the order append_draws draws in (the fin list's layout follows it)
   glm::vec3 eye{0.0f};
-  glm::mat4 clip_from_world{1.0f};  // the camera (projection * view): the surface sort's screen
+  glm::mat4 clip_from_world{1.0f};  // the camera (projection * view): the draws' and the surface sort's
   std::optional<fur::WindParams> wind;
   std::optional<fur::GravityParams> gravity;
 };
@@ -95,9 +95,10 @@ class FurObject {
   // are not re-simulated.
   void update(const FurFrame& f, const std::vector<shading::Light>& lights, FrameStats& stats);
 
-  // Appends the shell and fin draws (after the opaque base) in the last update()'s sort order.
-  void append_draws(std::vector<raster::DrawCall>& draws, const glm::mat4& clip_from_world,
-                    const std::vector<shading::Light>& lights, const glm::vec3& eye);
+  // Appends the shell and fin draws (after the opaque base) seen through the last update()'s
+  // camera, in its sort order.
+  void append_draws(std::vector<raster::DrawCall>& draws, const std::vector<shading::Light>& lights,
+                    const glm::vec3& eye);
 
   const fur::FurCounts& counts() const { return geo_.counts; }
   // Floats per vertex of the fur draws' varyings as of the last update().
@@ -171,6 +172,7 @@ class FurObject {
   bool fin_list_dirty_ = true;
   bool poses_dirty_ = true;
   FurSort sort_ = FurSort::tile;  // the last update()'s
+  glm::mat4 clip_from_world_{1.0f};  // the last update()'s
 
   std::vector<std::unique_ptr<FurShader>> shaders_;
 };

@@ -1,6 +1,7 @@
 #include "tools/render/interrupt.h"
 
 #include <csignal>
+#include <iterator>
 
 #include <unistd.h>
 
@@ -11,7 +12,7 @@ namespace {
 
 volatile std::sig_atomic_t g_signal = 0;
 constexpr int kSignals[] = {SIGINT, SIGTERM};
-struct sigaction g_previous[2] {};
+struct sigaction g_previous[std::size(kSignals)] {};
 
 void on_signal(int sig) {
   if (g_signal == 0) {
@@ -33,11 +34,11 @@ InterruptGuard::InterruptGuard() {
   sigemptyset(&sa.sa_mask);
   for (int sig : kSignals) sigaddset(&sa.sa_mask, sig);  // one handler at a time
   sa.sa_flags = SA_RESTART;
-  for (int i = 0; i < 2; ++i) sigaction(kSignals[i], &sa, &g_previous[i]);
+  for (size_t i = 0; i < std::size(kSignals); ++i) sigaction(kSignals[i], &sa, &g_previous[i]);
 }
 
 InterruptGuard::~InterruptGuard() {
-  for (int i = 0; i < 2; ++i) sigaction(kSignals[i], &g_previous[i], nullptr);
+  for (size_t i = 0; i < std::size(kSignals); ++i) sigaction(kSignals[i], &g_previous[i], nullptr);
 }
 
 bool InterruptGuard::requested() { return g_signal != 0; }

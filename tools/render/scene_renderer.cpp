@@ -424,7 +424,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   // Translucent fur after every opaque draw (the rasterizer shades opaque work first
   // anyway; this keeps the translucent submission order object by object).
   for (const auto& o : objects_)
-    if (o->fur) o->fur->append_draws(draws, clip_from_world, lights_, camera.eye);
+    if (o->fur) o->fur->append_draws(draws, lights_, camera.eye);
 
   out.width = width_;
   out.height = height_;

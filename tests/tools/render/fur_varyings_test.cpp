@@ -94,13 +94,13 @@ TEST(FurVaryings, SwitchingBetweenGreyAndColouredLightMovesTheWholeRecord) {
   FurFrame f;
   f.sort = FurSort::none;
   f.eye = glm::vec3(3.0f, 2.0f, 4.0f);
-  const glm::mat4 clip = glm::perspective(glm::radians(45.0f), 1.0f, 1.0f, 20.0f) *
-                         glm::lookAt(f.eye, glm::vec3(0.0f), glm::vec3(0, 1, 0));
+  f.clip_from_world = glm::perspective(glm::radians(45.0f), 1.0f, 1.0f, 20.0f) *
+                      glm::lookAt(f.eye, glm::vec3(0.0f), glm::vec3(0, 1, 0));
   auto draw = [&](FurObject& o, const std::vector<shading::Light>& lights) {
     FrameStats st;
     o.update(f, lights, st);
     std::vector<raster::DrawCall> draws;
-    o.append_draws(draws, clip, lights, f.eye);
+    o.append_draws(draws, lights, f.eye);
     std::vector<float> color(64 * 64 * 4), depth(64 * 64);
     std::vector<uint32_t> id(64 * 64);
     raster::Renderer r(1);

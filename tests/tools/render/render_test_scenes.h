@@ -56,6 +56,7 @@ struct FurRig {
   FurRig(const std::string& mesh, const fur::FurParams& params, const std::string& name)
       : base(io::make_builtin_mesh(mesh)), fur(base, params, {}, FurOrigin{name, ""}, stats) {
     frame.eye = glm::vec3(3.0f, 2.0f, 4.0f);
+    frame.clip_from_world = clip;
   }
   Mesh base;
   FrameStats stats;
@@ -70,7 +71,7 @@ struct FurRig {
     frame.sort = sort;
     fur.update(frame, lights, stats);
     std::vector<raster::DrawCall> d;
-    fur.append_draws(d, clip, lights, frame.eye);
+    fur.append_draws(d, lights, frame.eye);
     return d;
   }
 };

@@ -229,6 +229,9 @@ int run_render(const RenderOptions& o) {
                                                            : pattern.path_for(plan.frames.front()),
                      "-o");
 
+  // Installed before the GIF's temporary is created: a signal that found the temporary but not
+  // yet the handler would end the process by the default action and leave the temporary behind.
+  render::InterruptGuard interrupt;
   std::unique_ptr<io::AnimatedGifWriter> gif;
   if (plan.kind == render::OutputKind::gif) {
     gif = std::make_unique<io::AnimatedGifWriter>(o.output, renderer.width(), renderer.height(),
@@ -236,7 +239,6 @@ int run_render(const RenderOptions& o) {
   }
 
   render::Progress progress(mode, static_cast<int>(plan.frames.size()), stderr);
-  render::InterruptGuard interrupt;
   int last_done = -1;
 
   // Frame k is written on a thread of its own while frame k + 1 renders: encoding a PNG

@@ -1,6 +1,7 @@
 #include "fur/fur_geometry.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -50,7 +51,28 @@ BoundingSphere bounding_sphere(const Mesh& mesh) {
   return s;
 }
 
-std::vector<FurEdge> mesh_edges(const Mesh& mesh) {
+std::vector<uint32_t> same_strand_vertices(const std::vector<glm::vec3>& positions,
+                                           const std::vector<glm::vec3>& normals,
+                                           const std::vector<glm::vec3>& growth) {
+  const size_t n = positions.size();
+  std::vector<uint32_t> order(n), same_as(n);
+  for (size_t i = 0; i < n; ++i) order[i] = same_as[i] = uint32_t(i);
+  // Compared as values (-0 equals 0; the inputs are finite), so equal vertices sort together and,
+  // the index breaking ties, each run starts at its lowest index.
+  const auto key = [&](uint32_t i) {
+    const glm::vec3 &p = positions[i], &nn = normals[i], &g = growth[i];
+    return std::array<float, 9>{p.x, p.y, p.z, nn.x, nn.y, nn.z, g.x, g.y, g.z};
+  };
+  std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
+    const auto kx = key(x), ky = key(y);
+    return kx != ky ? kx < ky : x < y;
+  });
+  for (size_t r = 1; r < n; ++r)
+    if (key(order[r]) == key(order[r - 1])) same_as[order[r]] = same_as[order[r - 1]];
+  return same_as;
+}
+
+std::vector<FurEdge> mesh_edges(const Mesh& mesh, const std::vector<uint32_t>& same_as) {
   // (a, b, face) for every triangle side, sorted so that equal edges are adjacent and
   // their faces come in index order.
   struct Side {
@@ -59,9 +81,10 @@ std::vector<FurEdge> mesh_edges(const Mesh& mesh) {
   const size_t F = mesh.triangle_count();
   std::vector<Side> sides;
   sides.reserve(3 * F);
+  const auto vertex = [&](size_t k) { return same_as.empty() ? mesh.indices[k] : same_as[mesh.indices[k]]; };
   for (size_t f = 0; f < F; ++f) {
     for (int k = 0; k < 3; ++k) {
-      uint32_t a = mesh.indices[3 * f + k], b = mesh.indices[3 * f + (k + 1) % 3];
+      uint32_t a = vertex(3 * f + k), b = vertex(3 * f + (k + 1) % 3);
       if (a == b) continue;  // a collapsed side is no edge
       sides.push_back({std::min(a, b), std::max(a, b), uint32_t(f)});
     }
@@ -105,13 +128,28 @@ std::vector<glm::vec3> uv_comb_directions(const Mesh& base, const std::vector<gl
   const size_t n = base.positions.size();
   std::vector<glm::dvec3> tu, tv;
   uv_derivatives(base, tu, tv);
+  std::vector<glm::dvec3> along(n);
+  for (size_t i = 0; i < n; ++i) along[i] = double(uv_direction.x) * tu[i] + double(uv_direction.y) * tv[i];
+  // The copies of a split seam each see one side's triangles: a one-sided difference, tilted
+  // by half the surface's turn between neighbours, so the two copies would grow apart. Where
+  // every copy at a position combs the way its first copy does (a seam where u wraps), each
+  // takes their sum, as a welded vertex would; where one disagrees (a mirrored uv island) each
+  // keeps its own.
+  const std::vector<uint32_t> first = same_position_vertices(base.positions);
+  std::vector<glm::dvec3> joined(along);
+  std::vector<char> agree(n, 1);
+  for (size_t i = 0; i < n; ++i) {
+    if (first[i] == i) continue;
+    if (!(glm::dot(along[i], along[first[i]]) > 0.0)) agree[first[i]] = 0;
+    joined[first[i]] += along[i];
+  }
   std::vector<glm::vec3> out(n, glm::vec3(0.0f));
   for (size_t i = 0; i < n; ++i) {
     const glm::dvec3 n0(normals[i]);
     const double nl = glm::length(n0);
     if (!(nl > 0.0) || !std::isfinite(nl)) continue;
     const glm::dvec3 nn = n0 / nl;
-    const glm::dvec3 acc = double(uv_direction.x) * tu[i] + double(uv_direction.y) * tv[i];
+    const glm::dvec3 acc = agree[first[i]] ? joined[first[i]] : along[i];
     const glm::dvec3 t = acc - glm::dot(acc, nn) * nn;  // into the tangent plane
     const double len = glm::length(t);
     if (len > 1e-30 && std::isfinite(len)) out[i] = glm::vec3(t / len);
@@ -254,7 +292,7 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
     for (size_t k3 = 0; k3 < 3 * F; ++k3) dst[k3] = base.indices[k3] + shift;
   }
 
-  out.edges = mesh_edges(base);
+  out.edges = mesh_edges(base, same_strand_vertices(base.positions, out.base_normals, out.growth));
   const size_t E = out.edges.size();
   out.fin_indices.resize(size_t(S - 1) * E * 6);
   uint32_t* fi = out.fin_indices.data();

@@ -102,8 +102,18 @@ inline void fin_quad_indices(const FurEdge& edge, uint32_t base_vertex_count, ui
   out[0] = a0, out[1] = b0, out[2] = b1, out[3] = a0, out[4] = b1, out[5] = a1;
 }
 
-// Unique undirected edges of the triangles, sorted by (a, b), with their faces.
-std::vector<FurEdge> mesh_edges(const Mesh& mesh);
+// Unique undirected edges of the triangles, sorted by (a, b), with their faces. With `same_as`
+// (one entry per vertex, from same_strand_vertices), a vertex counts as the one it names: the two
+// copies of a split seam then share one edge, with a face on each side, instead of being two
+// boundary edges whose coincident fins would blend the seam twice.
+std::vector<FurEdge> mesh_edges(const Mesh& mesh, const std::vector<uint32_t>& same_as = {});
+
+// For each vertex, the lowest-indexed vertex with the same position, normal and growth direction:
+// copies that exporters split at texture seams grow the same strand in every pose (gravity and wind
+// read nothing else of a vertex), so their fins coincide.
+std::vector<uint32_t> same_strand_vertices(const std::vector<glm::vec3>& positions,
+                                           const std::vector<glm::vec3>& normals,
+                                           const std::vector<glm::vec3>& growth);
 
 // Table counts for a base mesh of the given size with S layers.
 FurCounts fur_counts(size_t base_vertices, size_t base_faces, size_t edges, int layers);

@@ -1,13 +1,39 @@
 #include "raster/mesh.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
 
 namespace pelt {
 
-void compute_vertex_normals(Mesh& mesh) {
-  std::vector<glm::dvec3> sum(mesh.positions.size(), glm::dvec3(0.0));
+std::vector<uint32_t> same_position_vertices(const std::vector<glm::vec3>& positions) {
+  const size_t n = positions.size();
+  std::vector<uint32_t> first(n), order(n);
+  for (size_t i = 0; i < n; ++i) first[i] = order[i] = uint32_t(i);
+  const auto less = [](const glm::vec3& p, const glm::vec3& q) {
+    return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+  };
+  std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
+    const glm::vec3 &p = positions[x], &q = positions[y];
+    return less(p, q) || (!less(q, p) && x < y);
+  });
+  for (size_t r = 1; r < n; ++r)
+    if (positions[order[r]] == positions[order[r - 1]]) first[order[r]] = first[order[r - 1]];
+  return first;
+}
+
+void compute_vertex_normals(Mesh& mesh, NormalSharing sharing) {
+  const size_t n_vertices = mesh.positions.size();
+  // Each vertex sums into its group's first vertex: itself, or the first copy at its position.
+  std::vector<uint32_t> group;
+  if (sharing == NormalSharing::per_position) {
+    group = same_position_vertices(mesh.positions);
+  } else {
+    group.resize(n_vertices);
+    for (size_t i = 0; i < n_vertices; ++i) group[i] = uint32_t(i);
+  }
+  std::vector<glm::dvec3> sum(n_vertices, glm::dvec3(0.0));
   for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
     const uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
     const glm::dvec3 pa(mesh.positions[a]), pb(mesh.positions[b]), pc(mesh.positions[c]);
@@ -15,14 +41,15 @@ void compute_vertex_normals(Mesh& mesh) {
     const double len = glm::length(n);
     if (!(len > 0.0) || !std::isfinite(len)) continue;  // degenerate: contributes nothing
     const glm::dvec3 u = n / len;
-    sum[a] += u;
-    sum[b] += u;
-    sum[c] += u;
+    sum[group[a]] += u;
+    sum[group[b]] += u;
+    sum[group[c]] += u;
   }
-  mesh.normals.resize(mesh.positions.size());
-  for (size_t i = 0; i < sum.size(); ++i) {
-    const double len = glm::length(sum[i]);
-    mesh.normals[i] = (len > 1e-12) ? glm::vec3(sum[i] / len) : glm::vec3(0.0f, 1.0f, 0.0f);
+  mesh.normals.resize(n_vertices);
+  for (size_t i = 0; i < n_vertices; ++i) {
+    const glm::dvec3& s = sum[group[i]];
+    const double len = glm::length(s);
+    mesh.normals[i] = (len > 1e-12) ? glm::vec3(s / len) : glm::vec3(0.0f, 1.0f, 0.0f);
   }
 }
 

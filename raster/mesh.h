@@ -22,10 +22,20 @@ struct Mesh {
   size_t triangle_count() const { return indices.size() / 3; }
 };
 
+// For each vertex, the lowest-indexed vertex at the same position (compared as values: -0 equals
+// 0), found by sorting so that the result depends on no hash order.
+std::vector<uint32_t> same_position_vertices(const std::vector<glm::vec3>& positions);
+
+// Which triangles a computed normal sums: those naming the vertex, or those naming any vertex at
+// the same position. The second is for files whose vertices are split only where another
+// attribute changes (an OBJ's texture seams): per vertex, the two sides of a seam would get
+// different normals, a crease in the shading and a crack between the fur shells grown along them.
+enum class NormalSharing { per_vertex, per_position };
+
 // Per-vertex normals as the normalised sum of the unit normals of the adjacent
 // triangles (unweighted), the convention of the fur paper's harness. A vertex with
 // no usable triangle gets (0, 1, 0) so that later code never sees a zero vector.
-void compute_vertex_normals(Mesh& mesh);
+void compute_vertex_normals(Mesh& mesh, NormalSharing sharing = NormalSharing::per_vertex);
 
 // Per-vertex tangent frames for tangent-space normal maps: xyz = T, the surface direction
 // of growing u (summed over the adjacent triangles, each weighted by its uv-space area,

@@ -230,18 +230,37 @@ TEST(FurGeometry, UvCombOnACurvedMeshStaysInEachTangentPlane) {
     ++directed;
     EXPECT_NEAR(glm::length(d[i]), 1.0f, 1e-5f);
     EXPECT_NEAR(glm::dot(d[i], sphere.normals[i]), 0.0f, 1e-5f);
-    // u runs around the y axis: (almost) no component along y. Not next to the poles, where
-    // the pole vertex's single u (0.5) skews its fan's triangles; elsewhere the faceted
-    // vertex normals tilt the tangent plane by a few thousandths.
-    // The built-in sphere welds its uv seam (u jumps from 23/24 back to 0 across it), so
-    // the seam's triangles give the two columns beside it a wrong direction: skipped.
-    const size_t column = (i - 1) % 24;
-    const bool by_seam = column == 0 || column == 23;
-    if (std::abs(sphere.positions[i].y) < 0.95f && !by_seam) {
+    // u runs around the y axis: (almost) no component along y, the seam's columns included
+    // (the sphere splits its seam: no triangle's u runs back from 23/24 to 0). Not next to the
+    // poles; elsewhere the faceted vertex normals tilt the tangent plane by a few thousandths.
+    if (std::abs(sphere.positions[i].y) < 0.95f) {
       EXPECT_NEAR(d[i].y, 0.0f, 5e-3f) << i;
     }
   }
   EXPECT_GT(directed, d.size() * 9 / 10);
+}
+
+// Copies of a vertex that differ only in texture coordinates grow the same strand: they name
+// the lowest-indexed copy. A different normal or growth direction is another strand.
+TEST(FurGeometry, SameStrandVerticesJoinCopiesOfOneStrand) {
+  const glm::vec3 up(0, 1, 0), tilted = glm::normalize(glm::vec3(1, 1, 0));
+  const std::vector<glm::vec3> positions = {{1, 0, 0}, {0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}, {-0.0f, 0, 0}};
+  const std::vector<glm::vec3> normals = {up, up, up, tilted, up, up};
+  const std::vector<glm::vec3> growth = {up, up, up, tilted, tilted, up};
+  EXPECT_EQ(same_strand_vertices(positions, normals, growth), (std::vector<uint32_t>{0, 1, 0, 3, 4, 1}));
+}
+
+// A split seam is one edge with a face on each side, so it grows one fin: on the split sphere,
+// as many edges as a closed mesh has (3 F / 2), the same as when the sphere was welded.
+TEST(FurGeometry, ASplitSeamIsOneEdgeWithTwoFaces) {
+  const Mesh sphere = io::make_builtin_mesh("sphere:16");
+  const FurGeometry g = build(sphere, shells(4));
+  EXPECT_EQ(g.counts.edges, sphere.triangle_count() * 3 / 2);
+  for (const FurEdge& e : g.edges) EXPECT_NE(e.face1, kNoFace) << e.a << "-" << e.b;
+  // Without the joining, each seam side and each pole fan triangle is a boundary edge.
+  size_t boundary = 0;
+  for (const FurEdge& e : mesh_edges(sphere)) boundary += e.face1 == kNoFace;
+  EXPECT_EQ(boundary, 2u * (16 / 2 - 2) + 2u * 16u + 2u * 16u);
 }
 
 TEST(FurGeometry, MissingNormalsAndUvsAreComputed) {

@@ -367,13 +367,23 @@ Mesh make_teapot(int n) {
 Mesh make_sphere(int n) {
   const int rings = n / 2;
   const double pi = std::numbers::pi;
+  // Split where u wraps, as exporters split a texture seam: the column s = n repeats column 0's
+  // positions (bit for bit) with u = 1, so no triangle's u runs back across the whole texture
+  // (which made a mipmapped map pick its coarsest levels there, a band down the meridian). Each
+  // pole is n vertices, one per triangle of its fan, at the u of that triangle's middle. The fur's
+  // fins treat coincident copies as one vertex (fur::same_strand_vertices), so the seam grows one
+  // fin, not two, and the normals are summed over every copy at a position.
   Mesh m;
-  m.positions.reserve(2 + static_cast<size_t>(n) * (rings - 1));
+  const size_t row = static_cast<size_t>(n) + 1;
+  m.positions.reserve(2 * static_cast<size_t>(n) + row * (rings - 1));
   m.uvs.reserve(m.positions.capacity());
-  m.positions.emplace_back(0.0f, 1.0f, 0.0f);
-  m.uvs.emplace_back(0.5f, 1.0f);
+  for (int s = 0; s < n; ++s) {
+    m.positions.emplace_back(0.0f, 1.0f, 0.0f);
+    m.uvs.emplace_back(static_cast<float>((s + 0.5) / n), 1.0f);
+  }
   for (int k = 1; k < rings; ++k) {
     const double theta = pi * k / rings;
+    const size_t first = m.positions.size();
     for (int s = 0; s < n; ++s) {
       const double phi = 2.0 * pi * s / n;
       m.positions.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta),
@@ -381,15 +391,20 @@ Mesh make_sphere(int n) {
       m.uvs.emplace_back(static_cast<float>(static_cast<double>(s) / n),
                          static_cast<float>(1.0 - static_cast<double>(k) / rings));
     }
+    m.positions.push_back(m.positions[first]);
+    m.uvs.emplace_back(1.0f, m.uvs[first].y);
   }
   const auto south = static_cast<uint32_t>(m.positions.size());
-  m.positions.emplace_back(0.0f, -1.0f, 0.0f);
-  m.uvs.emplace_back(0.5f, 0.0f);
+  for (int s = 0; s < n; ++s) {
+    m.positions.emplace_back(0.0f, -1.0f, 0.0f);
+    m.uvs.emplace_back(static_cast<float>((s + 0.5) / n), 0.0f);
+  }
 
-  const auto ring_vertex = [n](int k, int s) {  // k in [1, rings-1]; s wraps (welded seam)
-    return static_cast<uint32_t>(1 + (k - 1) * n + (s % n));
+  const auto ring_vertex = [n, row](int k, int s) {  // k in [1, rings-1], s in [0, n]
+    return static_cast<uint32_t>(n + (k - 1) * row + s);
   };
-  for (int s = 0; s < n; ++s) m.indices.insert(m.indices.end(), {0u, ring_vertex(1, s + 1), ring_vertex(1, s)});
+  for (int s = 0; s < n; ++s)
+    m.indices.insert(m.indices.end(), {static_cast<uint32_t>(s), ring_vertex(1, s + 1), ring_vertex(1, s)});
   for (int k = 1; k + 1 < rings; ++k)
     for (int s = 0; s < n; ++s) {
       const uint32_t a = ring_vertex(k, s), b = ring_vertex(k, s + 1);
@@ -397,8 +412,9 @@ Mesh make_sphere(int n) {
       m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
     }
   for (int s = 0; s < n; ++s)
-    m.indices.insert(m.indices.end(), {south, ring_vertex(rings - 1, s), ring_vertex(rings - 1, s + 1)});
-  compute_vertex_normals(m);
+    m.indices.insert(m.indices.end(),
+                     {south + static_cast<uint32_t>(s), ring_vertex(rings - 1, s), ring_vertex(rings - 1, s + 1)});
+  compute_vertex_normals(m, NormalSharing::per_position);
   return m;
 }
 

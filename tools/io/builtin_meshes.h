@@ -66,10 +66,11 @@ Mesh make_box(int n);
 // bounding-box centre. UVs: the body-diagonal planar projection below.
 Mesh make_teapot(int n);
 
-// UV sphere of radius 1: n segments around y, n/2 rings, one vertex per pole, the
-// longitude seam welded (so the mesh is closed). u = longitude / 2pi in [0,1), v = 1 at
-// the north pole (+y) down to 0 at the south pole; the last column of triangles
-// interpolates u from (n-1)/n back to 0, a seam a colour map will show.
+// UV sphere of radius 1: n segments around y, n/2 rings; u = longitude / 2pi, v = 1 at the
+// north pole (+y) down to 0 at the south pole. Split like an exporter's texture seam: the
+// meridian u = 0 is repeated with u = 1 (the same positions bit for bit), and each pole is n
+// vertices, one per fan triangle, at u = (s + 1/2) / n. Closed by position, not by index;
+// normals summed over every copy at a position (NormalSharing::per_position).
 Mesh make_sphere(int n);
 
 // The square [-1,1]^2 in the xz plane at y = 0, normal +y, n x n quads;

@@ -51,7 +51,7 @@ class GltfReader {
       if (any_uvs_) out_.warnings.push_back("some primitives have no TEXCOORD_0: uvs dropped");
       out_.mesh.uvs.clear();
     }
-    finish_normals(out_, all_normals_, any_normals_);
+    finish_normals(out_, all_normals_, any_normals_, NormalSharing::per_vertex);
     return std::move(out_);
   }
 

@@ -23,6 +23,8 @@ void add_library_warnings(LoadedMesh& out, const std::string& text);
 // Fills in normals when the loader had none for some vertex (has_normals false), or when
 // a given normal has zero length; normalises the rest. Adds a warning when normals the
 // file gives (any_normals) are replaced by computed ones.
-void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals);
+// `sharing`: how computed normals join split vertices (the OBJ loader joins copies at one
+// position; glTF's vertices are split on purpose, as the file's author meant them).
+void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals, NormalSharing sharing);
 
 }  // namespace pelt::io::detail

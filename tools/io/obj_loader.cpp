@@ -293,7 +293,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     if (nt > 0) out.warnings.push_back("some vertices have no texture coordinate: uvs dropped");
     m.uvs.clear();
   }
-  finish_normals(out, all_normals, nn > 0);
+  finish_normals(out, all_normals, nn > 0, NormalSharing::per_position);
 
   if (material >= 0 && static_cast<size_t>(material) < materials.size()) {
     const tinyobj::material_t& mat = materials[material];

@@ -15,8 +15,17 @@
 
 namespace pelt::io {
 
-// Translucent order (the fur sort modes of tools/render/fur_object.h).
-enum class SortQuality { none, layer, tile, surface, exact };
+// Order of the translucent fur triangles (tools/render/fur_object.h draws them so).
+enum class SortQuality {
+  none,   // all shells inner to outer, then all fins layer by layer (the paper's and the
+          // harness's order)
+  layer,  // shell s, then the fins between layers s and s+1, for s = 0, 1, ...
+  tile,   // all shells, then the fins fin by fin (root to tip), back to front per tile by
+          // the rasterizer, a fin's quads in runs of three (DrawCall::sort_group)
+  surface,  // as `tile`, but each shell layer keyed after the layers below it that it leans
+            // over (fur/surface_order.h): no seams on one continuous surface in wind
+  exact,  // as `tile`, then every fragment sorted per pixel (the reference)
+};
 // How fins are drawn (fur/fin_spans.h): one quad per pair of layers (eq. 1), or merged into
 // taller quads where the strands run straight (tile and exact sorts only; the default: the
 // same error against the reference on the furry box at 1024 x 768, and faster, README's

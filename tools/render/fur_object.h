@@ -18,23 +18,16 @@
 #include "raster/mesh.h"
 #include "raster/pipeline.h"
 #include "raster/texture.h"
+#include "tools/io/quality.h"
 #include "tools/render/frame_stats.h"
 #include "shading/fur_lighting.h"
 #include "tools/render/fur_shader.h"
 
 namespace pelt::render {
 
-// Order of the translucent fur triangles.
-enum class FurSort {
-  none,   // all shells inner to outer, then all fins layer by layer (the paper's and the
-          // harness's order)
-  layer,  // shell s, then the fins between layers s and s+1, for s = 0, 1, ...
-  tile,   // all shells, then the fins fin by fin (root to tip), back to front per tile by
-          // the rasterizer, a fin's quads in runs of three (DrawCall::sort_group)
-  surface,  // as `tile`, but each shell layer keyed after the layers below it that it leans
-            // over (fur/surface_order.h): no seams on one continuous surface in wind
-  exact,  // as `tile`, then every fragment sorted per pixel (the reference)
-};
+// Order of the translucent fur triangles: the quality knob itself (io::SortQuality, whose
+// values say what each order does), not a copy of it to keep in step.
+using FurSort = io::SortQuality;
 
 // Where strand lighting is evaluated.
 enum class FurLighting {

@@ -380,11 +380,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   convert_lights(scene_.file, inputs.lights, frame, lights_);
   const float aspect = float(width_) / float(height_);
   const glm::mat4 clip_from_world = camera.projection(aspect) * camera.view();
-  const FurSort fur_sort = quality_.sort == io::SortQuality::none    ? FurSort::none
-                           : quality_.sort == io::SortQuality::layer ? FurSort::layer
-                           : quality_.sort == io::SortQuality::tile  ? FurSort::tile
-                           : quality_.sort == io::SortQuality::surface ? FurSort::surface
-                                                                     : FurSort::exact;
+  const FurSort fur_sort = quality_.sort;
   for (size_t i = 0; i < objects_.size(); ++i) {
     if (!objects_[i]->fur) continue;
     FurFrame f;

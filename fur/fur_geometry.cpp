@@ -36,6 +36,34 @@ glm::vec3 above_surface(const glm::vec3& g, const glm::vec3& n) {
   return glm::vec3(nd * std::sin(kMinFurElevation) + along * (std::cos(kMinFurElevation) / len));
 }
 
+// Fur has no hard edges: where a mesh splits a vertex to give each face its own normal, shells
+// grown along the copies' normals would open a crack along the edge (each face's shells a slab
+// of its own). Copies at one position whose normals differ all take their normalised sum, when
+// that sum stands at least kMinFurElevation above every copy's face, the fur's own rule;
+// otherwise (a two-sided sheet's near-opposite copies, whose sum points anywhere) each keeps
+// its own. Vertices without copies, and copies that already agree, are left bit for bit.
+void join_hard_edges(const std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals) {
+  const size_t n = positions.size();
+  const std::vector<uint32_t> first = same_position_vertices(positions);
+  std::vector<glm::dvec3> sum(n, glm::dvec3(0.0));
+  std::vector<char> differ(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    sum[first[i]] += glm::dvec3(normals[i]);
+    if (normals[i] != normals[first[i]]) differ[first[i]] = 1;
+  }
+  std::vector<char> join(differ);
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t f = first[i];
+    const double lean = glm::dot(sum[f], glm::dvec3(normals[i]));
+    if (differ[f] && !(lean >= std::sin(kMinFurElevation) * glm::length(sum[f]))) join[f] = 0;
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t f = first[i];
+    const double len = glm::length(sum[f]);
+    if (join[f] && len > 0.0 && std::isfinite(len)) normals[i] = glm::vec3(sum[f] / len);
+  }
+}
+
 }  // namespace
 
 BoundingSphere bounding_sphere(const Mesh& mesh) {
@@ -218,7 +246,7 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
     Mesh copy;
     copy.positions = base.positions;
     copy.indices = base.indices;
-    compute_vertex_normals(copy);
+    compute_vertex_normals(copy, NormalSharing::per_position);
     out.base_normals = std::move(copy.normals);
   } else {
     out.base_normals.resize(N);
@@ -230,6 +258,7 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
       }
       out.base_normals[i] = std::fabs(len - 1.0f) <= 1e-6f ? n : n / len;
     }
+    join_hard_edges(base.positions, out.base_normals);
   }
   out.growth.resize(N);
   if (params.comb && params.comb->field == CombField::uv) {

@@ -64,7 +64,8 @@ struct FurGeometry {
 
   // Per base vertex (size N).
   std::vector<glm::vec3> base_normals;  // unit vertex normals n[i] (the mesh's own, renormalised
-                                        // only when more than 1e-6 off unit length)
+                                        // only when more than 1e-6 off unit length; the copies
+                                        // of a hard edge's vertex joined: fur has no hard edges)
   std::vector<glm::vec3> growth;        // unit growth directions g[i] (n, or combed)
 
   // Per fur vertex I = i + s*N (size S*N): the rest pose of eq. 1.

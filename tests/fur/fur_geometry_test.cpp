@@ -250,6 +250,59 @@ TEST(FurGeometry, SameStrandVerticesJoinCopiesOfOneStrand) {
   EXPECT_EQ(same_strand_vertices(positions, normals, growth), (std::vector<uint32_t>{0, 1, 0, 3, 4, 1}));
 }
 
+// A cube split as a hard-edged exporter writes it: four vertices a face, each with the face's
+// normal (as tools/data/BoxTextured.glb).
+Mesh hard_edged_cube() {
+  Mesh m;
+  for (int axis = 0; axis < 3; ++axis)
+    for (float sign : {-1.0f, 1.0f}) {
+      glm::vec3 n(0.0f), u(0.0f), v(0.0f);
+      n[axis] = sign;
+      u[(axis + 1) % 3] = 1.0f;
+      v[(axis + 2) % 3] = sign;  // u x v = n: counter-clockwise seen from outside
+      const uint32_t base = uint32_t(m.positions.size());
+      for (const auto& [a, b] : {std::pair{-1.0f, -1.0f}, {1.0f, -1.0f}, {1.0f, 1.0f}, {-1.0f, 1.0f}}) {
+        m.positions.push_back(n + a * u + b * v);
+        m.normals.push_back(n);
+        m.uvs.emplace_back((a + 1) / 2, (b + 1) / 2);
+      }
+      m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+    }
+  return m;
+}
+
+// Fur has no hard edges: the copies of a cube corner grow along one direction (their face
+// normals' normalised sum), so every shell layer closes over the edges instead of each face
+// growing a slab of its own with a crack between, and each edge grows one fin.
+TEST(FurGeometry, HardEdgesGrowOneStrandPerPosition) {
+  const Mesh cube = hard_edged_cube();
+  const FurGeometry g = build(cube, shells(4));
+  const uint32_t N = g.base_vertex_count;
+  ASSERT_EQ(N, 24u);
+  for (uint32_t i = 0; i < N; ++i) {
+    const glm::vec3 corner = glm::normalize(cube.positions[i]);
+    EXPECT_NEAR(glm::length(g.base_normals[i] - corner), 0.0f, 1e-6f) << i;
+    for (uint32_t j = 0; j < N; ++j) {
+      if (cube.positions[j] != cube.positions[i]) continue;
+      for (uint32_t s = 0; s < g.layers; ++s) EXPECT_EQ(g.positions[i + s * N], g.positions[j + s * N]) << i << " " << j;
+    }
+  }
+  EXPECT_EQ(g.counts.edges, 18u);  // 12 cube edges and 6 face diagonals
+  for (const FurEdge& e : g.edges) EXPECT_NE(e.face1, kNoFace) << e.a << "-" << e.b;
+}
+
+// A two-sided sheet: each position has a copy facing up and one facing (nearly) down. Their
+// normals (nearly) cancel, and their sum would point along the sheet: each keeps its own.
+TEST(FurGeometry, OppositeCopiesKeepTheirOwnNormals) {
+  Mesh m;
+  const glm::vec3 down = glm::normalize(glm::vec3(0.1f, -1.0f, 0.0f));
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, {0, 0, 0}, {1, 0, 0}, {0, 0, 1}};
+  m.normals = {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {0, -1, 0}, down, down};
+  m.indices = {0, 2, 1, 3, 4, 5};
+  const FurGeometry g = build(m, shells(3));
+  for (uint32_t i = 0; i < 6; ++i) EXPECT_EQ(g.base_normals[i], m.normals[i]) << i;
+}
+
 // A split seam is one edge with a face on each side, so it grows one fin: on the split sphere,
 // as many edges as a closed mesh has (3 F / 2), the same as when the sphere was welded.
 TEST(FurGeometry, ASplitSeamIsOneEdgeWithTwoFaces) {

@@ -51,7 +51,8 @@ class GltfReader {
       if (any_uvs_) out_.warnings.push_back("some primitives have no TEXCOORD_0: uvs dropped");
       out_.mesh.uvs.clear();
     }
-    finish_normals(out_, all_normals_, any_normals_, NormalSharing::per_vertex);
+    // Every vertex has a normal now, the file's or a flat one: only zero-length ones are replaced.
+    finish_normals(out_, true, true, NormalSharing::per_vertex);
     return std::move(out_);
   }
 
@@ -264,17 +265,14 @@ class GltfReader {
         const View nv = view_of(it->second, nw);
         if (nv.components != 3 || nv.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || nv.count != pos.count)
           throw InputError(file_, nw, "must be VEC3 of FLOAT with one normal per position");
-        any_normals_ = true;
         for (size_t i = 0; i < nv.count; ++i) {
           const glm::dvec3 n(component(nv, i, 0), component(nv, i, 1), component(nv, i, 2));
           if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z))
             throw InputError(file_, nw + "[" + std::to_string(i) + "]", "normal is not finite");
           m.normals.emplace_back(normal_matrix * n);
         }
-      } else {
-        all_normals_ = false;
-        m.normals.resize(m.positions.size(), glm::vec3(0.0f));
       }
+      const bool flat = m.normals.size() != m.positions.size();
 
       if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
         const std::string tw = pw + ".attributes.TEXCOORD_0";
@@ -316,8 +314,36 @@ class GltfReader {
         idx.resize(pos.count);
         for (size_t i = 0; i < pos.count; ++i) idx[i] = static_cast<uint32_t>(i);
       }
+      const size_t first_index = m.indices.size();
       append_triangles(prim.mode, idx, base, mirrored);
+      if (flat) make_flat(base, first_index);
       take_textures(prim.material);
+    }
+  }
+
+  // A primitive without NORMAL: the specification asks for flat normals (3.7.2.1), so each
+  // triangle gets corners of its own with its face's normal (after the winding the node's
+  // transform gave it). A zero-area triangle, which has no normal and covers no pixel, gets +y.
+  void make_flat(uint32_t base, size_t first_index) {
+    Mesh& m = out_.mesh;
+    const std::vector<glm::vec3> positions(m.positions.begin() + base, m.positions.end());
+    const std::vector<glm::vec2> uvs(m.uvs.begin() + base, m.uvs.end());
+    m.positions.resize(base);
+    m.uvs.resize(base);
+    m.normals.resize(base);
+    for (size_t t = first_index; t + 2 < m.indices.size(); t += 3) {
+      uint32_t* corner = &m.indices[t];
+      const glm::dvec3 a(positions[corner[0] - base]), b(positions[corner[1] - base]), c(positions[corner[2] - base]);
+      const glm::dvec3 n = glm::cross(b - a, c - a);
+      const double len = glm::length(n);
+      const glm::vec3 normal = len > 0.0 && std::isfinite(len) ? glm::vec3(n / len) : glm::vec3(0.0f, 1.0f, 0.0f);
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = corner[k] - base;
+        corner[k] = static_cast<uint32_t>(m.positions.size());
+        m.positions.push_back(positions[v]);
+        m.uvs.push_back(uvs[v]);
+        m.normals.push_back(normal);
+      }
     }
   }
 
@@ -406,7 +432,7 @@ class GltfReader {
   std::string file_;
   std::filesystem::path dir_;
   LoadedMesh out_;
-  bool all_normals_ = true, any_normals_ = false, all_uvs_ = true, any_uvs_ = false;
+  bool all_uvs_ = true, any_uvs_ = false;
   Taken color_texture_, normal_texture_;
 };
 

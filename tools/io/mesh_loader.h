@@ -30,9 +30,11 @@ struct LoadedMesh {
   std::vector<std::string> warnings;
 };
 
-// Loads .obj, .gltf or .glb (by extension, case-insensitive). Normals are used when every
-// vertex has one, otherwise computed with pelt::compute_vertex_normals (with a warning when
-// the file gave some that are replaced);
+// Loads .obj, .gltf or .glb (by extension, case-insensitive). OBJ: normals are used when every
+// vertex has one, otherwise computed with pelt::compute_vertex_normals, per position (with a
+// warning when the file gave some that are replaced). glTF: a primitive's NORMAL is used, and a
+// primitive without one gets flat normals (each triangle its own corners), as the specification
+// asks. A zero-length normal has all of the mesh's normals computed, with a warning;
 // UVs are kept when every vertex has one.
 //
 // OBJ: each `f` record split into triangles by triangulate_polygon (faces of 3 to 255

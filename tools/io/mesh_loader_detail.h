@@ -24,7 +24,8 @@ void add_library_warnings(LoadedMesh& out, const std::string& text);
 // a given normal has zero length; normalises the rest. Adds a warning when normals the
 // file gives (any_normals) are replaced by computed ones.
 // `sharing`: how computed normals join split vertices (the OBJ loader joins copies at one
-// position; glTF's vertices are split on purpose, as the file's author meant them).
+// position, as its vertices are split only where a texture coordinate changes; glTF's vertices
+// are split on purpose, as the file's author meant them).
 void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals, NormalSharing sharing);
 
 }  // namespace pelt::io::detail

@@ -442,6 +442,45 @@ TEST(MeshLoader, GltfTrsAndComputedNormals) {
   EXPECT_TRUE(l.warnings.empty()) << ::testing::PrintToString(l.warnings);  // none given, none replaced
 }
 
+// A primitive without NORMAL gets flat normals, as the glTF specification asks (3.7.2.1): each
+// triangle its own corners with its face's normal, here a quad folded along its diagonal. A
+// primitive with NORMAL keeps the file's, in the same file, without a warning. Until 2026-11-26
+// pelt smoothed the shared corners and replaced every given normal with a computed one.
+TEST(MeshLoader, GltfPrimitivesWithoutNormalsAreFlat) {
+  TempDir dir;
+  // Four float3 positions: the folded quad (0,0,0) (1,0,0) (1,1,1) (0,1,0), whose diagonal
+  // 0-2 joins two triangles at an angle; then the normals of the second primitive, all +z;
+  // then six uint16 indices.
+  const float data[24] = {0, 0, 0, 1, 0, 0, 1, 1, 1, 0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
+  std::string bytes(reinterpret_cast<const char*>(data), sizeof data);
+  bytes.append(reinterpret_cast<const char*>(idx), sizeof idx);
+  const std::string text = R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+  "meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":2},
+                           {"attributes":{"POSITION":0,"NORMAL":1},"indices":2}]}],
+  "buffers":[{"byteLength":108,"uri":"data:application/octet-stream;base64,)" + base64(bytes) + R"("}],
+  "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":48},{"buffer":0,"byteOffset":48,"byteLength":48},
+                 {"buffer":0,"byteOffset":96,"byteLength":12}],
+  "accessors":[{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,1]},
+               {"bufferView":1,"componentType":5126,"count":4,"type":"VEC3"},
+               {"bufferView":2,"componentType":5123,"count":6,"type":"SCALAR"}]})";
+  const LoadedMesh l = load_mesh_file(dir.write("folded.gltf", text));
+  EXPECT_TRUE(l.warnings.empty()) << ::testing::PrintToString(l.warnings);
+  ASSERT_EQ(l.mesh.triangle_count(), 4u);
+  ASSERT_EQ(l.mesh.vertex_count(), 6u + 4u);  // the flat primitive's corners, the smooth one's four
+  // The faces' normals: (1,0,0) x (1,1,1) and (1,1,1) x (0,1,0), normalised.
+  const glm::vec3 expected[2] = {glm::normalize(glm::vec3(0, -1, 1)), glm::normalize(glm::vec3(-1, 0, 1))};
+  for (int t = 0; t < 2; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = l.mesh.indices[3 * t + k];
+      EXPECT_EQ(v, uint32_t(3 * t + k)) << "corners of their own";
+      EXPECT_NEAR(glm::length(l.mesh.normals[v] - expected[t]), 0.0f, 1e-6f) << t << " " << k;
+    }
+  EXPECT_EQ(l.mesh.positions[5], glm::vec3(0, 1, 0));  // the second triangle's third corner
+  for (int t = 2; t < 4; ++t)
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(l.mesh.normals[l.mesh.indices[3 * t + k]], glm::vec3(0, 0, 1));
+}
+
 TEST(MeshLoader, GltfNanPosition) {
   TempDir dir;
   expect_load_error(dir.write("nan.gltf", tiny_gltf(NAN, 2)), "meshes[0].primitives[0].attributes.POSITION[0]",

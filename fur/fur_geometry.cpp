@@ -161,8 +161,10 @@ std::vector<glm::vec3> uv_comb_directions(const Mesh& base, const std::vector<gl
   // The copies of a split seam each see one side's triangles: a one-sided difference, tilted
   // by half the surface's turn between neighbours, so the two copies would grow apart. Where
   // every copy at a position combs the way its first copy does (a seam where u wraps), each
-  // takes their sum, as a welded vertex would; where one disagrees (a mirrored uv island) each
-  // keeps its own.
+  // takes their sum, as a welded vertex would. Where one disagrees (a mirrored uv island; a UV
+  // sphere's pole, whose copies each comb along their own meridian) the uvs give the position no
+  // one direction, and its copies keep their normal: copies combed apart would open a crack
+  // between the shells of their triangles.
   const std::vector<uint32_t> first = same_position_vertices(base.positions);
   std::vector<glm::dvec3> joined(along);
   std::vector<char> agree(n, 1);
@@ -177,7 +179,7 @@ std::vector<glm::vec3> uv_comb_directions(const Mesh& base, const std::vector<gl
     const double nl = glm::length(n0);
     if (!(nl > 0.0) || !std::isfinite(nl)) continue;
     const glm::dvec3 nn = n0 / nl;
-    const glm::dvec3 acc = agree[first[i]] ? joined[first[i]] : along[i];
+    const glm::dvec3 acc = agree[first[i]] ? joined[first[i]] : glm::dvec3(0.0);
     const glm::dvec3 t = acc - glm::dot(acc, nn) * nn;  // into the tangent plane
     const double len = glm::length(t);
     if (len > 1e-30 && std::isfinite(len)) out[i] = glm::vec3(t / len);

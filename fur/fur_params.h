@@ -54,8 +54,9 @@ struct CombParams {
   // "uv_direction": field "uv" only: [du, dv], any non-zero vector. A vertex's d is
   // du T_u + dv T_v, with T_u, T_v its surface derivatives of position with respect to
   // u and v (the area-weighted sum over its triangles, projected onto its tangent plane),
-  // normalised; where the mesh's uvs give no direction (degenerate uv triangles only),
-  // that vertex keeps its normal.
+  // normalised; the copies of a split seam's vertex take their joined direction. Where the
+  // mesh's uvs give no direction (degenerate uv triangles, or copies at one position combing
+  // different ways, as at a UV sphere's pole), the vertex keeps its normal.
   glm::vec2 uv_direction{1.0f, 0.0f};
 };
 

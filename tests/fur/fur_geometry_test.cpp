@@ -226,7 +226,10 @@ TEST(FurGeometry, UvCombOnACurvedMeshStaysInEachTangentPlane) {
   const std::vector<glm::vec3> d = uv_comb_directions(sphere, sphere.normals, {1.0f, 0.0f});
   size_t directed = 0;
   for (size_t i = 0; i < d.size(); ++i) {
-    if (d[i] == glm::vec3(0.0f)) continue;  // the poles, where u has no direction
+    if (d[i] == glm::vec3(0.0f)) {
+      EXPECT_EQ(std::abs(sphere.positions[i].y), 1.0f) << i << ": only the poles have no direction";
+      continue;
+    }
     ++directed;
     EXPECT_NEAR(glm::length(d[i]), 1.0f, 1e-5f);
     EXPECT_NEAR(glm::dot(d[i], sphere.normals[i]), 0.0f, 1e-5f);
@@ -237,7 +240,8 @@ TEST(FurGeometry, UvCombOnACurvedMeshStaysInEachTangentPlane) {
       EXPECT_NEAR(d[i].y, 0.0f, 5e-3f) << i;
     }
   }
-  EXPECT_GT(directed, d.size() * 9 / 10);
+  // Every vertex but the poles' copies (24 each, combing along 24 meridians: no one direction).
+  EXPECT_EQ(directed, d.size() - 2 * 24);
 }
 
 // Copies of a vertex that differ only in texture coordinates grow the same strand: they name
@@ -301,6 +305,29 @@ TEST(FurGeometry, OppositeCopiesKeepTheirOwnNormals) {
   m.indices = {0, 2, 1, 3, 4, 5};
   const FurGeometry g = build(m, shells(3));
   for (uint32_t i = 0; i < 6; ++i) EXPECT_EQ(g.base_normals[i], m.normals[i]) << i;
+}
+
+// Combed along u, the sphere's copies at each position grow one strand: the seam's join their
+// directions, and the poles' (each combed along its own meridian, so no one direction) keep the
+// normal. Copies combed apart would open cracks between the shells of the triangles around them.
+TEST(FurGeometry, UvCombGrowsOneStrandPerPositionOnTheSphere) {
+  const Mesh sphere = io::make_builtin_mesh("sphere:16");
+  FurParams p = shells(4);
+  CombParams c;
+  c.field = CombField::uv;
+  c.weight = 0.8f;
+  p.comb = c;
+  const FurGeometry g = build(sphere, p);
+  size_t copies = 0;
+  for (size_t i = 0; i < sphere.positions.size(); ++i)
+    for (size_t j = i + 1; j < sphere.positions.size(); ++j) {
+      if (sphere.positions[i] != sphere.positions[j]) continue;
+      ++copies;
+      EXPECT_EQ(g.growth[i], g.growth[j]) << i << " and " << j;
+    }
+  EXPECT_EQ(copies, 7u + 2u * (16u * 15u / 2u));  // the seam's 7 rings, each pole's 16 copies in pairs
+  EXPECT_EQ(g.growth[0], g.base_normals[0]);      // the north pole: not combed
+  EXPECT_EQ(g.counts.edges, sphere.triangle_count() * 3 / 2);
 }
 
 // A split seam is one edge with a face on each side, so it grows one fin: on the split sphere,

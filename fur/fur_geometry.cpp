@@ -323,7 +323,8 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
     for (size_t k3 = 0; k3 < 3 * F; ++k3) dst[k3] = base.indices[k3] + shift;
   }
 
-  out.edges = mesh_edges(base, same_strand_vertices(base.positions, out.base_normals, out.growth));
+  const std::vector<uint32_t> same_as = same_strand_vertices(base.positions, out.base_normals, out.growth);
+  out.edges = mesh_edges(base, same_as);
   const size_t E = out.edges.size();
   out.fin_indices.resize(size_t(S - 1) * E * 6);
   uint32_t* fi = out.fin_indices.data();
@@ -333,6 +334,7 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
       fi += 6;
     }
   out.counts = fur_counts(N, F, E, int(S));
+  for (size_t i = 0; i < N; ++i) out.counts.joined_vertices += same_as[i] != i;
   return std::nullopt;
 }
 

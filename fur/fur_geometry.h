@@ -46,6 +46,9 @@ struct FurCounts {
   size_t base_vertices = 0, shell_vertices = 0, fin_vertices = 0, total_vertices = 0;
   size_t base_faces = 0, shell_faces = 0, fin_faces = 0, total_faces = 0;
   size_t edges = 0;
+  // Base vertices that grow another vertex's strand (same_strand_vertices): the copies a file
+  // split at texture seams or hard edges. Not in the seed's tables; `pelt info` shows them.
+  size_t joined_vertices = 0;
 };
 
 // Centre = bounding-box centre; radius = largest distance of a vertex from it (the

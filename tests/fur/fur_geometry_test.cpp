@@ -336,6 +336,7 @@ TEST(FurGeometry, ASplitSeamIsOneEdgeWithTwoFaces) {
   const Mesh sphere = io::make_builtin_mesh("sphere:16");
   const FurGeometry g = build(sphere, shells(4));
   EXPECT_EQ(g.counts.edges, sphere.triangle_count() * 3 / 2);
+  EXPECT_EQ(g.counts.joined_vertices, 7u + 2u * 15u);  // the seam's 7 copies, each pole's 15 beyond its first
   for (const FurEdge& e : g.edges) EXPECT_NE(e.face1, kNoFace) << e.a << "-" << e.b;
   // Without the joining, each seam side and each pole fan triangle is a boundary edge.
   size_t boundary = 0;
@@ -408,6 +409,7 @@ TEST(FurGeometry, Box7MatchesSeedTable1) {
   EXPECT_EQ(g.counts.fin_faces, 26460u);
   EXPECT_EQ(g.counts.total_faces, 36456u);
   EXPECT_EQ(g.counts.edges, 882u);
+  EXPECT_EQ(g.counts.joined_vertices, 0u);  // welded: no copies
   EXPECT_EQ(g.fin_indices.size(), 3u * 26460u);
   EXPECT_EQ(g.shell_indices.size(), 3u * 9408u);
   // The llvmpipe harness's fur: R = sqrt(3), outermost layer 0.1 R from the surface.

@@ -70,6 +70,10 @@ int run_info(const InfoOptions& o) {
                   c->shell_vertices, c->fin_vertices, c->total_vertices);
       std::printf("       faces    base %zu, shell %zu, fin %zu, sum %zu\n", c->base_faces, c->shell_faces,
                   c->fin_faces, c->total_faces);
+      std::printf("       edges    %zu (a fin quad each per pair of layers)", c->edges);
+      if (c->joined_vertices > 0)
+        std::printf(", %zu vertex copies (texture seams, hard edges) joined to the vertex they copy", c->joined_vertices);
+      std::printf("\n");
     }
   }
   std::printf("triangles  %llu before fur, %llu after\n", static_cast<unsigned long long>(r.base_triangles()),

@@ -293,6 +293,25 @@ TEST_F(RenderCommand, InfoReportsTheEstimateTheBudgetChecks) {
   EXPECT_EQ(over.code, 0) << over.err;
 }
 
+// `pelt info` lists the fur's edges (one fin quad each per pair of layers) and, where a mesh is
+// split at texture seams or hard edges, how many vertex copies were joined: the fin count is not
+// 2 E (S - 1) of the file's own edges there. The built-in sphere is split at its seam (7 copies
+// on sphere:16) and poles (15 beyond the first at each); the box is welded.
+TEST_F(RenderCommand, InfoCountsTheFurEdgesAndTheJoinedCopies) {
+  const fs::path sphere = dir.write("sphere.json", R"({"pelt": 1, "image": {"width": 32, "height": 24},
+    "camera": {"eye": [0, 0, 4], "target": [0, 0, 0]}, "lights": [{"type": "ambient", "intensity": 0.5}],
+    "objects": [{"mesh": "sphere:16", "material": {"type": "lambert"}, "fur": {"shells": 4}}]})");
+  const Result split = run_pelt({"info", sphere.string()}, dir.path());
+  ASSERT_EQ(split.code, 0) << split.err;
+  EXPECT_NE(split.out.find("edges    336 (a fin quad each per pair of layers), 37 vertex copies (texture seams, hard "
+                           "edges) joined to the vertex they copy\n"),
+            std::string::npos)
+      << split.out;
+  const Result welded = run_pelt({"info", (source_dir() / "tools/scenes/box_fur.json").string()}, dir.path());
+  ASSERT_EQ(welded.code, 0) << welded.err;
+  EXPECT_NE(welded.out.find("edges    882 (a fin quad each per pair of layers)\n"), std::string::npos) << welded.out;
+}
+
 // No output may overwrite what the render reads: the scene, a map, or another output. The
 // refusal comes before any work and leaves every file as it was.
 TEST_F(RenderCommand, OutputsNeverOverwriteInputsOrEachOther) {

@@ -41,27 +41,53 @@ glm::vec3 above_surface(const glm::vec3& g, const glm::vec3& n) {
 // of its own). Copies at one position whose normals differ all take their normalised sum, when
 // that sum stands at least kMinFurElevation above every copy's face, the fur's own rule;
 // otherwise (a two-sided sheet's near-opposite copies, whose sum points anywhere) each keeps
-// its own. Vertices without copies, and copies that already agree, are left bit for bit.
-void join_hard_edges(const std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals) {
-  const size_t n = positions.size();
-  const std::vector<uint32_t> first = same_position_vertices(positions);
+// its own. Only copies with a face count: a copy that only zero-area triangles name (whose
+// normal a file made up, as a glTF flat normal is +y there) takes what its faced copies give.
+// Vertices without copies, and copies that already agree, are left bit for bit.
+void join_hard_edges(const Mesh& base, std::vector<glm::vec3>& normals) {
+  const size_t n = base.positions.size();
+  std::vector<char> faced(n, 0);
+  for (size_t t = 0; t + 2 < base.indices.size(); t += 3) {
+    const glm::dvec3 a(base.positions[base.indices[t]]), b(base.positions[base.indices[t + 1]]),
+        c(base.positions[base.indices[t + 2]]);
+    const double area = glm::length(glm::cross(b - a, c - a));
+    if (area > 0.0 && std::isfinite(area))
+      for (int k = 0; k < 3; ++k) faced[base.indices[t + k]] = 1;
+  }
+  const std::vector<uint32_t> first = same_position_vertices(base.positions);
+  // Per group (at its first vertex): the first faced copy, the sum of the faced copies' normals,
+  // and whether they differ.
+  std::vector<uint32_t> ref(n, UINT32_MAX);
   std::vector<glm::dvec3> sum(n, glm::dvec3(0.0));
-  std::vector<char> differ(n, 0);
+  std::vector<char> differ(n, 0), join(n, 1);
   for (size_t i = 0; i < n; ++i) {
-    sum[first[i]] += glm::dvec3(normals[i]);
-    if (normals[i] != normals[first[i]]) differ[first[i]] = 1;
+    if (!faced[i]) continue;
+    const uint32_t f = first[i];
+    if (ref[f] == UINT32_MAX) ref[f] = uint32_t(i);
+    sum[f] += glm::dvec3(normals[i]);
+    if (normals[i] != normals[ref[f]]) differ[f] = 1;
   }
-  std::vector<char> join(differ);
   for (size_t i = 0; i < n; ++i) {
     const uint32_t f = first[i];
+    if (!faced[i] || !differ[f]) continue;
     const double lean = glm::dot(sum[f], glm::dvec3(normals[i]));
-    if (differ[f] && !(lean >= std::sin(kMinFurElevation) * glm::length(sum[f]))) join[f] = 0;
+    if (!(lean >= std::sin(kMinFurElevation) * glm::length(sum[f]))) join[f] = 0;
   }
+  // Every value read below is a group's: copies change only after all of them were read.
+  std::vector<glm::vec3> to(n);
+  std::vector<char> set(n, 0);
   for (size_t i = 0; i < n; ++i) {
     const uint32_t f = first[i];
+    if (ref[f] == UINT32_MAX) continue;  // no copy at this position has a face
     const double len = glm::length(sum[f]);
-    if (join[f] && len > 0.0 && std::isfinite(len)) normals[i] = glm::vec3(sum[f] / len);
+    if (differ[f] && join[f] && len > 0.0 && std::isfinite(len)) {
+      to[i] = glm::vec3(sum[f] / len), set[i] = 1;
+    } else if (!faced[i] && !differ[f]) {
+      to[i] = normals[ref[f]], set[i] = 1;  // the faced copies agree: a faceless copy follows them
+    }
   }
+  for (size_t i = 0; i < n; ++i)
+    if (set[i]) normals[i] = to[i];
 }
 
 }  // namespace
@@ -260,7 +286,7 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
       }
       out.base_normals[i] = std::fabs(len - 1.0f) <= 1e-6f ? n : n / len;
     }
-    join_hard_edges(base.positions, out.base_normals);
+    join_hard_edges(base, out.base_normals);
   }
   out.growth.resize(N);
   if (params.comb && params.comb->field == CombField::uv) {

@@ -295,6 +295,30 @@ TEST(FurGeometry, HardEdgesGrowOneStrandPerPosition) {
   for (const FurEdge& e : g.edges) EXPECT_NE(e.face1, kNoFace) << e.a << "-" << e.b;
 }
 
+// A zero-area triangle's corners have no face: a glTF without normals gives them +y (flat
+// normals of nothing). They take what the faced copies at their position give, and add nothing
+// to it; counted in, the made-up +y would tilt the corner's fur, or stop the join and crack it.
+TEST(FurGeometry, CopiesWithoutAFaceFollowTheFacedOnes) {
+  Mesh cube = hard_edged_cube();
+  const uint32_t extra = uint32_t(cube.positions.size());
+  for (const glm::vec3& p : {glm::vec3(1, 1, 1), glm::vec3(1, 1, 1), glm::vec3(1, -1, 1)}) {
+    cube.positions.push_back(p);
+    cube.normals.emplace_back(0, 1, 0);
+    cube.uvs.emplace_back(0, 0);
+  }
+  cube.indices.insert(cube.indices.end(), {extra, extra + 1, extra + 2});
+  const FurGeometry g = build(cube, shells(4));
+  for (uint32_t i = 0; i < g.base_vertex_count; ++i)
+    EXPECT_NEAR(glm::length(g.base_normals[i] - glm::normalize(cube.positions[i])), 0.0f, 1e-6f) << i;
+  // Where the faced copies agree (one triangle facing +z), the faceless ones take their normal.
+  Mesh one;
+  one.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {0, 0, 0}, {1, 0, 0}};
+  one.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}, {0, 1, 0}};
+  one.indices = {0, 1, 2, 3, 4, 5};
+  const FurGeometry h = build(one, shells(3));
+  for (uint32_t i = 0; i < 6; ++i) EXPECT_EQ(h.base_normals[i], glm::vec3(0, 0, 1)) << i;
+}
+
 // A two-sided sheet: each position has a copy facing up and one facing (nearly) down. Their
 // normals (nearly) cancel, and their sum would point along the sheet: each keeps its own.
 TEST(FurGeometry, OppositeCopiesKeepTheirOwnNormals) {

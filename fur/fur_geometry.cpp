@@ -7,6 +7,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "raster/vertex_groups.h"
+
 namespace pelt::fur {
 namespace {
 
@@ -108,22 +110,10 @@ BoundingSphere bounding_sphere(const Mesh& mesh) {
 std::vector<uint32_t> same_strand_vertices(const std::vector<glm::vec3>& positions,
                                            const std::vector<glm::vec3>& normals,
                                            const std::vector<glm::vec3>& growth) {
-  const size_t n = positions.size();
-  std::vector<uint32_t> order(n), same_as(n);
-  for (size_t i = 0; i < n; ++i) order[i] = same_as[i] = uint32_t(i);
-  // Compared as values (-0 equals 0; the inputs are finite), so equal vertices sort together and,
-  // the index breaking ties, each run starts at its lowest index.
-  const auto key = [&](uint32_t i) {
+  return first_with_equal_key<9>(positions.size(), [&](uint32_t i) {
     const glm::vec3 &p = positions[i], &nn = normals[i], &g = growth[i];
     return std::array<float, 9>{p.x, p.y, p.z, nn.x, nn.y, nn.z, g.x, g.y, g.z};
-  };
-  std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
-    const auto kx = key(x), ky = key(y);
-    return kx != ky ? kx < ky : x < y;
   });
-  for (size_t r = 1; r < n; ++r)
-    if (key(order[r]) == key(order[r - 1])) same_as[order[r]] = same_as[order[r - 1]];
-  return same_as;
 }
 
 std::vector<FurEdge> mesh_edges(const Mesh& mesh, const std::vector<uint32_t>& same_as) {

@@ -1,26 +1,19 @@
 #include "raster/mesh.h"
 
-#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <glm/geometric.hpp>
 
+#include "raster/vertex_groups.h"
+
 namespace pelt {
 
 std::vector<uint32_t> same_position_vertices(const std::vector<glm::vec3>& positions) {
-  const size_t n = positions.size();
-  std::vector<uint32_t> first(n), order(n);
-  for (size_t i = 0; i < n; ++i) first[i] = order[i] = uint32_t(i);
-  const auto less = [](const glm::vec3& p, const glm::vec3& q) {
-    return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
-  };
-  std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
-    const glm::vec3 &p = positions[x], &q = positions[y];
-    return less(p, q) || (!less(q, p) && x < y);
+  return first_with_equal_key<3>(positions.size(), [&](uint32_t i) {
+    const glm::vec3& p = positions[i];
+    return std::array<float, 3>{p.x, p.y, p.z};
   });
-  for (size_t r = 1; r < n; ++r)
-    if (positions[order[r]] == positions[order[r - 1]]) first[order[r]] = first[order[r - 1]];
-  return first;
 }
 
 void compute_vertex_normals(Mesh& mesh, NormalSharing sharing) {

@@ -22,8 +22,7 @@ struct Mesh {
   size_t triangle_count() const { return indices.size() / 3; }
 };
 
-// For each vertex, the lowest-indexed vertex at the same position (compared as values: -0 equals
-// 0), found by sorting so that the result depends on no hash order.
+// For each vertex, the lowest-indexed vertex at the same position (raster/vertex_groups.h).
 std::vector<uint32_t> same_position_vertices(const std::vector<glm::vec3>& positions);
 
 // Which triangles a computed normal sums: those naming the vertex, or those naming any vertex at

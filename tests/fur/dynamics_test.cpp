@@ -31,6 +31,14 @@ std::vector<glm::vec3> chain(glm::vec3 dir, glm::vec3 root = glm::vec3(0.3f, -0.
 // A zero surface normal: no surface to keep the strand above, the bending law alone.
 const glm::vec3 kNoSurface(0.0f);
 
+// Fur of `length` (FurParams' default otherwise) on the built-in box:3, the tests' small whole
+// mesh. Call through ASSERT_NO_FATAL_FAILURE.
+void build_furry_box3(FurGeometry& geo, float length = FurParams{}.length) {
+  FurParams p;
+  p.length = length;
+  ASSERT_FALSE(build_fur_geometry(io::make_builtin_mesh("box:3"), p, geo).has_value());
+}
+
 // One chain bent by gravity; its node count is rest's. `authored`: the node count the
 // parameters were chosen for (0: the chain's own, the formula as printed). `surface`: the
 // base vertex's normal.
@@ -344,10 +352,8 @@ TEST(Gravity, ReslicedChainKeepsTheAuthoredBend) {
 }
 
 TEST(Gravity, RangesAndInPlaceGiveTheSameResult) {
-  FurParams p;
-  p.length = 0.3f;
   FurGeometry geo;
-  ASSERT_FALSE(build_fur_geometry(io::make_builtin_mesh("box:3"), p, geo).has_value());
+  ASSERT_NO_FATAL_FAILURE(build_furry_box3(geo, 0.3f));
   const uint32_t N = geo.base_vertex_count, S = geo.layers;
   GravityParams g;
   g.stability = 50.0f;
@@ -452,10 +458,8 @@ TEST(Wind, NeverPushesFurIntoTheSurface) {
   const glm::vec3 F(0.8f, 0.3f, 0.1f);
   EXPECT_EQ(wind(chain(n), n, F, n), wind(chain(n), n, F));
   // The shipped scenes' case: a whole furry box in a strong wind, after gravity.
-  FurParams p;
-  p.length = 0.3f;
   FurGeometry geo;
-  ASSERT_FALSE(build_fur_geometry(io::make_builtin_mesh("box:3"), p, geo).has_value());
+  ASSERT_NO_FATAL_FAILURE(build_furry_box3(geo, 0.3f));
   const uint32_t N = geo.base_vertex_count, S = geo.layers;
   std::vector<glm::vec3> pose(geo.positions.size()), forces(N);
   apply_gravity(geo.positions, geo.base_normals, N, S, 0, g, GravityLaw::lever, pose, 0, N);
@@ -469,9 +473,8 @@ TEST(Wind, NeverPushesFurIntoTheSurface) {
 }
 
 TEST(Wind, FieldIsUniformWithoutGustsAndTravelsWithThem) {
-  FurParams p;
   FurGeometry geo;
-  ASSERT_FALSE(build_fur_geometry(io::make_builtin_mesh("box:3"), p, geo).has_value());
+  ASSERT_NO_FATAL_FAILURE(build_furry_box3(geo));
   const uint32_t N = geo.base_vertex_count;
   WindParams w;
   w.direction = {0, 0, 2};
@@ -507,9 +510,8 @@ TEST(Wind, FieldIsUniformWithoutGustsAndTravelsWithThem) {
 // (q_i.d) / L))), L = 2 R: a gust crest one object across, moving downwind. Kills the
 // phase's sign (a gust running upwind) and a wavelength of R instead of 2 R.
 TEST(Wind, GustsFollowTheDocumentedTravellingWave) {
-  FurParams p;
   FurGeometry geo;
-  ASSERT_FALSE(build_fur_geometry(io::make_builtin_mesh("box:3"), p, geo).has_value());
+  ASSERT_NO_FATAL_FAILURE(build_furry_box3(geo));
   const uint32_t N = geo.base_vertex_count;
   WindParams w;
   w.direction = {0.0f, 0.6f, 0.8f};

@@ -318,9 +318,9 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
   const uint32_t n = geo_.base_vertex_count, s = geo_.layers;
   sort_ = f.sort;
   clip_from_world_ = f.clip_from_world;
-  // The tile, surface and exact sorts take each fin root to tip as a strip, the others layer by
-  // layer.
-  const bool strips = f.sort == FurSort::tile || f.sort == FurSort::surface || f.sort == FurSort::exact;
+  // The sorts the rasterizer orders (per tile or per pixel) take each fin root to tip as a
+  // strip; the others draw layer by layer.
+  const bool strips = raster_sort_mode(f.sort) != raster::SortMode::None;
   if (strips != fin_strips_ && params_.fins != fur::FinMode::off) {
     fin_strips_ = strips;
     fin_list_dirty_ = true;
@@ -434,13 +434,23 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
     surface_order_->compute(pose_clip_, shell_keys_);
     keyed_clip_ = f.clip_from_world;
   }
+  prepare_shaders(lights, f.eye);
 }
 
-void FurObject::append_draws(std::vector<raster::DrawCall>& draws,
-                             const std::vector<shading::Light>& lights, const glm::vec3& eye) {
+raster::SortMode raster_sort_mode(FurSort sort) {
+  switch (sort) {
+    case FurSort::tile:
+    case FurSort::surface: return raster::SortMode::Tile;  // surface: with the fur's own keys
+    case FurSort::exact: return raster::SortMode::Exact;
+    case FurSort::none:
+    case FurSort::layer: break;
+  }
+  return raster::SortMode::None;
+}
+
+void FurObject::prepare_shaders(const std::vector<shading::Light>& lights, const glm::vec3& eye) {
   const FurSort sort = sort_;
   const uint32_t faces = static_cast<uint32_t>(geo_.counts.base_faces);
-  const bool fins = params_.fins != fur::FinMode::off && !fin_quad_weight_.empty();
   // One shader per draw (the layer order splits shells and fins into per-layer draws);
   // built once per sort mode, only their per-frame inputs change.
   const size_t want = sort == FurSort::layer ? 2 * geo_.layers - 1 : 2;
@@ -466,14 +476,21 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws,
     }
   }
   // Silhouette fins fade by their edge's weight, looked up per quad; the others are drawn whole.
+  // In the layer order each layer's fin shader maps its primitives into the whole fin list.
   const float* weight = params_.fins == fur::FinMode::silhouette ? fin_quad_weight_.data() : nullptr;
-  for (auto& sh : shaders_) {
-    sh->set_view(lights, eye);
-    sh->set_fins(weight);
-    sh->set_grey_lighting(grey_);
+  for (size_t k = 0; k < shaders_.size(); ++k) {
+    FurShader& sh = *shaders_[k];
+    sh.set_view(lights, eye);
+    sh.set_fins(weight && sort == FurSort::layer && k % 2 == 1 ? weight + fin_segment_[k / 2] : weight);
+    sh.set_grey_lighting(grey_);
   }
+}
 
-  auto draw = [&](bool fin, uint32_t first_tri, uint32_t count, FurShader* sh) {
+void FurObject::append_draws(std::vector<raster::DrawCall>& draws) const {
+  const FurSort sort = sort_;
+  const uint32_t faces = static_cast<uint32_t>(geo_.counts.base_faces);
+  const bool fins = params_.fins != fur::FinMode::off && !fin_quad_weight_.empty();
+  auto draw = [&](bool fin, uint32_t first_tri, uint32_t count, const FurShader* sh) {
     if (count == 0) return;
     raster::DrawCall d;
     d.positions = pose_.data();
@@ -499,12 +516,8 @@ void FurObject::append_draws(std::vector<raster::DrawCall>& draws,
   if (sort == FurSort::layer) {
     for (uint32_t s = 0; s < geo_.layers; ++s) {
       draw(false, s * faces, faces, shaders_[2 * s].get());
-      if (fins && s + 1 < geo_.layers) {
-        // The fin shader maps its primitives into the whole fin list.
-        FurShader* sh = shaders_[2 * s + 1].get();
-        sh->set_fins(weight ? weight + fin_segment_[s] : nullptr);
-        draw(true, 2 * fin_segment_[s], 2 * (fin_segment_[s + 1] - fin_segment_[s]), sh);
-      }
+      if (fins && s + 1 < geo_.layers)
+        draw(true, 2 * fin_segment_[s], 2 * (fin_segment_[s + 1] - fin_segment_[s]), shaders_[2 * s + 1].get());
     }
   } else {
     draw(false, 0, static_cast<uint32_t>(geo_.shell_indices.size() / 3), shaders_[0].get());

@@ -17,6 +17,7 @@
 #include "fur/surface_order.h"
 #include "raster/mesh.h"
 #include "raster/pipeline.h"
+#include "raster/renderer.h"
 #include "raster/texture.h"
 #include "tools/io/quality.h"
 #include "tools/render/frame_stats.h"
@@ -28,6 +29,11 @@ namespace pelt::render {
 // Order of the translucent fur triangles: the quality knob itself (io::SortQuality, whose
 // values say what each order does), not a copy of it to keep in step.
 using FurSort = io::SortQuality;
+
+// The rasterizer's order for the fur's: per tile for `tile` and `surface` (the latter with the
+// fur's own keys, DrawCall::sort_keys), per pixel for `exact`, none for `none` and `layer`,
+// whose order is the draws' own.
+raster::SortMode raster_sort_mode(FurSort sort);
 
 // Where strand lighting is evaluated.
 enum class FurLighting {
@@ -88,10 +94,9 @@ class FurObject {
   // are not re-simulated.
   void update(const FurFrame& f, const std::vector<shading::Light>& lights, FrameStats& stats);
 
-  // Appends the shell and fin draws (after the opaque base) seen through the last update()'s
-  // camera, in its sort order.
-  void append_draws(std::vector<raster::DrawCall>& draws, const std::vector<shading::Light>& lights,
-                    const glm::vec3& eye);
+  // Appends the shell and fin draws (after the opaque base) as of the last update(): its
+  // camera, lights and eye, in its sort order.
+  void append_draws(std::vector<raster::DrawCall>& draws) const;
 
   const fur::FurCounts& counts() const { return geo_.counts; }
   // Floats per vertex of the fur draws' varyings as of the last update().
@@ -103,6 +108,9 @@ class FurObject {
  private:
   void rebuild_pose(float t);
   void light_vertices(const std::vector<shading::Light>& lights, const glm::vec3& eye);
+  // The draws' shaders for the frame's sort (built when the sort changes) and their per-frame
+  // inputs: lights, eye, fin weights.
+  void prepare_shaders(const std::vector<shading::Light>& lights, const glm::vec3& eye);
   void rebuild_varyings();
   void rebuild_fin_list();
   // How far a merged fin may stray from the per-layer one (fur/fin_spans.h), scene units.

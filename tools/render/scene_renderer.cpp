@@ -420,7 +420,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   // Translucent fur after every opaque draw (the rasterizer shades opaque work first
   // anyway; this keeps the translucent submission order object by object).
   for (const auto& o : objects_)
-    if (o->fur) o->fur->append_draws(draws, lights_, camera.eye);
+    if (o->fur) o->fur->append_draws(draws);
 
   out.width = width_;
   out.height = height_;
@@ -453,9 +453,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   }
   raster::RenderOptions opt;
   opt.background = scene_.image.background;
-  opt.sort = fur_sort == FurSort::tile || fur_sort == FurSort::surface ? raster::SortMode::Tile
-             : fur_sort == FurSort::exact ? raster::SortMode::Exact
-                                          : raster::SortMode::None;
+  opt.sort = raster_sort_mode(fur_sort);
   // Supersampling: one full pass per stratified sample, the projection shifted by the
   // sample's sub-pixel offset, the passes' colours summed in double in a fixed order (so
   // the result is the same on any thread count) and divided once. Each pass composites its

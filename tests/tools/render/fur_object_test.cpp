@@ -19,7 +19,7 @@ FrameStats run_frame(FurRig& rig, FurSort sort, std::vector<raster::DrawCall>* d
   rig.frame.sort = sort;
   rig.fur.update(rig.frame, rig.lights, stats);
   std::vector<raster::DrawCall> d;
-  rig.fur.append_draws(d, rig.lights, rig.frame.eye);
+  rig.fur.append_draws(d);
   if (draws) *draws = d;
   return stats;
 }
@@ -40,7 +40,7 @@ TEST(FurObjectStats, EveryFinListRebuildIsTheFinsStage) {
     frame.sort = sort;
     fur.update(frame, rig.lights, stats);
     std::vector<raster::DrawCall> d;
-    fur.append_draws(d, rig.lights, frame.eye);
+    fur.append_draws(d);
     return stats.stage("fins");
   };
   EXPECT_TRUE(run(FurSort::tile).ran);  // the first list

@@ -100,7 +100,7 @@ TEST(FurVaryings, SwitchingBetweenGreyAndColouredLightMovesTheWholeRecord) {
     FrameStats st;
     o.update(f, lights, st);
     std::vector<raster::DrawCall> draws;
-    o.append_draws(draws, lights, f.eye);
+    o.append_draws(draws);
     std::vector<float> color(64 * 64 * 4), depth(64 * 64);
     std::vector<uint32_t> id(64 * 64);
     raster::Renderer r(1);

@@ -71,7 +71,7 @@ struct FurRig {
     frame.sort = sort;
     fur.update(frame, lights, stats);
     std::vector<raster::DrawCall> d;
-    fur.append_draws(d, lights, frame.eye);
+    fur.append_draws(d);
     return d;
   }
 };

@@ -2,6 +2,8 @@
 
 #include <array>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include <glm/geometric.hpp>
 
@@ -16,11 +18,23 @@ std::vector<uint32_t> same_position_vertices(const std::vector<glm::vec3>& posit
   });
 }
 
-void compute_vertex_normals(Mesh& mesh, NormalSharing sharing) {
+void compute_vertex_normals(Mesh& mesh, NormalSharing sharing, const std::vector<uint64_t>& smoothing) {
   const size_t n_vertices = mesh.positions.size();
-  // Each vertex sums into its group's first vertex: itself, or the first copy at its position.
+  // Each vertex sums into its group's first vertex: itself, or the first copy at its position
+  // (with its smoothing key).
   std::vector<uint32_t> group;
-  if (sharing == NormalSharing::per_position) {
+  if (!smoothing.empty() && smoothing.size() != n_vertices)
+    throw std::invalid_argument(std::string("compute_vertex_normals: ")
+                                    .append(std::to_string(smoothing.size()))
+                                    .append(" smoothing keys for ")
+                                    .append(std::to_string(n_vertices))
+                                    .append(" vertices"));
+  if (sharing == NormalSharing::per_position && !smoothing.empty()) {
+    const std::vector<uint32_t> at = same_position_vertices(mesh.positions);
+    group = first_with_equal_bits<3>(n_vertices, [&](uint32_t i) {
+      return std::array<uint32_t, 3>{at[i], uint32_t(smoothing[i]), uint32_t(smoothing[i] >> 32)};
+    });
+  } else if (sharing == NormalSharing::per_position) {
     group = same_position_vertices(mesh.positions);
   } else {
     group.resize(n_vertices);

@@ -34,7 +34,11 @@ enum class NormalSharing { per_vertex, per_position };
 // Per-vertex normals as the normalised sum of the unit normals of the adjacent
 // triangles (unweighted), the convention of the fur paper's harness. A vertex with
 // no usable triangle gets (0, 1, 0) so that later code never sees a zero vector.
-void compute_vertex_normals(Mesh& mesh, NormalSharing sharing = NormalSharing::per_vertex);
+// `smoothing` (empty, or one key per vertex) narrows per_position sharing to the copies whose
+// keys are equal: an OBJ's smoothing groups, where the copies of a position in two groups are
+// the two sides of a hard edge, and a face in no group has a key of its own (flat).
+void compute_vertex_normals(Mesh& mesh, NormalSharing sharing = NormalSharing::per_vertex,
+                            const std::vector<uint64_t>& smoothing = {});
 
 // Per-vertex tangent frames for tangent-space normal maps: xyz = T, the surface direction
 // of growing u (summed over the adjacent triangles, each weighted by its uv-space area,

@@ -11,27 +11,32 @@
 
 namespace pelt {
 
-// For each of n vertices, the lowest index with an equal key (`key(i)`: K floats). Floats
-// compare as values where that is an order (-0 equals 0) and by their bits otherwise, so a NaN
-// makes no sort undefined (it equals only its own bits). Found by sorting, so the result
-// depends on no hash order.
-template <size_t K, class KeyFn>
-std::vector<uint32_t> first_with_equal_key(size_t n, KeyFn key) {
-  const auto bits = [&](uint32_t i) {
-    const std::array<float, K> k = key(i);
-    std::array<uint32_t, K> b;
-    for (size_t c = 0; c < K; ++c) b[c] = std::bit_cast<uint32_t>(k[c] + 0.0f);  // -0 + 0 = +0
-    return b;
-  };
+// For each of n vertices, the lowest index whose `bits(i)` (K words) equal its own. Found by
+// sorting, so the result depends on no hash order.
+template <size_t K, class BitsFn>
+std::vector<uint32_t> first_with_equal_bits(size_t n, BitsFn bits) {
   std::vector<uint32_t> first(n), order(n);
   for (size_t i = 0; i < n; ++i) first[i] = order[i] = uint32_t(i);
   std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
-    const auto bx = bits(x), by = bits(y);
+    const std::array<uint32_t, K> bx = bits(x), by = bits(y);
     return bx != by ? bx < by : x < y;
   });
   for (size_t r = 1; r < n; ++r)
     if (bits(order[r]) == bits(order[r - 1])) first[order[r]] = first[order[r - 1]];
   return first;
+}
+
+// The same for a key of K floats (`key(i)`). Floats compare as values where that is an order
+// (-0 equals 0) and by their bits otherwise, so a NaN makes no sort undefined (it equals only
+// its own bits).
+template <size_t K, class KeyFn>
+std::vector<uint32_t> first_with_equal_key(size_t n, KeyFn key) {
+  return first_with_equal_bits<K>(n, [&](uint32_t i) {
+    const std::array<float, K> k = key(i);
+    std::array<uint32_t, K> b;
+    for (size_t c = 0; c < K; ++c) b[c] = std::bit_cast<uint32_t>(k[c] + 0.0f);  // -0 + 0 = +0
+    return b;
+  });
 }
 
 }  // namespace pelt

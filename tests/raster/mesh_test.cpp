@@ -1,8 +1,10 @@
-// Mesh utilities: tangent frames for normal maps.
+// Mesh utilities: computed normals, tangent frames for normal maps.
 #include "raster/mesh.h"
 #include "tests/raster/test_meshes.h"
 
 #include <cmath>
+#include <stdexcept>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -11,6 +13,47 @@ namespace pelt {
 namespace {
 
 using test::unit_square;
+
+// Two triangles folded along the edge x = 0, each with its own copies of the fold's two
+// vertices (as a file splits them): 0-2 face (-1, 1, 0)/sqrt2, 3-5 face (1, 1, 0)/sqrt2.
+Mesh folded_pair() {
+  Mesh m;
+  m.positions = {{0, 1, 0}, {0, 1, 1}, {-1, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0, 1, 1}};
+  m.indices = {0, 2, 1, 3, 5, 4};
+  return m;
+}
+
+TEST(MeshNormals, SmoothingKeysNarrowTheCopiesThatShare) {
+  const glm::vec3 left = glm::normalize(glm::vec3(-1, 1, 0)), right = glm::normalize(glm::vec3(1, 1, 0));
+  Mesh shared = folded_pair();
+  compute_vertex_normals(shared, NormalSharing::per_position);
+  EXPECT_LT(glm::distance(shared.normals[0], glm::vec3(0, 1, 0)), 1e-6f);  // both faces' sum
+  EXPECT_EQ(shared.normals[0], shared.normals[3]);
+
+  Mesh apart = folded_pair();
+  compute_vertex_normals(apart, NormalSharing::per_position, std::vector<uint64_t>{7, 7, 7, 9, 9, 9});
+  for (uint32_t i = 0; i < 6; ++i) EXPECT_LT(glm::distance(apart.normals[i], i < 3 ? left : right), 1e-6f) << i;
+
+  // Equal keys share as without keys; keys that differ only in their upper half still differ.
+  Mesh same = folded_pair();
+  compute_vertex_normals(same, NormalSharing::per_position, std::vector<uint64_t>(6, 1));
+  EXPECT_EQ(same.normals, shared.normals);
+  Mesh high = folded_pair();
+  const uint64_t h = uint64_t{1} << 32;
+  compute_vertex_normals(high, NormalSharing::per_position, std::vector<uint64_t>{h, h, h, h | 1, h | 1, h | 1});
+  EXPECT_EQ(high.normals, apart.normals);
+
+  // Keys never widen sharing: per vertex, the copies keep their own faces' normals.
+  Mesh per_vertex = folded_pair();
+  compute_vertex_normals(per_vertex, NormalSharing::per_vertex, std::vector<uint64_t>(6, 1));
+  EXPECT_EQ(per_vertex.normals, apart.normals);
+}
+
+TEST(MeshNormals, SmoothingKeysMustCoverEveryVertex) {
+  Mesh m = folded_pair();
+  EXPECT_THROW(compute_vertex_normals(m, NormalSharing::per_position, std::vector<uint64_t>{1, 2}),
+               std::invalid_argument);
+}
 
 TEST(MeshTangents, TangentAlongUBitangentTowardTheImageTop) {
   for (const glm::vec4& t : compute_vertex_tangents(unit_square())) {

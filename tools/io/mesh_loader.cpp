@@ -34,7 +34,8 @@ void add_library_warnings(LoadedMesh& out, const std::string& text) {
   }
 }
 
-void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals, NormalSharing sharing) {
+void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals, NormalSharing sharing,
+                    const std::vector<uint64_t>& smoothing) {
   Mesh& m = out.mesh;
   if (has_normals && m.normals.size() == m.positions.size()) {
     for (auto& n : m.normals) {
@@ -52,7 +53,7 @@ void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals, NormalS
   }
   // A file with no normals at all (a scan such as the bunny) gets them computed without a
   // warning: nothing the file says is replaced, and the README documents it.
-  compute_vertex_normals(m, sharing);
+  compute_vertex_normals(m, sharing, smoothing);
 }
 
 void check_face_budget(uint64_t triangles, const Budget& budget, const std::string& file,

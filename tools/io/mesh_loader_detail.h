@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "tools/io/mesh_loader.h"
 
@@ -25,7 +26,9 @@ void add_library_warnings(LoadedMesh& out, const std::string& text);
 // file gives (any_normals) are replaced by computed ones.
 // `sharing`: how computed normals join split vertices (the OBJ loader joins copies at one
 // position, as its vertices are split only where a texture coordinate changes; glTF's vertices
-// are split on purpose, as the file's author meant them).
-void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals, NormalSharing sharing);
+// are split on purpose, as the file's author meant them). `smoothing`: one key per vertex, or
+// empty (compute_vertex_normals: an OBJ's smoothing groups).
+void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals, NormalSharing sharing,
+                    const std::vector<uint64_t>& smoothing = {});
 
 }  // namespace pelt::io::detail

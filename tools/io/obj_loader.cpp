@@ -1,4 +1,5 @@
 // Wavefront OBJ through tinyobjloader.
+#include <algorithm>
 #include <charconv>
 #include <climits>
 #include <cmath>
@@ -19,20 +20,34 @@
 namespace pelt::io::detail {
 namespace {
 
-struct TripleHash {
-  size_t operator()(const tinyobj::index_t& i) const {
-    uint64_t h = static_cast<uint32_t>(i.vertex_index) * 0x9E3779B97F4A7C15ull;
-    h ^= static_cast<uint32_t>(i.texcoord_index) * 0xC2B2AE3D27D4EB4Full + (h >> 29);
-    h ^= static_cast<uint32_t>(i.normal_index) * 0x165667B19E3779F9ull + (h >> 31);
+// A vertex of the mesh: an `f` corner's indices, and the smoothing key its normal is computed
+// with (smoothing_key; 0 where the file's normals are used).
+struct CornerKey {
+  tinyobj::index_t idx;
+  uint64_t smoothing = 0;
+};
+struct CornerHash {
+  size_t operator()(const CornerKey& k) const {
+    uint64_t h = static_cast<uint32_t>(k.idx.vertex_index) * 0x9E3779B97F4A7C15ull;
+    h ^= static_cast<uint32_t>(k.idx.texcoord_index) * 0xC2B2AE3D27D4EB4Full + (h >> 29);
+    h ^= static_cast<uint32_t>(k.idx.normal_index) * 0x165667B19E3779F9ull + (h >> 31);
+    h ^= k.smoothing * 0xD6E8FEB86659FD93ull + (h >> 27);
     return static_cast<size_t>(h);
   }
 };
-struct TripleEq {
-  bool operator()(const tinyobj::index_t& a, const tinyobj::index_t& b) const {
-    return a.vertex_index == b.vertex_index && a.texcoord_index == b.texcoord_index &&
-           a.normal_index == b.normal_index;
+struct CornerEq {
+  bool operator()(const CornerKey& a, const CornerKey& b) const {
+    return a.idx.vertex_index == b.idx.vertex_index && a.idx.texcoord_index == b.idx.texcoord_index &&
+           a.idx.normal_index == b.idx.normal_index && a.smoothing == b.smoothing;
   }
 };
+
+// Which copies of a position share a computed normal: those of one smoothing group (`s N`), or,
+// for a face in no group (`s off`, `s 0`), only the face's own corners, so it is flat. Group
+// numbers are below 2^32, face numbers are set apart by the bit above them.
+uint64_t smoothing_key(unsigned group, size_t face) {
+  return group != 0 ? uint64_t{group} : (uint64_t{1} << 32) | uint64_t(face);
+}
 
 const char* non_finite(const float* v, int n) {
   for (int k = 0; k < n; ++k) {
@@ -100,7 +115,30 @@ struct ObjPrescan {
   // below), thrown only after the budget check so that an oversized file is refused for its
   // size whatever follows.
   std::optional<InputError> bad_record;
+  // An `s` record was seen, and a corner without a normal index: only then do smoothing groups
+  // decide the computed normals (a file without `s` records is smoothed whole, as pelt always
+  // did; a file that gives every normal needs none computed).
+  bool smoothing_groups = false;
+  bool corner_without_normal = false;
 };
+
+// An `s` record's argument: `off`, or a group number, 0 meaning off (the OBJ specification).
+// tinyobjloader reads any other word as 0 and a negative number as 0, without a word; both would
+// silently flatten the faces that follow. Returns the reason, or an empty string.
+std::string check_smoothing_group(std::string_view arg) {
+  if (arg.empty()) return "an `s` record needs `off` or a group number";
+  if (arg == "off") return {};
+  const char* b = arg.data() + (arg[0] == '+' ? 1 : 0);
+  const char* e = arg.data() + arg.size();
+  unsigned long long value = 0;
+  const auto [ptr, ec] = std::from_chars(b, e, value);
+  if (b == e || ptr != e || ec != std::errc() || value > UINT32_MAX) {
+    std::string m = "`";
+    return m.append(arg).append("` is not a smoothing group: `s off`, `s 0` (off) or a group number up to ")
+        .append(std::to_string(UINT32_MAX));
+  }
+  return {};
+}
 
 // tinyobjloader reads a malformed number ("nan", "1.2.3", "abc") as 0 without a word,
 // so the numeric records are checked here first, numbered as the file numbers them
@@ -117,7 +155,7 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
   std::string line, tok;
   size_t counts[3] = {0, 0, 0};  // v, vt, vn
   static const char* kWhat[3] = {"position", "texture coordinate", "normal"};
-  size_t line_number = 0, faces = 0;
+  size_t line_number = 0, faces = 0, smoothing_records = 0;
   while (std::getline(in, line)) {
     ++line_number;
     size_t i = line.find_first_not_of(" \t");
@@ -133,6 +171,8 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
           break;
         }
         ++corners;
+        // v, v/vt: no normal (v//vn and v/vt/vn have a second slash)
+        if (std::count(tok.begin(), tok.end(), '/') < 2) out.corner_without_normal = true;
         if (out.bad_record) continue;
         if (std::string reason = check_corner(tok, counts); !reason.empty())
           out.bad_record.emplace(file, face_name(faces), reason + where);
@@ -150,6 +190,20 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
         out.bad_record.emplace(file, face_name(faces - 1),
                                "a face has at most " + std::to_string(kMaxCorners) + " vertices here, this one has " +
                                    std::to_string(corners) + where);
+      continue;
+    }
+    if (line[i] == 's' && (i + 1 == line.size() || line[i + 1] == ' ' || line[i + 1] == '\t' || line[i + 1] == '\r')) {
+      out.smoothing_groups = true;
+      ++smoothing_records;
+      if (out.bad_record) continue;
+      std::istringstream tokens(line.substr(i + 1));
+      std::string arg, extra;
+      tokens >> arg;
+      if (!arg.empty() && arg[0] == '#') arg.clear();
+      if (tokens >> extra && extra[0] != '#') arg.append(" ").append(extra);
+      if (std::string reason = check_smoothing_group(arg); !reason.empty())
+        out.bad_record.emplace(file, "s " + std::to_string(smoothing_records),
+                               reason + " (line " + std::to_string(line_number) + ")");
       continue;
     }
     if (out.bad_record || line[i] != 'v') continue;
@@ -223,7 +277,9 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     if (const char* bad = non_finite(&attrib.normals[3 * i], 3))
       throw InputError(file, "vn " + std::to_string(i + 1), std::string("normal is ") + bad);
 
-  std::unordered_map<tinyobj::index_t, uint32_t, TripleHash, TripleEq> vertex_of;
+  std::unordered_map<CornerKey, uint32_t, CornerHash, CornerEq> vertex_of;
+  const bool by_smoothing = pre.smoothing_groups && pre.corner_without_normal;
+  std::vector<uint64_t> smoothing;  // per vertex, when by_smoothing
   bool all_uvs = true, all_normals = true;
   Mesh& m = out.mesh;
   size_t face_number = 0;
@@ -260,8 +316,13 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
           throw InputError(file, face_name(face_number),
                            "normal index " + std::to_string(idx.normal_index + 1) + " out of range (" +
                                std::to_string(nn) + " normals)");
-        auto [it, inserted] = vertex_of.try_emplace(idx, static_cast<uint32_t>(m.positions.size()));
+        CornerKey key{idx, 0};
+        if (by_smoothing)
+          key.smoothing = smoothing_key(f < mesh.smoothing_group_ids.size() ? mesh.smoothing_group_ids[f] : 0u,
+                                        face_number);
+        auto [it, inserted] = vertex_of.try_emplace(key, static_cast<uint32_t>(m.positions.size()));
         if (inserted) {
+          if (by_smoothing) smoothing.push_back(key.smoothing);
           const float* p = &attrib.vertices[3 * idx.vertex_index];
           m.positions.emplace_back(p[0], p[1], p[2]);
           if (idx.texcoord_index >= 0) {
@@ -293,7 +354,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     if (nt > 0) out.warnings.push_back("some vertices have no texture coordinate: uvs dropped");
     m.uvs.clear();
   }
-  finish_normals(out, all_normals, nn > 0, NormalSharing::per_position);
+  finish_normals(out, all_normals, nn > 0, NormalSharing::per_position, smoothing);
 
   if (material >= 0 && static_cast<size_t>(material) < materials.size()) {
     const tinyobj::material_t& mat = materials[material];

@@ -11,11 +11,14 @@
 
 #include "tests/tools/io/mesh_checks.h"
 #include "tests/tools/io/base64.h"
+#include "tests/tools/io/expect_load_error.h"
 #include "tests/tools/io/temp_dir.h"
 #include "tools/io/input_error.h"
 
 namespace pelt::io {
 namespace {
+
+using testing::expect_load_error;
 
 std::filesystem::path data_dir() {
   const char* root = std::getenv("PELT_SOURCE_DIR");
@@ -126,18 +129,6 @@ TEST(MeshLoader, BoxTexturedGltfResolvesRelativeUris) {
 }
 
 // --- bad files -------------------------------------------------------------------
-
-void expect_load_error(const std::filesystem::path& file, const std::string& field,
-                       const std::string& reason_part) {
-  try {
-    load_mesh_file(file);
-    FAIL() << file << " was accepted";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file, file.string());
-    EXPECT_EQ(e.field, field) << e.what();
-    EXPECT_NE(e.reason.find(reason_part), std::string::npos) << e.what();
-  }
-}
 
 // Found by fuzzing: tinygltf 2.7 hands stb_image a pointer past the buffer when an image's
 // bufferView runs past the end of its buffer; the loader must refuse the file first.

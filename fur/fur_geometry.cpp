@@ -332,11 +332,22 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
                         base.positions[base.indices[3 * f + 2]]);
   }
 
+  // A shell triangle names, for each corner, the first copy equal to it in everything the shells
+  // are drawn from (position, normal and growth in every pose, texture coordinate): such copies
+  // (a flat-shaded file's corners once their fur normals are joined, a hard edge whose faces share
+  // uvs) are one vertex to the fur. Named by one index, the triangles on either side share an edge
+  // for the rasterizer, which packs their lanes into shared blocks and takes one level of detail
+  // across them, as on the mesh welded; named by two, the fur was drawn as if cut along them.
+  const std::vector<uint32_t> same_shell = first_with_equal_key<11>(N, [&](uint32_t i) {
+    const glm::vec3 &p = base.positions[i], &nn = out.base_normals[i], &g = out.growth[i];
+    const glm::vec2& t = base_uv[i];
+    return std::array<float, 11>{p.x, p.y, p.z, nn.x, nn.y, nn.z, g.x, g.y, g.z, t.x, t.y};
+  });
   out.shell_indices.resize(size_t(S) * F * 3);
   for (uint32_t s = 0; s < S; ++s) {
     const uint32_t shift = uint32_t(s * N);
     uint32_t* dst = out.shell_indices.data() + size_t(s) * F * 3;
-    for (size_t k3 = 0; k3 < 3 * F; ++k3) dst[k3] = base.indices[k3] + shift;
+    for (size_t k3 = 0; k3 < 3 * F; ++k3) dst[k3] = same_shell[base.indices[k3]] + shift;
   }
 
   const std::vector<uint32_t> same_as = same_strand_vertices(base.positions, out.base_normals, out.growth);

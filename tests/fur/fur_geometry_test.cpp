@@ -295,6 +295,39 @@ TEST(FurGeometry, HardEdgesGrowOneStrandPerPosition) {
   for (const FurEdge& e : g.edges) EXPECT_NE(e.face1, kNoFace) << e.a << "-" << e.b;
 }
 
+// Copies equal in everything the shells are drawn from are one vertex to them, so the rasterizer
+// sees the triangles around them share edges, as on the welded mesh: the hard-edged cube without
+// uvs (its fur normals joined, its texture coordinates projected from positions) names 8 vertices
+// a layer. With its per-face uvs, copies whose uvs differ keep their own.
+TEST(FurGeometry, ShellsNameOneVertexForCopiesEqualInAllTheyAreDrawnFrom) {
+  for (const bool with_uvs : {false, true}) {
+    Mesh cube = hard_edged_cube();
+    if (!with_uvs) cube.uvs.clear();
+    const FurGeometry g = build(cube, shells(3));
+    const uint32_t N = g.base_vertex_count, F = uint32_t(cube.triangle_count());
+    std::set<std::array<float, 5>> distinct;
+    for (uint32_t i = 0; i < N; ++i)
+      distinct.insert({cube.positions[i].x, cube.positions[i].y, cube.positions[i].z, g.shell_uvs[i].x, g.shell_uvs[i].y});
+    if (with_uvs) {  // some faces meet with equal uvs at a corner, others not
+      EXPECT_GT(distinct.size(), 8u);
+      EXPECT_LT(distinct.size(), 24u);
+    } else {
+      EXPECT_EQ(distinct.size(), 8u);
+    }
+    std::set<uint32_t> named;
+    for (uint32_t s = 0; s < g.layers; ++s)
+      for (uint32_t k = 0; k < 3 * F; ++k) {
+        const uint32_t v = g.shell_indices[3 * size_t{s} * F + k], own = cube.indices[k] + s * N;
+        EXPECT_EQ(v / N, s);
+        EXPECT_EQ(g.positions[v], g.positions[own]);
+        EXPECT_EQ(g.shell_uvs[v], g.shell_uvs[own]);
+        EXPECT_LE(v, own);  // the first such copy
+        if (s == 0) named.insert(v);
+      }
+    EXPECT_EQ(named.size(), distinct.size()) << "with uvs " << with_uvs;
+  }
+}
+
 // A zero-area triangle's corners have no face: a glTF without normals gives them +y (flat
 // normals of nothing). They take what the faced copies at their position give, and add nothing
 // to it; counted in, the made-up +y would tilt the corner's fur, or stop the join and crack it.

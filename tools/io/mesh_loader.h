@@ -31,14 +31,16 @@ struct LoadedMesh {
 };
 
 // Loads .obj, .gltf or .glb (by extension, case-insensitive). OBJ: normals are used when every
-// vertex has one, otherwise computed with pelt::compute_vertex_normals, per position (with a
-// warning when the file gave some that are replaced). glTF: a primitive's NORMAL is used, and a
+// vertex has one, otherwise computed with pelt::compute_vertex_normals, per position within the
+// face's smoothing group when the file has `s` records (with a warning when the file gave some
+// that are replaced). glTF: a primitive's NORMAL is used, and a
 // primitive without one gets flat normals (each triangle its own corners), as the specification
 // asks. A zero-length normal has all of the mesh's normals computed, with a warning;
 // UVs are kept when every vertex has one.
 //
 // OBJ: each `f` record split into triangles by triangulate_polygon (faces of 3 to 255
-// corners); one vertex per distinct (v, vt, vn) triple, in first-use order. Errors name a
+// corners); one vertex per distinct (v, vt, vn) triple, in first-use order (and smoothing group,
+// where normals are computed from groups). Errors name a
 // face as the file numbers its `f` records (`f 3`), with its line where the prescan finds it.
 // glTF: every mesh instance of the default scene (scene 0 when none is set), with its
 // node's world transform baked into positions and normals (normals by the inverse

@@ -92,6 +92,28 @@ void join_hard_edges(const Mesh& base, std::vector<glm::vec3>& normals) {
     if (set[i]) normals[i] = to[i];
 }
 
+// The mesh's surface area, in double.
+double mesh_area(const Mesh& m) {
+  double a = 0.0;
+  for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+    const glm::dvec3 p0(m.positions[m.indices[t]]), p1(m.positions[m.indices[t + 1]]), p2(m.positions[m.indices[t + 2]]);
+    a += 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
+  }
+  return a;
+}
+
+// The area of the mesh's triangles laid out by `uv(i)` (either winding counts alike; overlapping
+// islands count once each), in double.
+template <class Uv>
+double triangle_area_2d(const Mesh& m, Uv uv) {
+  double a = 0.0;
+  for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+    const glm::dvec2 t0 = uv(m.indices[t]), d1 = uv(m.indices[t + 1]) - t0, d2 = uv(m.indices[t + 2]) - t0;
+    a += 0.5 * std::abs(d1.x * d2.y - d1.y * d2.x);
+  }
+  return a;
+}
+
 }  // namespace
 
 BoundingSphere bounding_sphere(const Mesh& mesh) {
@@ -292,18 +314,52 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
     for (size_t i = 0; i < N; ++i) out.growth[i] = growth_direction(out.base_normals[i], params.comb);
   }
 
-  // Texture coordinates per base vertex (the same in every layer).
+  // Texture coordinates per base vertex (the same in every layer), at one strand scale
+  // (FurParams::texture_coordinates): the llvmpipe harness's projection, k1 texture units per
+  // scene unit along the body diagonal's plane, times texture_repeat.
   const double R = out.bounds.radius > 0.0f ? double(out.bounds.radius) : 1.0;
-  const double k = 2.449490 * std::sqrt(3.0) / R;
+  const double k1 = 2.449490 * std::sqrt(3.0) / R;
+  const double repeat = double(params.texture_repeat);
+  const double k = k1 * repeat;
   const glm::dvec3 e1 = glm::normalize(glm::dvec3(1, -1, 0));
   const glm::dvec3 e2 = glm::normalize(glm::dvec3(1, 1, -2));
   const glm::dvec3 ef = glm::normalize(glm::dvec3(1, 2, 3));
+  const auto projected = [&](uint32_t i, double scale) {
+    const glm::dvec3 q = glm::dvec3(base.positions[i]) - glm::dvec3(out.bounds.centre);
+    return glm::dvec2(scale * glm::dot(q, e1), scale * glm::dot(q, e2));
+  };
+  out.strand_coordinates = params.texture_coordinates.value_or(base.uvs.empty() ? StrandCoordinates::projected
+                                                                                : StrandCoordinates::mesh);
+  out.strand_uv_scale = k;
+  if (out.strand_coordinates == StrandCoordinates::mesh) {
+    if (base.uvs.empty())
+      return ParamError{"texture_coordinates", "\"mesh\" lays the strands by the mesh's texture coordinates, and "
+                                               "this mesh has none: use \"projected\""};
+    // The mesh's uvs are scaled to cover as much texture as the projection lays on the same mesh,
+    // so a strand is as wide whatever the UV layout (an atlas spanning [0, 1] once would make each
+    // strand texel a patch of the whole surface). Where the projection is degenerate (a surface
+    // along the diagonal), the mean over every orientation: half the area, at k1.
+    const double area = mesh_area(base), uv_area = triangle_area_2d(base, [&](uint32_t i) {
+      return glm::dvec2(base.uvs[i]);
+    });
+    double projected_area = triangle_area_2d(base, [&](uint32_t i) { return projected(i, k1); });
+    if (!(projected_area > 1e-6 * k1 * k1 * area)) projected_area = 0.5 * k1 * k1 * area;
+    double ratio = uv_area > 0.0 && projected_area > 0.0 ? std::sqrt(projected_area / uv_area) : 0.0;
+    if (!std::isfinite(ratio) || !(ratio > 0.0))
+      return ParamError{"texture_coordinates", "the mesh's texture coordinates (or its triangles) cover no area, so "
+                                               "they cannot lay the strands: use \"projected\""};
+    // Uvs already at the strand scale stay as they are, without rounding noise: the built-in box's
+    // and teapot's are the projection itself (computed from their double-precision points).
+    if (std::abs(ratio - 1.0) <= 1e-3) ratio = 1.0;
+    out.strand_uv_scale = ratio * repeat;
+  }
   std::vector<glm::vec2> base_uv(N);
   std::vector<float> fin_u(N);
-  for (size_t i = 0; i < N; ++i) {
+  for (uint32_t i = 0; i < N; ++i) {
     const glm::dvec3 q = glm::dvec3(base.positions[i]) - glm::dvec3(out.bounds.centre);
-    base_uv[i] = base.uvs.empty() ? glm::vec2(float(k * glm::dot(q, e1)), float(k * glm::dot(q, e2)))
-                                  : base.uvs[i];
+    base_uv[i] = out.strand_coordinates == StrandCoordinates::projected
+                     ? glm::vec2(projected(i, k))
+                     : glm::vec2(glm::dvec2(base.uvs[i]) * out.strand_uv_scale);
     fin_u[i] = float(k * glm::dot(q, ef));
   }
 

@@ -73,8 +73,12 @@ struct FurGeometry {
 
   // Per fur vertex I = i + s*N (size S*N): the rest pose of eq. 1.
   std::vector<glm::vec3> positions;
-  std::vector<glm::vec2> shell_uvs;  // the base vertex's uv, the same in every layer
-  // u = k q.(1,2,3)/sqrt14 with q = p - centre and k = 2.449490 sqrt(3) / R (the
+  std::vector<glm::vec2> shell_uvs;  // the base vertex's strand uv, the same in every layer
+  // Where the shell uvs come from (FurParams::texture_coordinates, resolved), and the factor
+  // applied: to the mesh's uvs, or to the projection (k, texture units per scene unit).
+  StrandCoordinates strand_coordinates = StrandCoordinates::projected;
+  double strand_uv_scale = 0.0;
+  // u = k q.(1,2,3)/sqrt14 with q = p - centre and k = 2.449490 sqrt(3) / R times texture_repeat (the
   // llvmpipe harness's fin coordinate: runs along every edge that is not perpendicular
   // to (1,2,3)); v = s / (S-1), 0 at the root, 1 at the tip.
   std::vector<glm::vec2> fin_uvs;

@@ -60,6 +60,10 @@ std::optional<ParamError> validate(const FurParams& p) {
     return ParamError{"texture_size", "must be a power of two in [16, 4096], got " +
                                           std::to_string(p.texture_size)};
   }
+  if (auto e = check_range("texture_repeat", p.texture_repeat, 0.0, 1000.0, true)) return e;
+  if (p.texture_coordinates && *p.texture_coordinates != StrandCoordinates::mesh &&
+      *p.texture_coordinates != StrandCoordinates::projected)
+    return ParamError{"texture_coordinates", "must be \"mesh\" or \"projected\""};
   // Fewer than one strand root would leave the textures empty.
   double roots = double(p.density) / 100.0 * double(p.texture_size) * double(p.texture_size);
   if (std::lround(roots) < 1) {
@@ -99,6 +103,14 @@ std::string_view to_string(FinMode mode) {
     case FinMode::off: return "off";
     case FinMode::all: return "all";
     case FinMode::silhouette: return "silhouette";
+  }
+  return "invalid";
+}
+
+std::string_view to_string(StrandCoordinates coordinates) {
+  switch (coordinates) {
+    case StrandCoordinates::mesh: return "mesh";
+    case StrandCoordinates::projected: return "projected";
   }
   return "invalid";
 }

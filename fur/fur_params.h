@@ -60,6 +60,12 @@ struct CombParams {
   glm::vec2 uv_direction{1.0f, 0.0f};
 };
 
+// Where the shells' strand texture lies on the mesh.
+enum class StrandCoordinates {
+  mesh,       // the mesh's texture coordinates, scaled to pelt's strand scale (below)
+  projected,  // a planar projection along the body diagonal (the llvmpipe harness's mapping)
+};
+
 struct FurParams {
   // "shells": number of layers S including layer 0 on the base surface; in [2, 128].
   int shells = 16;
@@ -89,6 +95,19 @@ struct FurParams {
   // "texture_size": side of each square layer texture in texels; a power of two in
   // [16, 4096].
   int texture_size = 256;
+  // "texture_coordinates": "mesh" | "projected"; unset: "mesh" when the mesh has texture
+  // coordinates, "projected" when it has none. Either way the strand texture is laid at one scale,
+  // so a strand is as wide on a uv-mapped mesh as on the same mesh without uvs, whatever its UV
+  // layout: projected coordinates are k (p - centre).e1, .e2 with k = 2.449490 sqrt(3) / R (the
+  // llvmpipe harness's mapping along the body diagonal; 4 repeats along each edge of its box), and
+  // the mesh's uvs are multiplied by sqrt(A_p / A_uv), A_uv their area in the texture and A_p the
+  // texture area the projection lays on the same mesh (a factor within 0.1 % of 1 is 1: the
+  // built-in box's and teapot's uvs are that projection). A layout spanning [0, 1] once over a
+  // whole character, as an atlas does, would otherwise make each strand a patch of its surface.
+  std::optional<StrandCoordinates> texture_coordinates;
+  // "texture_repeat": the strand texture repeats this many times as often as at that scale
+  // (finer strands above 1, coarser below); in (0, 1000].
+  float texture_repeat = 1.0f;
   // "seed": seeds the strand generators (std::mt19937); the same seed gives the same
   // textures. Any value in [0, 2^32 - 1].
   uint32_t seed = 1;
@@ -115,6 +134,7 @@ struct ParamError {
 std::optional<ParamError> validate(const FurParams& params);
 
 std::string_view to_string(FinMode mode);
+std::string_view to_string(StrandCoordinates coordinates);
 // "off" | "all" | "silhouette" (exact, lower case); nothing for any other text.
 std::optional<FinMode> fin_mode_from_string(std::string_view text);
 

@@ -67,7 +67,7 @@ TEST(FurGeometry, PositionsFollowEquationOneExactly) {
         // Layer s is s * SL_D from the base along the unit normal.
         EXPECT_NEAR(glm::length(g.positions[i + s * N] - m.positions[i]), sld * s, 1e-6);
         EXPECT_EQ(g.layer[i + s * N], s);
-        EXPECT_EQ(g.shell_uvs[i + s * N], m.uvs[i]);
+        EXPECT_EQ(g.shell_uvs[i + s * N], glm::vec2(glm::dvec2(m.uvs[i]) * g.strand_uv_scale));
         EXPECT_FLOAT_EQ(g.fin_uvs[i + s * N].y, float(s) / float(p.shells - 1));
         EXPECT_EQ(g.fin_uvs[i + s * N].x, g.fin_uvs[i].x);  // u depends on the base vertex only
       }
@@ -208,8 +208,10 @@ TEST(FurGeometry, CombingFollowsTheUvLayout) {
   // The same quad with its uvs turned a quarter: u now runs along +z, and the fur follows.
   m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   for (const glm::vec3& d : growth_with({1, 0}, 1.0f)) EXPECT_NEAR(glm::distance(d, lying_flat({0, 0, 1})), 0.0f, 1e-6f);
-  // Degenerate uvs give no direction: the normal is kept, never NaN.
+  // Degenerate uvs give no direction: the normal is kept, never NaN. (They cannot lay the strand
+  // texture either: the strands are projected.)
   m.uvs.assign(4, {0.5f, 0.5f});
+  p.texture_coordinates = StrandCoordinates::projected;
   for (const glm::vec3& d : growth_with({1, 0}, 1.0f)) EXPECT_EQ(d, glm::vec3(0, 1, 0));
   // No uvs at all: an error naming the field.
   m.uvs.clear();
@@ -326,6 +328,87 @@ TEST(FurGeometry, ShellsNameOneVertexForCopiesEqualInAllTheyAreDrawnFrom) {
       }
     EXPECT_EQ(named.size(), distinct.size()) << "with uvs " << with_uvs;
   }
+}
+
+// The strand texture lies at one scale whatever the UV layout: the mesh's uvs are scaled to cover
+// as much texture as the projection along the body diagonal lays on the same mesh, so a mesh whose
+// uvs span a tenth of the texture grows the same strands as one whose uvs span it all (before, its
+// strands were ten times as wide). texture_repeat multiplies either mapping's scale.
+TEST(FurGeometry, StrandsLieAtOneScaleWhateverTheUvLayout) {
+  const Mesh square = test::unit_square();  // area 1, uv area 1, facing +y: 1/sqrt3 of it projected
+  const double k = 2.449490 * std::sqrt(3.0) / double(bounding_sphere(square).radius);
+  const FurGeometry g = build(square, shells(3));
+  EXPECT_EQ(g.strand_coordinates, StrandCoordinates::mesh);
+  EXPECT_NEAR(g.strand_uv_scale, k * std::pow(3.0, -0.25), 1e-6 * k);
+
+  Mesh small_uvs = square;  // the same surface laid on a tenth of the texture, moved off the origin
+  for (glm::vec2& uv : small_uvs.uvs) uv = uv * 0.1f + glm::vec2(0.5f, 0.25f);
+  const FurGeometry h = build(small_uvs, shells(3));
+  EXPECT_NEAR(h.strand_uv_scale, 10.0 * g.strand_uv_scale, 1e-5 * k);
+  for (size_t i = 1; i < 4; ++i) {  // the same texture distances between the vertices
+    const glm::vec2 a = g.shell_uvs[i] - g.shell_uvs[0], b = h.shell_uvs[i] - h.shell_uvs[0];
+    EXPECT_NEAR(glm::length(a - b), 0.0f, 1e-4f) << i;
+  }
+
+  FurParams twice = shells(3);
+  twice.texture_repeat = 2.0f;
+  EXPECT_NEAR(build(square, twice).strand_uv_scale, 2.0 * g.strand_uv_scale, 1e-9 * k);
+  twice.texture_coordinates = StrandCoordinates::projected;
+  FurParams once = shells(3);
+  once.texture_coordinates = StrandCoordinates::projected;
+  const FurGeometry dp = build(square, twice), p = build(square, once);
+  EXPECT_EQ(p.strand_uv_scale, k);
+  EXPECT_EQ(dp.strand_uv_scale, 2.0 * k);
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_NEAR(glm::length(dp.shell_uvs[i] - 2.0f * p.shell_uvs[i]), 0.0f, 1e-5f) << i;
+    EXPECT_NEAR(glm::length(dp.fin_uvs[i] - glm::vec2(2.0f * p.fin_uvs[i].x, p.fin_uvs[i].y)), 0.0f, 1e-5f) << i;
+  }
+}
+
+// The built-in box's and teapot's uvs are the projection itself: they are kept bit for bit (the
+// FPS tables and the llvmpipe harness's texture coordinates), not rescaled by a factor a rounding
+// away from 1.
+TEST(FurGeometry, UvsAlreadyAtTheStrandScaleAreKept) {
+  for (const char* name : {"box:7", "teapot:3", "teapot:5"}) {
+    const Mesh m = io::make_builtin_mesh(name);
+    const FurGeometry g = build(m, shells(3));
+    EXPECT_EQ(g.strand_uv_scale, 1.0) << name;
+    for (size_t i = 0; i < m.positions.size(); ++i) ASSERT_EQ(g.shell_uvs[i], m.uvs[i]) << name << " " << i;
+  }
+}
+
+// "projected" ignores the mesh's uvs: the same coordinates as the mesh without them, bit for bit
+// (the FPS tables' meshes have none, so their texture coordinates are the harness's).
+TEST(FurGeometry, ProjectedCoordinatesIgnoreTheMeshUvs) {
+  Mesh without = test::unit_square();
+  without.uvs.clear();
+  FurParams p = shells(3);
+  p.texture_coordinates = StrandCoordinates::projected;
+  const FurGeometry a = build(test::unit_square(), p), b = build(without, shells(3));
+  EXPECT_EQ(a.strand_coordinates, StrandCoordinates::projected);
+  EXPECT_EQ(b.strand_coordinates, StrandCoordinates::projected);
+  EXPECT_EQ(a.shell_uvs, b.shell_uvs);
+  EXPECT_EQ(a.strand_uv_scale, b.strand_uv_scale);  // the projection's k
+}
+
+TEST(FurGeometry, MeshCoordinatesNeedUvsThatCoverArea) {
+  Mesh without = test::unit_square();
+  without.uvs.clear();
+  FurParams p = shells(3);
+  p.texture_coordinates = StrandCoordinates::mesh;
+  FurGeometry g;
+  auto e = build_fur_geometry(without, p, g);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "texture_coordinates");
+  EXPECT_NE(e->reason.find("has none"), std::string::npos) << e->reason;
+  Mesh flat_uvs = test::unit_square();
+  flat_uvs.uvs.assign(4, glm::vec2(0.3f, 0.3f));
+  e = build_fur_geometry(flat_uvs, shells(3), g);  // by default too: the mesh has uvs
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "texture_coordinates");
+  EXPECT_NE(e->reason.find("cover no area"), std::string::npos) << e->reason;
+  p.texture_coordinates = StrandCoordinates::projected;  // the way out the message names
+  EXPECT_FALSE(build_fur_geometry(flat_uvs, p, g).has_value());
 }
 
 // A zero-area triangle's corners have no face: a glTF without normals gives them +y (flat

@@ -21,6 +21,8 @@ TEST(FurParams, DefaultsAreValidAndAsDocumented) {
   EXPECT_EQ(p.shells, 16);
   EXPECT_EQ(p.texture_size, 256);
   EXPECT_EQ(p.fins, FinMode::silhouette);
+  EXPECT_FALSE(p.texture_coordinates.has_value());  // the mesh's uvs where it has them
+  EXPECT_EQ(p.texture_repeat, 1.0f);
   EXPECT_FALSE(p.gravity.has_value());
   EXPECT_FALSE(p.wind.has_value());
   EXPECT_FALSE(p.comb.has_value());
@@ -63,6 +65,13 @@ TEST(FurParams, EachBadFieldIsNamedByItsKeyPath) {
   EXPECT_EQ(bad_field(with([](FurParams& p) { p.texture_size = 100; })), "texture_size");
   EXPECT_EQ(bad_field(with([](FurParams& p) { p.texture_size = 8; })), "texture_size");
   EXPECT_EQ(bad_field(with([](FurParams& p) { p.texture_size = 8192; })), "texture_size");
+  for (const float r : {0.0f, -1.0f, 1000.5f, std::numeric_limits<float>::quiet_NaN(),
+                        std::numeric_limits<float>::infinity()})
+    EXPECT_EQ(bad_field(with([r](FurParams& p) { p.texture_repeat = r; })), "texture_repeat") << r;
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.texture_repeat = 1000.0f; })), "<accepted>");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.texture_repeat = 1e-3f; })), "<accepted>");
+  EXPECT_EQ(bad_field(with([](FurParams& p) { p.texture_coordinates = StrandCoordinates(7); })),
+            "texture_coordinates");
   EXPECT_EQ(bad_field(with([](FurParams& p) { p.fins = FinMode(7); })), "fins");
   EXPECT_EQ(bad_field(with([](FurParams& p) { p.root_color.z = 1.5f; })), "root_color[2]");
   EXPECT_EQ(bad_field(with([&](FurParams& p) { p.tip_color.x = nan; })), "tip_color[0]");
@@ -108,6 +117,8 @@ TEST(FurParams, FinModeStringsRoundTrip) {
   EXPECT_FALSE(fin_mode_from_string("Silhouette").has_value());
   EXPECT_FALSE(fin_mode_from_string("").has_value());
   EXPECT_FALSE(fin_mode_from_string("on").has_value());
+  EXPECT_EQ(to_string(StrandCoordinates::mesh), "mesh");
+  EXPECT_EQ(to_string(StrandCoordinates::projected), "projected");
 }
 
 }  // namespace

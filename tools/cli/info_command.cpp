@@ -74,6 +74,15 @@ int run_info(const InfoOptions& o) {
       if (c->joined_vertices > 0)
         std::printf(", %zu vertex copies (texture seams, hard edges) joined to the vertex they copy", c->joined_vertices);
       std::printf("\n");
+      // Where the strands lie, and how large: a uv-mapped mesh's strand size depends on its UV layout
+      // until scaled, which the user tunes with texture_repeat.
+      const fur::FurGeometry& g = *r.fur_geometry(i);
+      if (g.strand_coordinates == fur::StrandCoordinates::mesh)
+        std::printf("       strands  on the mesh's uvs x %.4g (texture_repeat %g)\n", g.strand_uv_scale,
+                    double(f.texture_repeat));
+      else
+        std::printf("       strands  projected, %.4g texture repeats per scene unit (texture_repeat %g)\n",
+                    g.strand_uv_scale, double(f.texture_repeat));
     }
   }
   std::printf("triangles  %llu before fur, %llu after\n", static_cast<unsigned long long>(r.base_triangles()),

@@ -39,8 +39,8 @@ void switch_value(const JsonFields& js, const json& obj, const std::string& path
 
 fur::FurParams parse_fur_block(const JsonFields& js, const json& j, const std::string& path) {
   js.expect_object(j, path,
-                   {"shells", "length", "density", "texture_size", "seed", "fins", "root_color",
-                    "tip_color", "gravity", "wind", "comb"});
+                   {"shells", "length", "density", "texture_size", "texture_coordinates", "texture_repeat",
+                    "seed", "fins", "root_color", "tip_color", "gravity", "wind", "comb"});
   fur::FurParams p;
   // Counts are read over int's whole range, so that a value out of theirs gets
   // FurParams::validate's message (its range and why), not a generic bound.
@@ -50,6 +50,14 @@ fur::FurParams parse_fur_block(const JsonFields& js, const json& j, const std::s
   p.density = num(js, j, path, "density", p.density);
   if (const json* v = JsonFields::find(j, "texture_size"))
     p.texture_size = static_cast<int>(js.integer(*v, json_child(path, "texture_size"), kIntMin, kIntMax));
+  if (const json* v = JsonFields::find(j, "texture_coordinates")) {
+    const std::string field = json_child(path, "texture_coordinates");
+    const std::string text = js.string(*v, field);
+    if (text == "mesh") p.texture_coordinates = fur::StrandCoordinates::mesh;
+    else if (text == "projected") p.texture_coordinates = fur::StrandCoordinates::projected;
+    else js.fail(field, "must be \"mesh\" or \"projected\", got \"" + text + "\"");
+  }
+  p.texture_repeat = num(js, j, path, "texture_repeat", p.texture_repeat);
   if (const json* v = JsonFields::find(j, "seed"))
     p.seed = static_cast<uint32_t>(js.integer(*v, json_child(path, "seed"), 0, 4294967295ll));
   if (const json* v = JsonFields::find(j, "fins")) {

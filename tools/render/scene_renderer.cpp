@@ -360,6 +360,10 @@ const fur::FurCounts* SceneRenderer::fur_counts(size_t object) const {
   return objects_[object]->fur ? &objects_[object]->fur->counts() : nullptr;
 }
 
+const fur::FurGeometry* SceneRenderer::fur_geometry(size_t object) const {
+  return objects_[object]->fur ? &objects_[object]->fur->geometry() : nullptr;
+}
+
 int SceneRenderer::fur_varying_count(size_t object) const {
   return objects_[object]->fur ? objects_[object]->fur->varying_count() : 0;
 }

@@ -89,6 +89,8 @@ class SceneRenderer {
   uint64_t fur_triangles() const;
   // Fur vertex and face counts of object i (nullptr when it has no fur).
   const fur::FurCounts* fur_counts(size_t object) const;
+  // The fur's geometry of object i, as built (nullptr when it has no fur).
+  const fur::FurGeometry* fur_geometry(size_t object) const;
   // Floats per fur vertex that the last frame's fur draws of object i interpolate (0 without
   // fur): 4 for grey per-vertex light, 8 for coloured, 12 lit per pixel.
   int fur_varying_count(size_t object) const;

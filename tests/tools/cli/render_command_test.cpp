@@ -312,6 +312,27 @@ TEST_F(RenderCommand, InfoCountsTheFurEdgesAndTheJoinedCopies) {
   EXPECT_NE(welded.out.find("edges    882 (a fin quad each per pair of layers)\n"), std::string::npos) << welded.out;
 }
 
+// Where the strands lie and at what scale: on a uv-mapped mesh the factor its uvs were scaled by
+// (the sphere's uvs span its whole surface once), on a mesh without uvs the projection's.
+TEST_F(RenderCommand, InfoShowsWhereTheStrandsLie) {
+  const fs::path sphere = dir.write("sphere2.json", R"({"pelt": 1, "image": {"width": 32, "height": 24},
+    "camera": {"eye": [0, 0, 4], "target": [0, 0, 0]}, "lights": [{"type": "ambient", "intensity": 0.5}],
+    "objects": [{"mesh": "sphere:16", "material": {"type": "lambert"}, "fur": {"shells": 4, "texture_repeat": 2}}]})");
+  const Result mesh = run_pelt({"info", sphere.string()}, dir.path());
+  ASSERT_EQ(mesh.code, 0) << mesh.err;
+  EXPECT_NE(mesh.out.find("strands  on the mesh's uvs x "), std::string::npos) << mesh.out;
+  EXPECT_NE(mesh.out.find("(texture_repeat 2)\n"), std::string::npos) << mesh.out;
+  // The built-in box's uvs are the projection: kept as they are.
+  const Result box = run_pelt({"info", (source_dir() / "tools/scenes/box_fur.json").string()}, dir.path());
+  ASSERT_EQ(box.code, 0) << box.err;
+  EXPECT_NE(box.out.find("strands  on the mesh's uvs x 1 (texture_repeat 1)\n"), std::string::npos) << box.out;
+  // The bunny has no uvs: projected, k = 2.449490 sqrt(3) / R texture units per scene unit.
+  const Result bunny = run_pelt({"info", (source_dir() / "tools/scenes/bunny_wind.json").string()}, dir.path());
+  ASSERT_EQ(bunny.code, 0) << bunny.err;
+  EXPECT_NE(bunny.out.find("strands  projected, "), std::string::npos) << bunny.out;
+  EXPECT_NE(bunny.out.find(" texture repeats per scene unit (texture_repeat 1)\n"), std::string::npos) << bunny.out;
+}
+
 // No output may overwrite what the render reads: the scene, a map, or another output. The
 // refusal comes before any work and leaves every file as it was.
 TEST_F(RenderCommand, OutputsNeverOverwriteInputsOrEachOther) {

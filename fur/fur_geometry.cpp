@@ -114,6 +114,24 @@ double triangle_area_2d(const Mesh& m, Uv uv) {
   return a;
 }
 
+// The factor that scales the mesh's uvs to cover as much texture as the projection lays on the
+// same mesh (`projected_area`, at k1 = sqrt(k1_squared)), so a strand is as wide whatever the UV
+// layout: an atlas spanning [0, 1] once would make each strand texel a patch of the whole surface.
+// The projected area is at least a quarter of the mesh's area at k1 (a closed mesh's is about a
+// half, a box's 0.577): a sheet seen nearly edge-on from the diagonal would otherwise get strands
+// as wide as the projection is thin. Nothing when the uvs cover no area, or so little that scaled
+// they would outrun a float's precision (a ratio above 1e5; an atlas gives 10-100).
+std::optional<double> uv_strand_ratio(const Mesh& m, double projected_area, double k1_squared) {
+  const double area = mesh_area(m);
+  const double uv_area = triangle_area_2d(m, [&](uint32_t i) { return glm::dvec2(m.uvs[i]); });
+  const double reference = std::max(projected_area, 0.25 * k1_squared * area);
+  const double ratio = uv_area > 0.0 && reference > 0.0 ? std::sqrt(reference / uv_area) : 0.0;
+  if (!std::isfinite(ratio) || !(ratio > 0.0) || ratio > 1e5) return std::nullopt;
+  // Uvs already at the strand scale stay as they are, without rounding noise: the built-in box's
+  // and teapot's are the projection itself (computed from their double-precision points).
+  return std::abs(ratio - 1.0) <= 1e-3 ? 1.0 : ratio;
+}
+
 }  // namespace
 
 BoundingSphere bounding_sphere(const Mesh& mesh) {
@@ -324,7 +342,7 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
   const glm::dvec3 e1 = glm::normalize(glm::dvec3(1, -1, 0));
   const glm::dvec3 e2 = glm::normalize(glm::dvec3(1, 1, -2));
   const glm::dvec3 ef = glm::normalize(glm::dvec3(1, 2, 3));
-  const auto projected = [&](uint32_t i, double scale) {
+  const auto projected = [&](uint32_t i, double scale) {  // the base_uv loop below, at any scale
     const glm::dvec3 q = glm::dvec3(base.positions[i]) - glm::dvec3(out.bounds.centre);
     return glm::dvec2(scale * glm::dot(q, e1), scale * glm::dot(q, e2));
   };
@@ -335,30 +353,25 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
     if (base.uvs.empty())
       return ParamError{"texture_coordinates", "\"mesh\" lays the strands by the mesh's texture coordinates, and "
                                                "this mesh has none: use \"projected\""};
-    // The mesh's uvs are scaled to cover as much texture as the projection lays on the same mesh,
-    // so a strand is as wide whatever the UV layout (an atlas spanning [0, 1] once would make each
-    // strand texel a patch of the whole surface). Where the projection is degenerate (a surface
-    // along the diagonal), the mean over every orientation: half the area, at k1.
-    const double area = mesh_area(base), uv_area = triangle_area_2d(base, [&](uint32_t i) {
-      return glm::dvec2(base.uvs[i]);
-    });
-    double projected_area = triangle_area_2d(base, [&](uint32_t i) { return projected(i, k1); });
-    if (!(projected_area > 1e-6 * k1 * k1 * area)) projected_area = 0.5 * k1 * k1 * area;
-    double ratio = uv_area > 0.0 && projected_area > 0.0 ? std::sqrt(projected_area / uv_area) : 0.0;
-    if (!std::isfinite(ratio) || !(ratio > 0.0))
+    const double projected_area = triangle_area_2d(base, [&](uint32_t i) { return projected(i, k1); });
+    if (const std::optional<double> ratio = uv_strand_ratio(base, projected_area, k1 * k1)) {
+      out.strand_uv_scale = *ratio * repeat;
+    } else if (params.texture_coordinates) {
       return ParamError{"texture_coordinates", "the mesh's texture coordinates (or its triangles) cover no area, so "
                                                "they cannot lay the strands: use \"projected\""};
-    // Uvs already at the strand scale stay as they are, without rounding noise: the built-in box's
-    // and teapot's are the projection itself (computed from their double-precision points).
-    if (std::abs(ratio - 1.0) <= 1e-3) ratio = 1.0;
-    out.strand_uv_scale = ratio * repeat;
+    } else {
+      // Placeholder uvs (an exporter's `vt 0 0` at every corner) were never meant to lay strands:
+      // the mesh is treated as having none, and the caller tells the user (uvs_cover_no_area).
+      out.strand_coordinates = StrandCoordinates::projected;
+      out.uvs_cover_no_area = true;
+    }
   }
   std::vector<glm::vec2> base_uv(N);
   std::vector<float> fin_u(N);
   for (uint32_t i = 0; i < N; ++i) {
     const glm::dvec3 q = glm::dvec3(base.positions[i]) - glm::dvec3(out.bounds.centre);
     base_uv[i] = out.strand_coordinates == StrandCoordinates::projected
-                     ? glm::vec2(projected(i, k))
+                     ? glm::vec2(glm::dvec2(k * glm::dot(q, e1), k * glm::dot(q, e2)))
                      : glm::vec2(glm::dvec2(base.uvs[i]) * out.strand_uv_scale);
     fin_u[i] = float(k * glm::dot(q, ef));
   }

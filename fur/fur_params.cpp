@@ -115,6 +115,12 @@ std::string_view to_string(StrandCoordinates coordinates) {
   return "invalid";
 }
 
+std::optional<StrandCoordinates> strand_coordinates_from_string(std::string_view text) {
+  if (text == "mesh") return StrandCoordinates::mesh;
+  if (text == "projected") return StrandCoordinates::projected;
+  return std::nullopt;
+}
+
 std::optional<FinMode> fin_mode_from_string(std::string_view text) {
   if (text == "off") return FinMode::off;
   if (text == "all") return FinMode::all;

@@ -101,12 +101,14 @@ struct FurParams {
   // layout: projected coordinates are k (p - centre).e1, .e2 with k = 2.449490 sqrt(3) / R (the
   // llvmpipe harness's mapping along the body diagonal; 4 repeats along each edge of its box), and
   // the mesh's uvs are multiplied by sqrt(A_p / A_uv), A_uv their area in the texture and A_p the
-  // texture area the projection lays on the same mesh (a factor within 0.1 % of 1 is 1: the
-  // built-in box's and teapot's uvs are that projection). A layout spanning [0, 1] once over a
+  // texture area the projection lays on the same mesh, at least a quarter of the mesh's area at k
+  // (a factor within 0.1 % of 1 is 1: the built-in box's and teapot's uvs are that projection). A layout spanning [0, 1] once over a
   // whole character, as an atlas does, would otherwise make each strand a patch of its surface.
   std::optional<StrandCoordinates> texture_coordinates;
+  // Uvs that cover no area (placeholders) are an error under an explicit "mesh"; unset, the strands
+  // are projected and the user is warned.
   // "texture_repeat": the strand texture repeats this many times as often as at that scale
-  // (finer strands above 1, coarser below); in (0, 1000].
+  // (finer strands above 1, coarser below), the fins' strands along an edge too; in (0, 1000].
   float texture_repeat = 1.0f;
   // "seed": seeds the strand generators (std::mt19937); the same seed gives the same
   // textures. Any value in [0, 2^32 - 1].
@@ -135,6 +137,8 @@ std::optional<ParamError> validate(const FurParams& params);
 
 std::string_view to_string(FinMode mode);
 std::string_view to_string(StrandCoordinates coordinates);
+// "mesh" | "projected" (exact, lower case); nothing for any other text.
+std::optional<StrandCoordinates> strand_coordinates_from_string(std::string_view text);
 // "off" | "all" | "silhouette" (exact, lower case); nothing for any other text.
 std::optional<FinMode> fin_mode_from_string(std::string_view text);
 

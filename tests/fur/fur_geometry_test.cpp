@@ -391,6 +391,19 @@ TEST(FurGeometry, ProjectedCoordinatesIgnoreTheMeshUvs) {
   EXPECT_EQ(a.strand_uv_scale, b.strand_uv_scale);  // the projection's k
 }
 
+// A sheet seen nearly edge-on from the projection's diagonal: the projection lays almost no
+// texture on it, and its uvs are scaled against a quarter of its area instead, not blown up.
+TEST(FurGeometry, ASheetAlongTheDiagonalKeepsFiniteStrands) {
+  Mesh sheet = test::unit_square();
+  const glm::dvec3 d = glm::normalize(glm::dvec3(1, 1, 1)), a = glm::normalize(glm::dvec3(1, -1, 0));
+  const glm::dvec3 b = glm::normalize(d + 1e-4 * glm::cross(d, a));  // in the sheet, 1e-4 off the diagonal
+  for (size_t i = 0; i < 4; ++i) sheet.positions[i] = glm::vec3(a * double(sheet.uvs[i].x) + b * double(sheet.uvs[i].y));
+  sheet.normals.assign(4, glm::vec3(glm::normalize(glm::cross(a, b))));
+  const FurGeometry g = build(sheet, shells(3));
+  const double k = 2.449490 * std::sqrt(3.0) / double(bounding_sphere(sheet).radius);
+  EXPECT_NEAR(g.strand_uv_scale, k * 0.5, 1e-3 * k);  // sqrt(0.25) k: uv area 1, area 1
+}
+
 TEST(FurGeometry, MeshCoordinatesNeedUvsThatCoverArea) {
   Mesh without = test::unit_square();
   without.uvs.clear();
@@ -403,12 +416,21 @@ TEST(FurGeometry, MeshCoordinatesNeedUvsThatCoverArea) {
   EXPECT_NE(e->reason.find("has none"), std::string::npos) << e->reason;
   Mesh flat_uvs = test::unit_square();
   flat_uvs.uvs.assign(4, glm::vec2(0.3f, 0.3f));
-  e = build_fur_geometry(flat_uvs, shells(3), g);  // by default too: the mesh has uvs
+  e = build_fur_geometry(flat_uvs, p, g);
   ASSERT_TRUE(e.has_value());
   EXPECT_EQ(e->field, "texture_coordinates");
   EXPECT_NE(e->reason.find("cover no area"), std::string::npos) << e->reason;
-  p.texture_coordinates = StrandCoordinates::projected;  // the way out the message names
-  EXPECT_FALSE(build_fur_geometry(flat_uvs, p, g).has_value());
+  Mesh tiny_uvs = test::unit_square();  // scaled up 1e5 times they would outrun a float
+  for (glm::vec2& uv : tiny_uvs.uvs) uv *= 1e-6f;
+  EXPECT_TRUE(build_fur_geometry(tiny_uvs, p, g).has_value());
+  // Not asked for: placeholders are taken for no uvs, and the geometry says so for the warning.
+  const FurGeometry f = build(flat_uvs, shells(3));
+  EXPECT_EQ(f.strand_coordinates, StrandCoordinates::projected);
+  EXPECT_TRUE(f.uvs_cover_no_area);
+  Mesh without_uvs = flat_uvs;
+  without_uvs.uvs.clear();
+  EXPECT_EQ(f.shell_uvs, build(without_uvs, shells(3)).shell_uvs);
+  EXPECT_FALSE(build(test::unit_square(), shells(3)).uvs_cover_no_area);
 }
 
 // A zero-area triangle's corners have no face: a glTF without normals gives them +y (flat
@@ -445,6 +467,9 @@ TEST(FurGeometry, OppositeCopiesKeepTheirOwnNormals) {
   m.indices = {0, 2, 1, 3, 4, 5};
   const FurGeometry g = build(m, shells(3));
   for (uint32_t i = 0; i < 6; ++i) EXPECT_EQ(g.base_normals[i], m.normals[i]) << i;
+  // Each side's shells keep their own vertices: copies differing in normal are not one vertex.
+  for (uint32_t s = 0; s < g.layers; ++s)
+    for (uint32_t k = 0; k < 6; ++k) EXPECT_EQ(g.shell_indices[6 * s + k], m.indices[k] + 6 * s) << s << " " << k;
 }
 
 // Combed along u, the sphere's copies at each position grow one strand: the seam's join their

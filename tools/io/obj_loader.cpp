@@ -44,7 +44,7 @@ struct CornerEq {
 
 // Which copies of a position share a computed normal: those of one smoothing group (`s N`), or,
 // for a face in no group (`s off`, `s 0`), only the face's own corners, so it is flat. Group
-// numbers are below 2^32, face numbers are set apart by the bit above them.
+// numbers are below 2^31, face numbers are set apart by bit 32.
 uint64_t smoothing_key(unsigned group, size_t face) {
   return group != 0 ? uint64_t{group} : (uint64_t{1} << 32) | uint64_t(face);
 }
@@ -106,6 +106,29 @@ std::string check_corner(std::string_view tok, const size_t counts[3]) {
   return malformed();  // a fourth part
 }
 
+// One line of the file as tinyobjloader splits them (its safeGetline): ended by "\n", "\r\n" or a
+// lone "\r", so that no record hides inside another line from the checks below (`# note\rs x`).
+bool read_line(std::istream& in, std::string& line) {
+  line.clear();
+  std::streambuf* sb = in.rdbuf();
+  for (;;) {
+    const int c = sb->sbumpc();
+    if (c == std::char_traits<char>::eof()) return !line.empty();
+    if (c == '\n') return true;
+    if (c == '\r') {
+      if (sb->sgetc() == '\n') sb->sbumpc();
+      return true;
+    }
+    line.push_back(static_cast<char>(c));
+  }
+}
+
+// Whether the line's first word, at i, is the record `kind` (`f`, `s`): the letter, then a blank
+// or the line's end.
+bool starts_record(const std::string& line, size_t i, char kind) {
+  return line[i] == kind && (i + 1 == line.size() || line[i + 1] == ' ' || line[i + 1] == '\t');
+}
+
 // What one pass over the file finds before tinyobjloader sees it.
 struct ObjPrescan {
   // Triangles the faces make, each `f` line of k corners split into k - 2 (as
@@ -115,9 +138,9 @@ struct ObjPrescan {
   // below), thrown only after the budget check so that an oversized file is refused for its
   // size whatever follows.
   std::optional<InputError> bad_record;
-  // An `s` record was seen, and a corner without a normal index: only then do smoothing groups
-  // decide the computed normals (a file without `s` records is smoothed whole, as pelt always
-  // did; a file that gives every normal needs none computed).
+  // An `s` record was seen, and a corner without a normal index: only then (or when a given
+  // normal has zero length) do smoothing groups decide the computed normals (a file without `s`
+  // records is smoothed whole, as pelt always did; a file that gives every normal needs none computed).
   bool smoothing_groups = false;
   bool corner_without_normal = false;
 };
@@ -132,10 +155,12 @@ std::string check_smoothing_group(std::string_view arg) {
   const char* e = arg.data() + arg.size();
   unsigned long long value = 0;
   const auto [ptr, ec] = std::from_chars(b, e, value);
-  if (b == e || ptr != e || ec != std::errc() || value > UINT32_MAX) {
+  // tinyobjloader reads the number into an int and takes a negative one for 0: past INT_MAX a
+  // group would silently be off.
+  if (b == e || ptr != e || ec != std::errc() || value > INT_MAX) {
     std::string m = "`";
     return m.append(arg).append("` is not a smoothing group: `s off`, `s 0` (off) or a group number up to ")
-        .append(std::to_string(UINT32_MAX));
+        .append(std::to_string(INT_MAX));
   }
   return {};
 }
@@ -156,11 +181,11 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
   size_t counts[3] = {0, 0, 0};  // v, vt, vn
   static const char* kWhat[3] = {"position", "texture coordinate", "normal"};
   size_t line_number = 0, faces = 0, smoothing_records = 0;
-  while (std::getline(in, line)) {
+  while (read_line(in, line)) {
     ++line_number;
     size_t i = line.find_first_not_of(" \t");
     if (i == std::string::npos) continue;
-    if (line[i] == 'f' && (i + 1 == line.size() || line[i + 1] == ' ' || line[i + 1] == '\t' || line[i + 1] == '\r')) {
+    if (starts_record(line, i, 'f')) {
       uint64_t corners = 0;
       std::istringstream tokens(line.substr(i + 1));
       const std::string where = " (line " + std::to_string(line_number) + ")";
@@ -192,7 +217,7 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
                                    std::to_string(corners) + where);
       continue;
     }
-    if (line[i] == 's' && (i + 1 == line.size() || line[i + 1] == ' ' || line[i + 1] == '\t' || line[i + 1] == '\r')) {
+    if (starts_record(line, i, 's')) {
       out.smoothing_groups = true;
       ++smoothing_records;
       if (out.bad_record) continue;
@@ -278,7 +303,12 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
       throw InputError(file, "vn " + std::to_string(i + 1), std::string("normal is ") + bad);
 
   std::unordered_map<CornerKey, uint32_t, CornerHash, CornerEq> vertex_of;
-  const bool by_smoothing = pre.smoothing_groups && pre.corner_without_normal;
+  // Groups decide normals pelt computes: those a corner lacks, or all of them when a given one has
+  // zero length (finish_normals).
+  bool zero_normal = false;
+  for (size_t i = 0; i < nn; ++i)
+    zero_normal |= attrib.normals[3 * i] == 0.0f && attrib.normals[3 * i + 1] == 0.0f && attrib.normals[3 * i + 2] == 0.0f;
+  const bool by_smoothing = pre.smoothing_groups && (pre.corner_without_normal || zero_normal);
   std::vector<uint64_t> smoothing;  // per vertex, when by_smoothing
   bool all_uvs = true, all_normals = true;
   Mesh& m = out.mesh;

@@ -321,6 +321,10 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       fo.parallel = parallel;
       obj->fur = std::make_unique<FurObject>(obj->mesh, *so.fur, fo,
                                              FurOrigin{scene.file.string(), io::json_index("objects", i)}, setup_stats_);
+      if (obj->fur->geometry().uvs_cover_no_area)
+        warnings_.push_back(so.mesh + " (" + io::json_index("objects", i) +
+                            ".fur): the mesh's texture coordinates cover no area, so the strands are projected "
+                            "(texture_coordinates \"projected\" says so and silences this)");
     }
     objects_.push_back(std::move(obj));
   }

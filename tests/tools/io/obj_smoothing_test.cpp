@@ -28,6 +28,16 @@ std::string roof(const std::string& first, const std::string& second, bool vt = 
   return s + first + "f 1/1 2/2 4/4 3/3\n" + second + "f 5/3 6/4 2/6 1/5\n";
 }
 
+// The roof with one `vn` record, named at every corner of its first face (group 1); the second
+// face's record as given (group 2).
+std::string roof_with_normal(const std::string& vn, const std::string& second_face) {
+  return std::string("v 0 1 0\nv 1 1 0\nv 0 0 -1\nv 1 0 -1\nv 0 0 1\nv 1 0 1\nvn ")
+      .append(vn)
+      .append("\ns 1\nf 1//1 2//1 4//1 3//1\ns 2\n")
+      .append(second_face)
+      .append("\n");
+}
+
 const glm::vec3 kFirst = glm::normalize(glm::vec3(0, 1, -1)), kSecond = glm::normalize(glm::vec3(0, 1, 1));
 
 // The face normal of every vertex that only faces of that normal use, by side (z < 0: the first
@@ -116,13 +126,49 @@ TEST(ObjSmoothingGroups, ASeamInsideAGroupStaysSmooth) {
   EXPECT_LT(glm::distance(ridge[1], kSecond), 1e-6f);
 }
 
+// CRLF files, and a lone carriage return (tinyobjloader ends a line there too): every `s` record
+// is checked as tinyobjloader reads it, none hides inside a comment's line.
+TEST(ObjSmoothingGroups, LineEndsAsTinyobjloaderReadsThem) {
+  TempDir dir;
+  std::string crlf;
+  for (const char c : roof("s 1\n", "s 2\n")) {
+    if (c == '\n') crlf.push_back('\r');
+    crlf.push_back(c);
+  }
+  const LoadedMesh l = load_mesh_file(dir.write("crlf.obj", crlf));
+  EXPECT_EQ(l.mesh.vertex_count(), 8u);
+  expect_flat_slopes(l.mesh);
+  expect_load_error(dir.write("bare_crlf.obj", roof("s\r\n", "")), "s 1", "needs `off` or a group number");
+  expect_load_error(dir.write("lone_cr.obj", roof("# a note\rs foo\n", "")), "s 1", "`foo` is not a smoothing group");
+  // `s` after the last face changes nothing.
+  std::string after = roof("s 1\n", "");
+  after.append("s 2\n");
+  EXPECT_EQ(load_mesh_file(dir.write("after.obj", after)).mesh.vertex_count(), 6u);
+}
+
+// A file that gives some normals: all are computed (with the loader's warning), within the groups.
+TEST(ObjSmoothingGroups, MixedNormalsAreComputedWithinTheGroups) {
+  TempDir dir;
+  const LoadedMesh l = load_mesh_file(dir.write("mixed.obj", roof_with_normal("0 1 0", "f 5 6 2 1")));
+  EXPECT_EQ(l.warnings,
+            std::vector<std::string>{"not every vertex has a normal: all normals computed from the triangles"});
+  ASSERT_EQ(l.mesh.vertex_count(), 8u);
+  expect_flat_slopes(l.mesh);
+  // A zero-length given normal has them all computed too, and the groups still decide.
+  const LoadedMesh z = load_mesh_file(dir.write("zero.obj", roof_with_normal("0 0 0", "f 5//1 6//1 2//1 1//1")));
+  ASSERT_EQ(z.mesh.vertex_count(), 8u);
+  expect_flat_slopes(z.mesh);
+  for (size_t i = 0; i < 8; ++i) {
+    if (z.mesh.positions[i].z != 0.0f) continue;
+    EXPECT_TRUE(glm::distance(z.mesh.normals[i], kFirst) < 1e-6f || glm::distance(z.mesh.normals[i], kSecond) < 1e-6f)
+        << i;
+  }
+}
+
 // The file's own normals win: groups only decide normals that pelt computes.
 TEST(ObjSmoothingGroups, GivenNormalsAreKept) {
   TempDir dir;
-  const std::string file =
-      "v 0 1 0\nv 1 1 0\nv 0 0 -1\nv 1 0 -1\nv 0 0 1\nv 1 0 1\nvn 0 1 0\n"
-      "s 1\nf 1//1 2//1 4//1 3//1\ns 2\nf 5//1 6//1 2//1 1//1\n";
-  const LoadedMesh l = load_mesh_file(dir.write("given.obj", file));
+  const LoadedMesh l = load_mesh_file(dir.write("given.obj", roof_with_normal("0 1 0", "f 5//1 6//1 2//1 1//1")));
   EXPECT_EQ(l.mesh.vertex_count(), 6u);
   for (const glm::vec3& n : l.mesh.normals) EXPECT_EQ(n, glm::vec3(0, 1, 0));
 }
@@ -134,7 +180,9 @@ TEST(ObjSmoothingGroups, AMalformedGroupIsAnError) {
   expect_load_error(dir.write("on.obj", roof("s on\n", "")), "s 1", "`on` is not a smoothing group");
   expect_load_error(dir.write("neg.obj", roof("s 1\n", "s -2\n")), "s 2", "`-2` is not a smoothing group");
   expect_load_error(dir.write("two.obj", roof("s 1 2\n", "")), "s 1", "`1 2` is not a smoothing group");
-  expect_load_error(dir.write("big.obj", roof("s 4294967296\n", "")), "s 1", "up to 4294967295");
+  // tinyobjloader reads the group into an int and a negative one as 0: past INT_MAX it would be off.
+  expect_load_error(dir.write("big.obj", roof("s 2147483648\n", "")), "s 1", "up to 2147483647");
+  EXPECT_EQ(load_mesh_file(dir.write("max.obj", roof("s 2147483647\n", "s 1\n"))).mesh.vertex_count(), 8u);
   expect_load_error(dir.write("bare.obj", roof("s\n", "")), "s 1", "needs `off` or a group number");
   expect_load_error(dir.write("line.obj", roof("s 1\n", "s one\n")), "s 2", "(line 9)");
   // A comment after the group is not part of it; `+` as an index allows.

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <unordered_map>
 
+#include <glm/geometric.hpp>
 #include <tiny_obj_loader.h>
 
 #include "tools/io/input_error.h"
@@ -304,10 +305,10 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
 
   std::unordered_map<CornerKey, uint32_t, CornerHash, CornerEq> vertex_of;
   // Groups decide normals pelt computes: those a corner lacks, or all of them when a given one has
-  // zero length (finish_normals).
+  // zero length, by finish_normals' own test (a denormal one's length rounds to zero too).
   bool zero_normal = false;
   for (size_t i = 0; i < nn; ++i)
-    zero_normal |= attrib.normals[3 * i] == 0.0f && attrib.normals[3 * i + 1] == 0.0f && attrib.normals[3 * i + 2] == 0.0f;
+    zero_normal |= !(glm::length(glm::vec3(attrib.normals[3 * i], attrib.normals[3 * i + 1], attrib.normals[3 * i + 2])) > 0.0f);
   const bool by_smoothing = pre.smoothing_groups && (pre.corner_without_normal || zero_normal);
   std::vector<uint64_t> smoothing;  // per vertex, when by_smoothing
   bool all_uvs = true, all_normals = true;

@@ -321,7 +321,8 @@ TEST_F(RenderCommand, InfoShowsWhereTheStrandsLie) {
   const Result mesh = run_pelt({"info", sphere.string()}, dir.path());
   ASSERT_EQ(mesh.code, 0) << mesh.err;
   EXPECT_NE(mesh.out.find("strands  on the mesh's uvs x "), std::string::npos) << mesh.out;
-  EXPECT_NE(mesh.out.find("(texture_repeat 2)\n"), std::string::npos) << mesh.out;
+  // sqrt(A_p / A_uv) = 11.18 for the sphere's [0, 1] layout, times the repeat.
+  EXPECT_NE(mesh.out.find("x 22.37 (texture_repeat 2)\n"), std::string::npos) << mesh.out;
   // The built-in box's uvs are the projection: kept as they are.
   const Result box = run_pelt({"info", (source_dir() / "tools/scenes/box_fur.json").string()}, dir.path());
   ASSERT_EQ(box.code, 0) << box.err;

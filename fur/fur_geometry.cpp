@@ -46,13 +46,17 @@ glm::vec3 above_surface(const glm::vec3& g, const glm::vec3& n) {
 // its own. Only copies with a face count: a copy that only zero-area triangles name (whose
 // normal a file made up, as a glTF flat normal is +y there) takes what its faced copies give.
 // Vertices without copies, and copies that already agree, are left bit for bit.
+// Twice the area of the triangle whose first index is indices[t], in double.
+double twice_area(const Mesh& m, size_t t) {
+  const glm::dvec3 a(m.positions[m.indices[t]]), b(m.positions[m.indices[t + 1]]), c(m.positions[m.indices[t + 2]]);
+  return glm::length(glm::cross(b - a, c - a));
+}
+
 void join_hard_edges(const Mesh& base, std::vector<glm::vec3>& normals) {
   const size_t n = base.positions.size();
   std::vector<char> faced(n, 0);
   for (size_t t = 0; t + 2 < base.indices.size(); t += 3) {
-    const glm::dvec3 a(base.positions[base.indices[t]]), b(base.positions[base.indices[t + 1]]),
-        c(base.positions[base.indices[t + 2]]);
-    const double area = glm::length(glm::cross(b - a, c - a));
+    const double area = twice_area(base, t);
     if (area > 0.0 && std::isfinite(area))
       for (int k = 0; k < 3; ++k) faced[base.indices[t + k]] = 1;
   }
@@ -95,10 +99,7 @@ void join_hard_edges(const Mesh& base, std::vector<glm::vec3>& normals) {
 // The mesh's surface area, in double.
 double mesh_area(const Mesh& m) {
   double a = 0.0;
-  for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
-    const glm::dvec3 p0(m.positions[m.indices[t]]), p1(m.positions[m.indices[t + 1]]), p2(m.positions[m.indices[t + 2]]);
-    a += 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
-  }
+  for (size_t t = 0; t + 2 < m.indices.size(); t += 3) a += 0.5 * twice_area(m, t);
   return a;
 }
 
@@ -342,8 +343,9 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
   const glm::dvec3 e1 = glm::normalize(glm::dvec3(1, -1, 0));
   const glm::dvec3 e2 = glm::normalize(glm::dvec3(1, 1, -2));
   const glm::dvec3 ef = glm::normalize(glm::dvec3(1, 2, 3));
-  const auto projected = [&](uint32_t i, double scale) {  // the base_uv loop below, at any scale
-    const glm::dvec3 q = glm::dvec3(base.positions[i]) - glm::dvec3(out.bounds.centre);
+  const auto offset = [&](uint32_t i) { return glm::dvec3(base.positions[i]) - glm::dvec3(out.bounds.centre); };
+  const auto projected = [&](uint32_t i, double scale) {
+    const glm::dvec3 q = offset(i);
     return glm::dvec2(scale * glm::dot(q, e1), scale * glm::dot(q, e2));
   };
   out.strand_coordinates = params.texture_coordinates.value_or(base.uvs.empty() ? StrandCoordinates::projected
@@ -360,8 +362,8 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
       return ParamError{"texture_coordinates", "the mesh's texture coordinates (or its triangles) cover no area, so "
                                                "they cannot lay the strands: use \"projected\""};
     } else {
-      // Placeholder uvs (an exporter's `vt 0 0` at every corner) were never meant to lay strands:
-      // the mesh is treated as having none, and the caller tells the user (uvs_cover_no_area).
+      // Uvs collapsed to a point (an exporter's `vt 0 0` at every corner) were never meant to lay
+      // strands: the mesh is treated as having none, and the caller tells the user (uvs_cover_no_area).
       out.strand_coordinates = StrandCoordinates::projected;
       out.uvs_cover_no_area = true;
     }
@@ -369,11 +371,10 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
   std::vector<glm::vec2> base_uv(N);
   std::vector<float> fin_u(N);
   for (uint32_t i = 0; i < N; ++i) {
-    const glm::dvec3 q = glm::dvec3(base.positions[i]) - glm::dvec3(out.bounds.centre);
     base_uv[i] = out.strand_coordinates == StrandCoordinates::projected
-                     ? glm::vec2(glm::dvec2(k * glm::dot(q, e1), k * glm::dot(q, e2)))
+                     ? glm::vec2(projected(i, k))
                      : glm::vec2(glm::dvec2(base.uvs[i]) * out.strand_uv_scale);
-    fin_u[i] = float(k * glm::dot(q, ef));
+    fin_u[i] = float(k * glm::dot(offset(i), ef));
   }
 
   // Eq. 1: one array for shells and fins.
@@ -402,15 +403,15 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
   }
 
   // A shell triangle names, for each corner, the first copy equal to it in everything the shells
-  // are drawn from (position, normal and growth in every pose, texture coordinate): such copies
-  // (a flat-shaded file's corners once their fur normals are joined, a hard edge whose faces share
-  // uvs) are one vertex to the fur. Named by one index, the triangles on either side share an edge
-  // for the rasterizer, which packs their lanes into shared blocks and takes one level of detail
-  // across them, as on the mesh welded; named by two, the fur was drawn as if cut along them.
-  const std::vector<uint32_t> same_shell = first_with_equal_key<11>(N, [&](uint32_t i) {
-    const glm::vec3 &p = base.positions[i], &nn = out.base_normals[i], &g = out.growth[i];
-    const glm::vec2& t = base_uv[i];
-    return std::array<float, 11>{p.x, p.y, p.z, nn.x, nn.y, nn.z, g.x, g.y, g.z, t.x, t.y};
+  // are drawn from: the same strand (position, normal and growth, so the same in every pose) and
+  // the same texture coordinate. Such copies (a flat-shaded file's corners once their fur normals
+  // are joined, a hard edge whose faces share uvs) are one vertex to the fur. Named by one index,
+  // the triangles on either side share an edge for the rasterizer, which packs their lanes into
+  // shared blocks and takes one level of detail across them, as on the mesh welded; named by two,
+  // the fur was drawn as if cut along them.
+  const std::vector<uint32_t> same_as = same_strand_vertices(base.positions, out.base_normals, out.growth);
+  const std::vector<uint32_t> same_shell = first_with_equal_bits<3>(N, [&](uint32_t i) {
+    return std::array<uint32_t, 3>{same_as[i], key_bits(base_uv[i].x), key_bits(base_uv[i].y)};
   });
   out.shell_indices.resize(size_t(S) * F * 3);
   for (uint32_t s = 0; s < S; ++s) {
@@ -419,7 +420,6 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
     for (size_t k3 = 0; k3 < 3 * F; ++k3) dst[k3] = same_shell[base.indices[k3]] + shift;
   }
 
-  const std::vector<uint32_t> same_as = same_strand_vertices(base.positions, out.base_normals, out.growth);
   out.edges = mesh_edges(base, same_as);
   const size_t E = out.edges.size();
   out.fin_indices.resize(size_t(S - 1) * E * 6);

@@ -78,7 +78,7 @@ struct FurGeometry {
   // applied: to the mesh's uvs, or to the projection (k, texture units per scene unit).
   StrandCoordinates strand_coordinates = StrandCoordinates::projected;
   double strand_uv_scale = 0.0;
-  // The mesh has uvs, texture_coordinates was not given, and they cover no area (placeholders):
+  // The mesh has uvs, texture_coordinates was not given, and they cover no area (all at a point):
   // the strands are projected instead, and the caller warns.
   bool uvs_cover_no_area = false;
   // u = k q.(1,2,3)/sqrt14 with q = p - centre and k = 2.449490 sqrt(3) / R times texture_repeat (the

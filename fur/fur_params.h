@@ -105,7 +105,7 @@ struct FurParams {
   // (a factor within 0.1 % of 1 is 1: the built-in box's and teapot's uvs are that projection). A layout spanning [0, 1] once over a
   // whole character, as an atlas does, would otherwise make each strand a patch of its surface.
   std::optional<StrandCoordinates> texture_coordinates;
-  // Uvs that cover no area (placeholders) are an error under an explicit "mesh"; unset, the strands
+  // Uvs that cover no area (all at a point) are an error under an explicit "mesh"; unset, the strands
   // are projected and the user is warned.
   // "texture_repeat": the strand texture repeats this many times as often as at that scale
   // (finer strands above 1, coarser below), the fins' strands along an edge too; in (0, 1000].

@@ -29,13 +29,12 @@ void compute_vertex_normals(Mesh& mesh, NormalSharing sharing, const std::vector
                                     .append(" smoothing keys for ")
                                     .append(std::to_string(n_vertices))
                                     .append(" vertices"));
-  if (sharing == NormalSharing::per_position && !smoothing.empty()) {
-    const std::vector<uint32_t> at = same_position_vertices(mesh.positions);
-    group = first_with_equal_bits<3>(n_vertices, [&](uint32_t i) {
-      return std::array<uint32_t, 3>{at[i], uint32_t(smoothing[i]), uint32_t(smoothing[i] >> 32)};
+  if (sharing == NormalSharing::per_position) {
+    group = first_with_equal_bits<5>(n_vertices, [&](uint32_t i) {
+      const glm::vec3& p = mesh.positions[i];
+      const uint64_t key = smoothing.empty() ? 0 : smoothing[i];
+      return std::array<uint32_t, 5>{key_bits(p.x), key_bits(p.y), key_bits(p.z), uint32_t(key), uint32_t(key >> 32)};
     });
-  } else if (sharing == NormalSharing::per_position) {
-    group = same_position_vertices(mesh.positions);
   } else {
     group.resize(n_vertices);
     for (size_t i = 0; i < n_vertices; ++i) group[i] = uint32_t(i);

@@ -26,15 +26,17 @@ std::vector<uint32_t> first_with_equal_bits(size_t n, BitsFn bits) {
   return first;
 }
 
-// The same for a key of K floats (`key(i)`). Floats compare as values where that is an order
-// (-0 equals 0) and by their bits otherwise, so a NaN makes no sort undefined (it equals only
-// its own bits).
+// A float as a key word: equal as values where that is an order (-0 equals 0) and by its bits
+// otherwise, so a NaN makes no sort undefined (it equals only its own bits).
+inline uint32_t key_bits(float f) { return std::bit_cast<uint32_t>(f + 0.0f); }  // -0 + 0 = +0
+
+// The same for a key of K floats (`key(i)`), compared by key_bits.
 template <size_t K, class KeyFn>
 std::vector<uint32_t> first_with_equal_key(size_t n, KeyFn key) {
   return first_with_equal_bits<K>(n, [&](uint32_t i) {
     const std::array<float, K> k = key(i);
     std::array<uint32_t, K> b;
-    for (size_t c = 0; c < K; ++c) b[c] = std::bit_cast<uint32_t>(k[c] + 0.0f);  // -0 + 0 = +0
+    for (size_t c = 0; c < K; ++c) b[c] = key_bits(k[c]);
     return b;
   });
 }

@@ -423,7 +423,7 @@ TEST(FurGeometry, MeshCoordinatesNeedUvsThatCoverArea) {
   Mesh tiny_uvs = test::unit_square();  // scaled up 1e5 times they would outrun a float
   for (glm::vec2& uv : tiny_uvs.uvs) uv *= 1e-6f;
   EXPECT_TRUE(build_fur_geometry(tiny_uvs, p, g).has_value());
-  // Not asked for: placeholders are taken for no uvs, and the geometry says so for the warning.
+  // Not asked for: uvs collapsed to a point are taken for none, and the geometry says so for the warning.
   const FurGeometry f = build(flat_uvs, shells(3));
   EXPECT_EQ(f.strand_coordinates, StrandCoordinates::projected);
   EXPECT_TRUE(f.uvs_cover_no_area);

@@ -115,24 +115,6 @@ double triangle_area_2d(const Mesh& m, Uv uv) {
   return a;
 }
 
-// The factor that scales the mesh's uvs to cover as much texture as the projection lays on the
-// same mesh (`projected_area`, at k1 = sqrt(k1_squared)), so a strand is as wide whatever the UV
-// layout: an atlas spanning [0, 1] once would make each strand texel a patch of the whole surface.
-// The projected area is at least a quarter of the mesh's area at k1 (a closed mesh's is about a
-// half, a box's 0.577): a sheet seen nearly edge-on from the diagonal would otherwise get strands
-// as wide as the projection is thin. Nothing when the uvs cover no area, or so little that scaled
-// they would outrun a float's precision (a ratio above 1e5; an atlas gives 10-100).
-std::optional<double> uv_strand_ratio(const Mesh& m, double projected_area, double k1_squared) {
-  const double area = mesh_area(m);
-  const double uv_area = triangle_area_2d(m, [&](uint32_t i) { return glm::dvec2(m.uvs[i]); });
-  const double reference = std::max(projected_area, 0.25 * k1_squared * area);
-  const double ratio = uv_area > 0.0 && reference > 0.0 ? std::sqrt(reference / uv_area) : 0.0;
-  if (!std::isfinite(ratio) || !(ratio > 0.0) || ratio > 1e5) return std::nullopt;
-  // Uvs already at the strand scale stay as they are, without rounding noise: the built-in box's
-  // and teapot's are the projection itself (computed from their double-precision points).
-  return std::abs(ratio - 1.0) <= 1e-3 ? 1.0 : ratio;
-}
-
 }  // namespace
 
 BoundingSphere bounding_sphere(const Mesh& mesh) {
@@ -256,16 +238,12 @@ glm::vec3 growth_direction(const glm::vec3& normal, const std::optional<CombPara
   return above_surface(g / gl, normal);
 }
 
-std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& params,
-                                             FurGeometry& out) {
-  if (auto e = validate(params)) return e;
+namespace {
+
+// The mesh's own checks, before any of it is read.
+std::optional<ParamError> check_mesh(const Mesh& base) {
   const size_t N = base.positions.size();
   if (N == 0) return ParamError{"mesh.positions", "the base mesh has no vertices"};
-  if (N * size_t(params.shells) > size_t(UINT32_MAX)) {
-    return ParamError{"mesh.positions", std::to_string(N) + " vertices x " +
-                                            std::to_string(params.shells) +
-                                            " shells overflow 32-bit indices"};
-  }
   if (base.indices.size() % 3 != 0) {
     return ParamError{"mesh.indices", "size " + std::to_string(base.indices.size()) +
                                           " is not a multiple of 3"};
@@ -291,12 +269,182 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
     return ParamError{"mesh.uvs", "has " + std::to_string(base.uvs.size()) + " entries for " +
                                       std::to_string(N) + " positions"};
   }
+  return std::nullopt;
+}
 
+// StrandCoordinates::box's planes: the texture's (u, v) along two scene axes, for a triangle
+// facing axis 0 (x), 1 (y) or 2 (z).
+glm::dvec2 box_plane(const glm::dvec3& q, uint8_t axis) {
+  switch (axis) {
+    case 0: return {-q.z, q.y};
+    case 1: return {q.x, -q.z};
+    default: return {q.x, q.y};
+  }
+}
+
+// StrandCoordinates::box. Each triangle takes the axis it faces most, judged by the sum of its
+// corners' normals (the mesh's, or computed per position as the fur computes them), so that a
+// smooth surface's regions meet along smooth borders rather than along every facet that tips over
+// 45 degrees; ties go to the lower axis. A vertex on triangles of two or three axes is copied once
+// per further axis whose plane gives it another coordinate (q = p - centre). The copies come after
+// the mesh's own vertices, which keep their indices, and they grow the same strand, so they are
+// joined as a texture seam's are (no fin along the border, no crack). `axis` has one entry per
+// vertex of `mesh`; a vertex no triangle names takes y.
+struct AxisSplit {
+  Mesh mesh;
+  std::vector<uint8_t> axis;
+};
+
+AxisSplit split_by_facing_axis(const Mesh& m, const glm::dvec3& centre) {
+  std::vector<glm::vec3> normals = m.normals;
+  if (normals.empty()) {
+    Mesh copy;
+    copy.positions = m.positions;
+    copy.indices = m.indices;
+    compute_vertex_normals(copy, NormalSharing::per_position);
+    normals = std::move(copy.normals);
+  }
+  const size_t n = m.positions.size();
+  AxisSplit out;
+  out.mesh = m;
+  out.axis.assign(n, 1);
+  std::vector<char> named(n, 0);
+  std::vector<uint32_t> copy_of(3 * n, UINT32_MAX);  // (vertex, axis) -> the vertex that carries it
+  for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+    glm::dvec3 sum(0.0);
+    for (int k = 0; k < 3; ++k) sum += glm::dvec3(normals[m.indices[t + k]]);
+    const glm::dvec3 a = glm::abs(sum);  // NaN (a bad given normal, refused later) falls to z
+    const uint8_t axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = m.indices[t + k];
+      uint32_t& c = copy_of[3 * size_t(v) + axis];
+      if (c == UINT32_MAX && !named[v]) {
+        named[v] = 1;
+        out.axis[v] = axis;
+        c = v;
+      }
+      // A copy only where the new plane moves the coordinate (not where two planes agree, as on
+      // the line x = -z for x's and z's).
+      const glm::dvec3 q = glm::dvec3(m.positions[v]) - centre;
+      for (uint8_t b = 0; b < 3 && c == UINT32_MAX; ++b) {
+        const uint32_t other = copy_of[3 * size_t(v) + b];
+        if (other != UINT32_MAX && box_plane(q, b) == box_plane(q, axis)) c = other;
+      }
+      if (c == UINT32_MAX) {
+        c = uint32_t(out.mesh.positions.size());
+        out.mesh.positions.push_back(m.positions[v]);
+        if (!m.normals.empty()) out.mesh.normals.push_back(m.normals[v]);
+        if (!m.uvs.empty()) out.mesh.uvs.push_back(m.uvs[v]);
+        out.axis.push_back(axis);
+      }
+      out.mesh.indices[t + k] = c;
+    }
+  }
+  return out;
+}
+
+// sqrt(reference / area): the factor that lays `area` of texture as `reference`; 1 when within
+// 0.1 % of it (no rounding noise on coordinates already at that scale); nothing when the area is
+// none, or so small that scaled it would outrun a float's precision (a ratio above 1e5).
+std::optional<double> strand_ratio(double area, double reference) {
+  const double ratio = area > 0.0 && reference > 0.0 ? std::sqrt(reference / area) : 0.0;
+  if (!std::isfinite(ratio) || !(ratio > 0.0) || ratio > 1e5) return std::nullopt;
+  return std::abs(ratio - 1.0) <= 1e-3 ? 1.0 : ratio;
+}
+
+// How the strands are laid on a mesh (FurParams::texture_coordinates, resolved), at one strand
+// scale: the llvmpipe harness's projection lays k1 texture units per scene unit along the body
+// diagonal's plane; the mesh's uvs and the box's planes are scaled to lay as much texture on the
+// mesh as it does, or a quarter of the mesh's area at k1 if that is more (a sheet seen nearly
+// edge-on from the diagonal would otherwise get strands as wide as the projection is thin); all
+// times texture_repeat. A layout spanning [0, 1] once, as an atlas does, would otherwise make each
+// strand texel a patch of the whole surface.
+struct StrandLayout {
+  StrandCoordinates coordinates = StrandCoordinates::box;
+  double k1 = 0.0;     // the projection's texture units per scene unit, before texture_repeat
+  double scale = 0.0;  // the factor on the coordinates, texture_repeat included
+  bool uvs_cover_no_area = false;
+  AxisSplit split;     // the box's mesh and axes (empty otherwise)
+  glm::dvec3 centre{0.0};
+  glm::dvec2 diagonal(const glm::vec3& p, double s) const {
+    static const glm::dvec3 e1 = glm::normalize(glm::dvec3(1, -1, 0)), e2 = glm::normalize(glm::dvec3(1, 1, -2));
+    const glm::dvec3 q = glm::dvec3(p) - centre;
+    return {s * glm::dot(q, e1), s * glm::dot(q, e2)};
+  }
+};
+
+std::optional<ParamError> lay_strands(const Mesh& input, const FurParams& params, const BoundingSphere& bounds,
+                                      StrandLayout& out) {
+  const double R = bounds.radius > 0.0f ? double(bounds.radius) : 1.0;
+  out.k1 = 2.449490 * std::sqrt(3.0) / R;
+  out.centre = glm::dvec3(bounds.centre);
+  const double k1 = out.k1, repeat = double(params.texture_repeat);
+  const double reference =
+      std::max(triangle_area_2d(input, [&](uint32_t i) { return out.diagonal(input.positions[i], k1); }),
+               0.25 * (k1 * k1) * mesh_area(input));
+  out.coordinates = params.texture_coordinates.value_or(input.uvs.empty() ? StrandCoordinates::box
+                                                                          : StrandCoordinates::mesh);
+  out.scale = k1 * repeat;
+  if (out.coordinates == StrandCoordinates::mesh) {
+    if (input.uvs.empty())
+      return ParamError{"texture_coordinates", "\"mesh\" lays the strands by the mesh's texture coordinates, and "
+                                               "this mesh has none: use \"box\" or \"projected\""};
+    const double uv_area = triangle_area_2d(input, [&](uint32_t i) { return glm::dvec2(input.uvs[i]); });
+    if (const std::optional<double> ratio = strand_ratio(uv_area, reference)) {
+      out.scale = *ratio * repeat;
+    } else if (params.texture_coordinates) {
+      return ParamError{"texture_coordinates", "the mesh's texture coordinates (or its triangles) cover no area, so "
+                                               "they cannot lay the strands: use \"box\" or \"projected\""};
+    } else {
+      // Uvs collapsed to a point (an exporter's `vt 0 0` at every corner) were never meant to lay
+      // strands: the mesh is treated as having none, and the caller tells the user (uvs_cover_no_area).
+      out.coordinates = StrandCoordinates::box;
+      out.uvs_cover_no_area = true;
+    }
+  }
+  if (out.coordinates == StrandCoordinates::box) {
+    out.split = split_by_facing_axis(input, out.centre);
+    const Mesh& m = out.split.mesh;
+    const double box_area = triangle_area_2d(m, [&](uint32_t i) {
+      return k1 * box_plane(glm::dvec3(m.positions[i]) - out.centre, out.split.axis[i]);
+    });
+    // A mesh of no area keeps k1: there is nothing to spread the strands over.
+    out.scale = k1 * strand_ratio(box_area, reference).value_or(1.0) * repeat;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+size_t fur_base_vertex_count(const Mesh& mesh, const FurParams& params) {
+  StrandLayout layout;
+  if (validate(params) || check_mesh(mesh) || lay_strands(mesh, params, bounding_sphere(mesh), layout))
+    return mesh.positions.size();
+  return layout.coordinates == StrandCoordinates::box ? layout.split.mesh.positions.size() : mesh.positions.size();
+}
+
+std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams& params,
+                                             FurGeometry& out) {
+  if (auto e = validate(params)) return e;
+  if (auto e = check_mesh(input)) return e;
+  out.bounds = bounding_sphere(input);
+  StrandLayout layout;
+  if (auto e = lay_strands(input, params, out.bounds, layout)) return e;
+  out.strand_coordinates = layout.coordinates;
+  out.strand_uv_scale = layout.scale;
+  out.uvs_cover_no_area = layout.uvs_cover_no_area;
+  const Mesh& base = layout.coordinates == StrandCoordinates::box ? layout.split.mesh : input;
+
+  const size_t N = base.positions.size();
+  if (N * size_t(params.shells) > size_t(UINT32_MAX)) {
+    return ParamError{"mesh.positions", std::to_string(N) + " vertices x " +
+                                            std::to_string(params.shells) +
+                                            " shells overflow 32-bit indices"};
+  }
   const uint32_t S = uint32_t(params.shells);
   const size_t F = base.triangle_count();
   out.base_vertex_count = uint32_t(N);
   out.layers = S;
-  out.bounds = bounding_sphere(base);
   out.fur_length = params.length * out.bounds.radius;
   out.layer_distance = out.fur_length / float(S - 1);
 
@@ -333,48 +481,21 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
     for (size_t i = 0; i < N; ++i) out.growth[i] = growth_direction(out.base_normals[i], params.comb);
   }
 
-  // Texture coordinates per base vertex (the same in every layer), at one strand scale
-  // (FurParams::texture_coordinates): the llvmpipe harness's projection, k1 texture units per
-  // scene unit along the body diagonal's plane, times texture_repeat.
-  const double R = out.bounds.radius > 0.0f ? double(out.bounds.radius) : 1.0;
-  const double k1 = 2.449490 * std::sqrt(3.0) / R;
-  const double repeat = double(params.texture_repeat);
-  const double k = k1 * repeat;
-  const glm::dvec3 e1 = glm::normalize(glm::dvec3(1, -1, 0));
-  const glm::dvec3 e2 = glm::normalize(glm::dvec3(1, 1, -2));
+  // Per base vertex: the strand uv (the same in every layer) and the fin's u, the harness's
+  // coordinate u = k q.(1,2,3)/sqrt14 (FurGeometry::fin_uvs).
+  const double k = layout.k1 * double(params.texture_repeat);
   const glm::dvec3 ef = glm::normalize(glm::dvec3(1, 2, 3));
-  const auto offset = [&](uint32_t i) { return glm::dvec3(base.positions[i]) - glm::dvec3(out.bounds.centre); };
-  const auto projected = [&](uint32_t i, double scale) {
-    const glm::dvec3 q = offset(i);
-    return glm::dvec2(scale * glm::dot(q, e1), scale * glm::dot(q, e2));
-  };
-  out.strand_coordinates = params.texture_coordinates.value_or(base.uvs.empty() ? StrandCoordinates::projected
-                                                                                : StrandCoordinates::mesh);
-  out.strand_uv_scale = k;
-  if (out.strand_coordinates == StrandCoordinates::mesh) {
-    if (base.uvs.empty())
-      return ParamError{"texture_coordinates", "\"mesh\" lays the strands by the mesh's texture coordinates, and "
-                                               "this mesh has none: use \"projected\""};
-    const double projected_area = triangle_area_2d(base, [&](uint32_t i) { return projected(i, k1); });
-    if (const std::optional<double> ratio = uv_strand_ratio(base, projected_area, k1 * k1)) {
-      out.strand_uv_scale = *ratio * repeat;
-    } else if (params.texture_coordinates) {
-      return ParamError{"texture_coordinates", "the mesh's texture coordinates (or its triangles) cover no area, so "
-                                               "they cannot lay the strands: use \"projected\""};
-    } else {
-      // Uvs collapsed to a point (an exporter's `vt 0 0` at every corner) were never meant to lay
-      // strands: the mesh is treated as having none, and the caller tells the user (uvs_cover_no_area).
-      out.strand_coordinates = StrandCoordinates::projected;
-      out.uvs_cover_no_area = true;
-    }
-  }
   std::vector<glm::vec2> base_uv(N);
   std::vector<float> fin_u(N);
   for (uint32_t i = 0; i < N; ++i) {
-    base_uv[i] = out.strand_coordinates == StrandCoordinates::projected
-                     ? glm::vec2(projected(i, k))
-                     : glm::vec2(glm::dvec2(base.uvs[i]) * out.strand_uv_scale);
-    fin_u[i] = float(k * glm::dot(offset(i), ef));
+    const glm::vec3& p = base.positions[i];
+    const glm::dvec3 q = glm::dvec3(p) - layout.centre;
+    switch (layout.coordinates) {
+      case StrandCoordinates::mesh: base_uv[i] = glm::vec2(glm::dvec2(base.uvs[i]) * layout.scale); break;
+      case StrandCoordinates::projected: base_uv[i] = glm::vec2(layout.diagonal(p, layout.scale)); break;
+      case StrandCoordinates::box: base_uv[i] = glm::vec2(layout.scale * box_plane(q, layout.split.axis[i])); break;
+    }
+    fin_u[i] = float(k * glm::dot(q, ef));
   }
 
   // Eq. 1: one array for shells and fins.

@@ -75,11 +75,12 @@ struct FurGeometry {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec2> shell_uvs;  // the base vertex's strand uv, the same in every layer
   // Where the shell uvs come from (FurParams::texture_coordinates, resolved), and the factor
-  // applied: to the mesh's uvs, or to the projection (k, texture units per scene unit).
+  // applied: to the mesh's uvs, or to the projection's or the box's planes (texture units per
+  // scene unit).
   StrandCoordinates strand_coordinates = StrandCoordinates::projected;
   double strand_uv_scale = 0.0;
   // The mesh has uvs, texture_coordinates was not given, and they cover no area (all at a point):
-  // the strands are projected instead, and the caller warns.
+  // the strands are laid by the box mapping instead, and the caller warns.
   bool uvs_cover_no_area = false;
   // u = k q.(1,2,3)/sqrt14 with q = p - centre and k = 2.449490 sqrt(3) / R times texture_repeat (the
   // llvmpipe harness's fin coordinate: runs along every edge that is not perpendicular
@@ -143,13 +144,18 @@ std::vector<glm::vec3> uv_comb_directions(const Mesh& base, const std::vector<gl
 
 // Builds the fur of `base` with params.shells layers, params.length and params.comb.
 // Uses base.normals when present (one per position), otherwise computes them as
-// pelt::compute_vertex_normals does; uses base.uvs when present, otherwise the
-// body-diagonal planar projection (u = k q.e1, v = k q.e2, e1 = (1,-1,0)/sqrt2,
-// e2 = (1,1,-2)/sqrt6). Returns the first problem (a params field, or "mesh.indices",
-// "mesh.normals", "mesh.uvs", "mesh.positions" with the reason) and leaves `out`
-// unspecified on error.
+// pelt::compute_vertex_normals does; lays the strands as FurParams::texture_coordinates says
+// (the mesh's uvs when present, otherwise the box mapping). Under the box mapping the fur's base
+// vertices are the mesh's followed by the copies made where two axis planes meet
+// (base_vertex_count counts them, counts.joined_vertices too). Returns the first problem (a
+// params field, or "mesh.indices", "mesh.normals", "mesh.uvs", "mesh.positions" with the reason)
+// and leaves `out` unspecified on error.
 std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& params,
                                              FurGeometry& out);
+
+// The base vertex count build_fur_geometry would give (the mesh's own, or more under the box
+// mapping), for estimating memory before building; the mesh's own count when it would fail.
+size_t fur_base_vertex_count(const Mesh& base, const FurParams& params);
 
 // How visible a fin is, in [0, 1] (Lengyel et al. 2001: fins matter only near
 // silhouettes, where shells are seen edge-on and leave gaps).

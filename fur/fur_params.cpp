@@ -62,8 +62,8 @@ std::optional<ParamError> validate(const FurParams& p) {
   }
   if (auto e = check_range("texture_repeat", p.texture_repeat, 0.0, 1000.0, true)) return e;
   if (p.texture_coordinates && *p.texture_coordinates != StrandCoordinates::mesh &&
-      *p.texture_coordinates != StrandCoordinates::projected)
-    return ParamError{"texture_coordinates", "must be \"mesh\" or \"projected\""};
+      *p.texture_coordinates != StrandCoordinates::projected && *p.texture_coordinates != StrandCoordinates::box)
+    return ParamError{"texture_coordinates", "must be \"mesh\", \"box\" or \"projected\""};
   // Fewer than one strand root would leave the textures empty.
   double roots = double(p.density) / 100.0 * double(p.texture_size) * double(p.texture_size);
   if (std::lround(roots) < 1) {
@@ -111,6 +111,7 @@ std::string_view to_string(StrandCoordinates coordinates) {
   switch (coordinates) {
     case StrandCoordinates::mesh: return "mesh";
     case StrandCoordinates::projected: return "projected";
+    case StrandCoordinates::box: return "box";
   }
   return "invalid";
 }
@@ -118,6 +119,7 @@ std::string_view to_string(StrandCoordinates coordinates) {
 std::optional<StrandCoordinates> strand_coordinates_from_string(std::string_view text) {
   if (text == "mesh") return StrandCoordinates::mesh;
   if (text == "projected") return StrandCoordinates::projected;
+  if (text == "box") return StrandCoordinates::box;
   return std::nullopt;
 }
 

@@ -64,6 +64,7 @@ struct CombParams {
 enum class StrandCoordinates {
   mesh,       // the mesh's texture coordinates, scaled to pelt's strand scale (below)
   projected,  // a planar projection along the body diagonal (the llvmpipe harness's mapping)
+  box,        // each triangle projected on the axis plane it faces most (a cube projection)
 };
 
 struct FurParams {
@@ -95,18 +96,23 @@ struct FurParams {
   // "texture_size": side of each square layer texture in texels; a power of two in
   // [16, 4096].
   int texture_size = 256;
-  // "texture_coordinates": "mesh" | "projected"; unset: "mesh" when the mesh has texture
-  // coordinates, "projected" when it has none. Either way the strand texture is laid at one scale,
-  // so a strand is as wide on a uv-mapped mesh as on the same mesh without uvs, whatever its UV
-  // layout: projected coordinates are k (p - centre).e1, .e2 with k = 2.449490 sqrt(3) / R (the
-  // llvmpipe harness's mapping along the body diagonal; 4 repeats along each edge of its box), and
-  // the mesh's uvs are multiplied by sqrt(A_p / A_uv), A_uv their area in the texture and A_p the
-  // texture area the projection lays on the same mesh, at least a quarter of the mesh's area at k
-  // (a factor within 0.1 % of 1 is 1: the built-in box's and teapot's uvs are that projection). A layout spanning [0, 1] once over a
-  // whole character, as an atlas does, would otherwise make each strand a patch of its surface.
+  // "texture_coordinates": "mesh" | "box" | "projected"; unset: "mesh" when the mesh has texture
+  // coordinates, "box" when it has none. "projected" is the llvmpipe harness's mapping: k (p -
+  // centre).e1, .e2 with k = 2.449490 sqrt(3) / R along the body diagonal (4 repeats along each
+  // edge of its box); it stretches strands without bound where the surface runs along the
+  // diagonal (a band around a sphere). "box" projects each triangle on the axis plane it faces
+  // most (x, y or z, by its corners' normals), which stretches a strand at most sqrt(3) times,
+  // copying the vertices where the planes meet (fur/fur_geometry.cpp, split_by_facing_axis).
+  // Whatever the mapping, the strand texture is laid at one scale, so a strand is as wide on a
+  // uv-mapped mesh as on the same mesh without uvs, whatever its UV layout: the mesh's uvs and the
+  // box's planes are multiplied by sqrt(A_p / A), A their area in the texture and A_p the texture
+  // area the projection lays on the same mesh, at least a quarter of the mesh's area at k (a
+  // factor within 0.1 % of 1 is 1: the built-in box's and teapot's uvs are that projection). A
+  // layout spanning [0, 1] once over a whole character, as an atlas does, would otherwise make
+  // each strand a patch of its surface.
   std::optional<StrandCoordinates> texture_coordinates;
   // Uvs that cover no area (all at a point) are an error under an explicit "mesh"; unset, the strands
-  // are projected and the user is warned.
+  // are laid by "box" and the user is warned.
   // "texture_repeat": the strand texture repeats this many times as often as at that scale
   // (finer strands above 1, coarser below), the fins' strands along an edge too; in (0, 1000].
   float texture_repeat = 1.0f;
@@ -137,7 +143,7 @@ std::optional<ParamError> validate(const FurParams& params);
 
 std::string_view to_string(FinMode mode);
 std::string_view to_string(StrandCoordinates coordinates);
-// "mesh" | "projected" (exact, lower case); nothing for any other text.
+// "mesh" | "projected" | "box" (exact, lower case); nothing for any other text.
 std::optional<StrandCoordinates> strand_coordinates_from_string(std::string_view text);
 // "off" | "all" | "silhouette" (exact, lower case); nothing for any other text.
 std::optional<FinMode> fin_mode_from_string(std::string_view text);

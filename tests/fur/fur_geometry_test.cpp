@@ -299,22 +299,28 @@ TEST(FurGeometry, HardEdgesGrowOneStrandPerPosition) {
 
 // Copies equal in everything the shells are drawn from are one vertex to them, so the rasterizer
 // sees the triangles around them share edges, as on the welded mesh: the hard-edged cube without
-// uvs (its fur normals joined, its texture coordinates projected from positions) names 8 vertices
-// a layer. With its per-face uvs, copies whose uvs differ keep their own.
+// uvs, its fur normals joined and its texture coordinates projected along the diagonal from
+// positions, names 8 vertices a layer. With its per-face uvs, copies whose uvs differ keep their
+// own; so do the box mapping's, each face on its own axis plane (where two planes give a corner
+// the same coordinate, the copies are one again).
 TEST(FurGeometry, ShellsNameOneVertexForCopiesEqualInAllTheyAreDrawnFrom) {
-  for (const bool with_uvs : {false, true}) {
+  for (const StrandCoordinates mapping : {StrandCoordinates::mesh, StrandCoordinates::projected, StrandCoordinates::box}) {
     Mesh cube = hard_edged_cube();
-    if (!with_uvs) cube.uvs.clear();
-    const FurGeometry g = build(cube, shells(3));
+    if (mapping != StrandCoordinates::mesh) cube.uvs.clear();
+    FurParams p = shells(3);
+    p.texture_coordinates = mapping;
+    const FurGeometry g = build(cube, p);
     const uint32_t N = g.base_vertex_count, F = uint32_t(cube.triangle_count());
+    ASSERT_EQ(N, cube.positions.size());  // each face on one axis: the box copies nothing
     std::set<std::array<float, 5>> distinct;
     for (uint32_t i = 0; i < N; ++i)
       distinct.insert({cube.positions[i].x, cube.positions[i].y, cube.positions[i].z, g.shell_uvs[i].x, g.shell_uvs[i].y});
-    if (with_uvs) {  // some faces meet with equal uvs at a corner, others not
+    if (mapping == StrandCoordinates::mesh) {  // some faces meet with equal uvs at a corner, others not
       EXPECT_GT(distinct.size(), 8u);
       EXPECT_LT(distinct.size(), 24u);
     } else {
-      EXPECT_EQ(distinct.size(), 8u);
+      if (mapping == StrandCoordinates::projected) EXPECT_EQ(distinct.size(), 8u);
+      else EXPECT_GT(distinct.size(), 8u);
     }
     std::set<uint32_t> named;
     for (uint32_t s = 0; s < g.layers; ++s)
@@ -326,7 +332,7 @@ TEST(FurGeometry, ShellsNameOneVertexForCopiesEqualInAllTheyAreDrawnFrom) {
         EXPECT_LE(v, own);  // the first such copy
         if (s == 0) named.insert(v);
       }
-    EXPECT_EQ(named.size(), distinct.size()) << "with uvs " << with_uvs;
+    EXPECT_EQ(named.size(), distinct.size()) << "mapping " << to_string(mapping);
   }
 }
 
@@ -377,14 +383,13 @@ TEST(FurGeometry, UvsAlreadyAtTheStrandScaleAreKept) {
   }
 }
 
-// "projected" ignores the mesh's uvs: the same coordinates as the mesh without them, bit for bit
-// (the FPS tables' meshes have none, so their texture coordinates are the harness's).
+// "projected" ignores the mesh's uvs: the same coordinates as the mesh without them, bit for bit.
 TEST(FurGeometry, ProjectedCoordinatesIgnoreTheMeshUvs) {
   Mesh without = test::unit_square();
   without.uvs.clear();
   FurParams p = shells(3);
   p.texture_coordinates = StrandCoordinates::projected;
-  const FurGeometry a = build(test::unit_square(), p), b = build(without, shells(3));
+  const FurGeometry a = build(test::unit_square(), p), b = build(without, p);
   EXPECT_EQ(a.strand_coordinates, StrandCoordinates::projected);
   EXPECT_EQ(b.strand_coordinates, StrandCoordinates::projected);
   EXPECT_EQ(a.shell_uvs, b.shell_uvs);
@@ -423,9 +428,10 @@ TEST(FurGeometry, MeshCoordinatesNeedUvsThatCoverArea) {
   Mesh tiny_uvs = test::unit_square();  // scaled up 1e5 times they would outrun a float
   for (glm::vec2& uv : tiny_uvs.uvs) uv *= 1e-6f;
   EXPECT_TRUE(build_fur_geometry(tiny_uvs, p, g).has_value());
-  // Not asked for: uvs collapsed to a point are taken for none, and the geometry says so for the warning.
+  // Not asked for: uvs collapsed to a point are taken for none (the box mapping), and the geometry
+  // says so for the warning.
   const FurGeometry f = build(flat_uvs, shells(3));
-  EXPECT_EQ(f.strand_coordinates, StrandCoordinates::projected);
+  EXPECT_EQ(f.strand_coordinates, StrandCoordinates::box);
   EXPECT_TRUE(f.uvs_cover_no_area);
   Mesh without_uvs = flat_uvs;
   without_uvs.uvs.clear();
@@ -689,6 +695,113 @@ TEST(FinWeight, ModesAndSilhouetteShape) {
     const float w = fin_weight(glm::normalize(na), glm::normalize(nb), v, FinMode::silhouette);
     EXPECT_GE(w, 0.0f);
     EXPECT_LE(w, 1.0f);
+  }
+}
+
+// The texture area a layer of shells lays on the mesh, and the least ratio of a triangle's texture
+// area to its area times scale^2 (1 / the most a strand is stretched along one direction).
+struct UvCover {
+  double area = 0.0, least_ratio = 1e30;
+};
+UvCover uv_cover(const FurGeometry& g) {
+  UvCover c;
+  const size_t F = g.counts.base_faces;
+  for (size_t f = 0; f < F; ++f) {
+    const uint32_t* t = &g.shell_indices[3 * f];
+    const glm::dvec2 a(g.shell_uvs[t[0]]), du = glm::dvec2(g.shell_uvs[t[1]]) - a, dv = glm::dvec2(g.shell_uvs[t[2]]) - a;
+    const double uv_area = 0.5 * std::abs(du.x * dv.y - du.y * dv.x);
+    const glm::dvec3 p(g.positions[t[0]]);
+    const double area = 0.5 * glm::length(glm::cross(glm::dvec3(g.positions[t[1]]) - p, glm::dvec3(g.positions[t[2]]) - p));
+    c.area += uv_area;
+    if (area > 1e-9) c.least_ratio = std::min(c.least_ratio, uv_area / (area * g.strand_uv_scale * g.strand_uv_scale));
+  }
+  return c;
+}
+
+// Without uvs the strands are laid by the box mapping: each triangle on the axis plane its
+// corners' fur normals face most, so a strand is stretched at most sqrt(3) times along one
+// direction. The harness's projection along the body diagonal stretches it without bound in the
+// band where the sphere runs along the diagonal.
+TEST(FurGeometry, BoxMappingLaysEachTriangleOnTheAxisItFaces) {
+  Mesh sphere = io::make_builtin_mesh("sphere:24");
+  sphere.uvs.clear();
+  const FurGeometry g = build(sphere, shells(3));
+  ASSERT_EQ(g.strand_coordinates, StrandCoordinates::box);
+  const double k = g.strand_uv_scale;
+  const size_t F = sphere.triangle_count();
+  for (size_t f = 0; f < F; ++f) {
+    const uint32_t* t = &g.shell_indices[3 * f];
+    glm::dvec3 sum(0.0);
+    for (int c = 0; c < 3; ++c) sum += glm::dvec3(g.base_normals[t[c]]);
+    const glm::dvec3 a = glm::abs(sum);
+    const int axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
+    // The plane's two axes (x: z and y; y: x and z; z: x and y), by the lengths of the edges' steps.
+    const int u_of[3] = {2, 0, 0}, v_of[3] = {1, 2, 1};
+    for (int c = 1; c < 3; ++c) {
+      const glm::dvec3 dp = glm::dvec3(g.positions[t[c]]) - glm::dvec3(g.positions[t[0]]);
+      const glm::dvec2 duv = glm::dvec2(g.shell_uvs[t[c]]) - glm::dvec2(g.shell_uvs[t[0]]);
+      EXPECT_NEAR(std::abs(duv.x), k * std::abs(dp[u_of[axis]]), 1e-4 * k) << "face " << f;
+      EXPECT_NEAR(std::abs(duv.y), k * std::abs(dp[v_of[axis]]), 1e-4 * k) << "face " << f;
+    }
+  }
+  EXPECT_GT(uv_cover(g).least_ratio, 0.55);  // 1 / sqrt(3) = 0.577, less the facets' tilt
+  FurParams p = shells(3);
+  p.texture_coordinates = StrandCoordinates::projected;
+  EXPECT_LT(uv_cover(build(sphere, p)).least_ratio, 0.1);
+}
+
+// A vertex where two axis planes meet is copied, one copy a plane: the copies grow one strand (the
+// same positions in every layer), so they are joined like a seam's and grow no fin between them.
+// fur_base_vertex_count, which the memory estimate uses, counts what the build makes.
+TEST(FurGeometry, BoxMappingCopiesAreOneStrand) {
+  Mesh sphere = io::make_builtin_mesh("sphere:24");
+  sphere.uvs.clear();
+  const size_t n = sphere.positions.size();
+  FurParams projected = shells(4);
+  projected.texture_coordinates = StrandCoordinates::projected;
+  const FurGeometry g = build(sphere, shells(4)), p = build(sphere, projected);
+  const uint32_t N = g.base_vertex_count;
+  ASSERT_GT(N, n);
+  EXPECT_EQ(p.base_vertex_count, n);
+  EXPECT_EQ(g.counts.edges, p.counts.edges);
+  EXPECT_EQ(g.counts.joined_vertices - p.counts.joined_vertices, N - n);
+  for (uint32_t i = uint32_t(n); i < N; ++i) {
+    bool other_plane = false, found = false;  // a copy only where the plane changes
+    for (uint32_t j = 0; j < n; ++j) {
+      if (sphere.positions[j] != g.positions[i]) continue;
+      found = true;
+      other_plane |= g.shell_uvs[i] != g.shell_uvs[j];
+      for (uint32_t s = 0; s < g.layers; ++s) EXPECT_EQ(g.positions[i + s * N], g.positions[j + s * N]) << i << " " << s;
+    }
+    EXPECT_TRUE(found && other_plane) << i;
+  }
+  EXPECT_EQ(fur_base_vertex_count(sphere, shells(4)), N);
+  EXPECT_EQ(fur_base_vertex_count(sphere, projected), n);
+  const Mesh with_uvs = io::make_builtin_mesh("sphere:24");
+  EXPECT_EQ(fur_base_vertex_count(with_uvs, shells(4)), build(with_uvs, shells(4)).base_vertex_count);
+  FurParams box = shells(4);
+  box.texture_coordinates = StrandCoordinates::box;
+  EXPECT_EQ(fur_base_vertex_count(with_uvs, box), build(with_uvs, box).base_vertex_count);
+  Mesh collapsed = with_uvs;  // taken for none: the box's count
+  collapsed.uvs.assign(collapsed.positions.size(), glm::vec2(0.5f));
+  EXPECT_EQ(fur_base_vertex_count(collapsed, shells(4)), build(collapsed, shells(4)).base_vertex_count);
+  EXPECT_GT(build(collapsed, shells(4)).base_vertex_count, collapsed.positions.size());
+}
+
+// The box lays as much strand texture on the mesh as the projection does, spread evenly instead
+// of thinned where the projection stretches: the same number of strands at either mapping, and
+// texture_repeat multiplies both alike.
+TEST(FurGeometry, BoxMappingLaysAsMuchTextureAsTheProjection) {
+  for (const char* name : {"sphere:24", "teapot:3", "box:3"}) {
+    Mesh m = io::make_builtin_mesh(name);
+    m.uvs.clear();
+    FurParams p = shells(3);
+    p.texture_coordinates = StrandCoordinates::projected;
+    const double box = uv_cover(build(m, shells(3))).area, projected = uv_cover(build(m, p)).area;
+    EXPECT_NEAR(box / projected, 1.0, 1e-3) << name;
+    FurParams twice = shells(3);
+    twice.texture_repeat = 2.0f;
+    EXPECT_NEAR(uv_cover(build(m, twice)).area / box, 4.0, 4e-3) << name;
   }
 }
 

@@ -119,6 +119,14 @@ TEST(FurParams, FinModeStringsRoundTrip) {
   EXPECT_FALSE(fin_mode_from_string("on").has_value());
   EXPECT_EQ(to_string(StrandCoordinates::mesh), "mesh");
   EXPECT_EQ(to_string(StrandCoordinates::projected), "projected");
+  for (StrandCoordinates c : {StrandCoordinates::mesh, StrandCoordinates::projected, StrandCoordinates::box}) {
+    auto back = strand_coordinates_from_string(to_string(c));
+    ASSERT_TRUE(back.has_value());
+    EXPECT_EQ(*back, c);
+  }
+  EXPECT_EQ(to_string(StrandCoordinates::box), "box");
+  EXPECT_FALSE(strand_coordinates_from_string("Box").has_value());
+  EXPECT_FALSE(strand_coordinates_from_string("cube").has_value());
 }
 
 }  // namespace

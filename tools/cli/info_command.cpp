@@ -72,7 +72,7 @@ int run_info(const InfoOptions& o) {
                   c->fin_faces, c->total_faces);
       std::printf("       edges    %zu (a fin quad each per pair of layers)", c->edges);
       if (c->joined_vertices > 0)
-        std::printf(", %zu vertex copies (texture seams, hard edges) joined to the vertex they copy", c->joined_vertices);
+        std::printf(", %zu vertex copies (texture seams, hard edges, box mapping) joined to the vertex they copy", c->joined_vertices);
       std::printf("\n");
       // Where the strands lie, and how large: a uv-mapped mesh's strand size depends on its UV layout
       // until scaled, which the user tunes with texture_repeat.
@@ -81,7 +81,8 @@ int run_info(const InfoOptions& o) {
         std::printf("       strands  on the mesh's uvs x %.4g (texture_repeat %g)\n", g.strand_uv_scale,
                     double(f.texture_repeat));
       else
-        std::printf("       strands  projected, %.4g texture repeats per scene unit (texture_repeat %g)\n",
+        std::printf("       strands  %s, %.4g texture repeats per scene unit (texture_repeat %g)\n",
+                    g.strand_coordinates == fur::StrandCoordinates::box ? "box-projected" : "projected",
                     g.strand_uv_scale, double(f.texture_repeat));
     }
   }

@@ -116,7 +116,7 @@ void add_fur_parts(const io::Scene& scene, const Mesh& m, size_t i, int threads,
   const int shells = effective_shells(scene, i, shells_field);
   const uint64_t faces = m.indices.size() / 3;
   const uint64_t edges = (3 * faces + 1) / 2;
-  const fur::FurCounts c = fur::fur_counts(m.positions.size(), faces, edges, shells);
+  const fur::FurCounts c = fur::fur_counts(fur::fur_base_vertex_count(m, fp), faces, edges, shells);
 
   MemoryPart geo;
   geo.field = shells_field;

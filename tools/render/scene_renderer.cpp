@@ -323,8 +323,8 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
                                              FurOrigin{scene.file.string(), io::json_index("objects", i)}, setup_stats_);
       if (obj->fur->geometry().uvs_cover_no_area)
         warnings_.push_back(so.mesh + " (" + io::json_index("objects", i) +
-                            ".fur): the mesh's texture coordinates cover no area, so the strands are projected "
-                            "(texture_coordinates \"projected\" says so and silences this)");
+                            ".fur): the mesh's texture coordinates cover no area, so the strands are laid by the box mapping "
+                            "(texture_coordinates \"box\" says so and silences this)");
     }
     objects_.push_back(std::move(obj));
   }

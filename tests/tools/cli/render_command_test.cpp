@@ -304,7 +304,7 @@ TEST_F(RenderCommand, InfoCountsTheFurEdgesAndTheJoinedCopies) {
   const Result split = run_pelt({"info", sphere.string()}, dir.path());
   ASSERT_EQ(split.code, 0) << split.err;
   EXPECT_NE(split.out.find("edges    336 (a fin quad each per pair of layers), 37 vertex copies (texture seams, hard "
-                           "edges) joined to the vertex they copy\n"),
+                           "edges, box mapping) joined to the vertex they copy\n"),
             std::string::npos)
       << split.out;
   const Result welded = run_pelt({"info", (source_dir() / "tools/scenes/box_fur.json").string()}, dir.path());
@@ -327,11 +327,22 @@ TEST_F(RenderCommand, InfoShowsWhereTheStrandsLie) {
   const Result box = run_pelt({"info", (source_dir() / "tools/scenes/box_fur.json").string()}, dir.path());
   ASSERT_EQ(box.code, 0) << box.err;
   EXPECT_NE(box.out.find("strands  on the mesh's uvs x 1 (texture_repeat 1)\n"), std::string::npos) << box.out;
-  // The bunny has no uvs: projected, k = 2.449490 sqrt(3) / R texture units per scene unit.
+  // The bunny has no uvs: the box mapping, at the scale that lays as much texture on it as the
+  // projection would.
   const Result bunny = run_pelt({"info", (source_dir() / "tools/scenes/bunny_wind.json").string()}, dir.path());
   ASSERT_EQ(bunny.code, 0) << bunny.err;
-  EXPECT_NE(bunny.out.find("strands  projected, "), std::string::npos) << bunny.out;
+  EXPECT_NE(bunny.out.find("strands  box-projected, "), std::string::npos) << bunny.out;
   EXPECT_NE(bunny.out.find(" texture repeats per scene unit (texture_repeat 1)\n"), std::string::npos) << bunny.out;
+  // Asked for, the harness's projection: k = 2.449490 sqrt(3) / R texture units per scene unit, R = 1.
+  const fs::path projected = dir.write("sphere3.json", R"({"pelt": 1, "image": {"width": 32, "height": 24},
+    "camera": {"eye": [0, 0, 4], "target": [0, 0, 0]}, "lights": [{"type": "ambient", "intensity": 0.5}],
+    "objects": [{"mesh": "sphere:16", "material": {"type": "lambert"},
+                 "fur": {"shells": 4, "texture_repeat": 2, "texture_coordinates": "projected"}}]})");
+  const Result proj = run_pelt({"info", projected.string()}, dir.path());
+  ASSERT_EQ(proj.code, 0) << proj.err;
+  EXPECT_NE(proj.out.find("strands  projected, 8.485 texture repeats per scene unit (texture_repeat 2)\n"),
+            std::string::npos)
+      << proj.out;
 }
 
 // No output may overwrite what the render reads: the scene, a map, or another output. The

@@ -272,6 +272,31 @@ std::optional<ParamError> check_mesh(const Mesh& base) {
   return std::nullopt;
 }
 
+// The fur's unit normal per vertex: the mesh's own (renormalised only when more than 1e-6 off
+// unit length; the copies of a hard edge's vertex joined, since fur has no hard edges), or
+// computed per position like the rest of pelt.
+std::optional<ParamError> fur_normals(const Mesh& base, std::vector<glm::vec3>& out) {
+  if (base.normals.empty()) {
+    Mesh copy;
+    copy.positions = base.positions;
+    copy.indices = base.indices;
+    compute_vertex_normals(copy, NormalSharing::per_position);
+    out = std::move(copy.normals);
+    return std::nullopt;
+  }
+  out.resize(base.positions.size());
+  for (size_t i = 0; i < out.size(); ++i) {
+    const glm::vec3 n = base.normals[i];
+    const float len = glm::length(n);
+    if (!finite3(n) || !(len > 0.0f)) {
+      return ParamError{"mesh.normals", "normal " + std::to_string(i) + " is zero or not finite"};
+    }
+    out[i] = std::fabs(len - 1.0f) <= 1e-6f ? n : n / len;
+  }
+  join_hard_edges(base, out);
+  return std::nullopt;
+}
+
 // StrandCoordinates::box's planes: the texture's (u, v) along two scene axes, for a triangle
 // facing axis 0 (x), 1 (y) or 2 (z).
 glm::dvec2 box_plane(const glm::dvec3& q, uint8_t axis) {
@@ -283,38 +308,49 @@ glm::dvec2 box_plane(const glm::dvec3& q, uint8_t axis) {
 }
 
 // StrandCoordinates::box. Each triangle takes the axis it faces most, judged by the sum of its
-// corners' normals (the mesh's, or computed per position as the fur computes them), so that a
-// smooth surface's regions meet along smooth borders rather than along every facet that tips over
-// 45 degrees; ties go to the lower axis. A vertex on triangles of two or three axes is copied once
-// per further axis whose plane gives it another coordinate (q = p - centre). The copies come after
-// the mesh's own vertices, which keep their indices, and they grow the same strand, so they are
-// joined as a texture seam's are (no fin along the border, no crack). `axis` has one entry per
+// corners' fur normals, so that a smooth surface's regions meet along smooth borders rather than
+// along every facet that tips over 45 degrees; ties go to the lower axis. Where that axis leaves
+// the facet itself less than 1/sqrt(3) facing it (a facet tilted from its neighbours), the facet
+// takes the axis of its own normal instead: a projection on axis a keeps |n_a| of a triangle's
+// area, so no strand is stretched more than sqrt(3) times. A vertex on triangles of two or three
+// axes is copied once per further axis whose plane gives it another coordinate (q = p - centre).
+// The copies come after the mesh's own vertices, which keep their indices, with the vertex's
+// normal and uv; they grow the same strand, so they are joined as a texture seam's are (no fin
+// along the border, no crack). `normals` (one per mesh vertex) and `axis` have one entry per
 // vertex of `mesh`; a vertex no triangle names takes y.
 struct AxisSplit {
   Mesh mesh;
+  std::vector<glm::vec3> normals;
   std::vector<uint8_t> axis;
 };
 
-AxisSplit split_by_facing_axis(const Mesh& m, const glm::dvec3& centre) {
-  std::vector<glm::vec3> normals = m.normals;
-  if (normals.empty()) {
-    Mesh copy;
-    copy.positions = m.positions;
-    copy.indices = m.indices;
-    compute_vertex_normals(copy, NormalSharing::per_position);
-    normals = std::move(copy.normals);
-  }
+uint8_t largest_axis(const glm::dvec3& v) {
+  const glm::dvec3 a = glm::abs(v);  // NaN falls to z
+  return a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
+}
+
+uint8_t facing_axis(const Mesh& m, const std::vector<glm::vec3>& normals, size_t t) {
+  glm::dvec3 sum(0.0);
+  for (int k = 0; k < 3; ++k) sum += glm::dvec3(normals[m.indices[t + k]]);
+  const uint8_t axis = largest_axis(sum);
+  const glm::dvec3 p0(m.positions[m.indices[t]]);
+  const glm::dvec3 face =
+      glm::cross(glm::dvec3(m.positions[m.indices[t + 1]]) - p0, glm::dvec3(m.positions[m.indices[t + 2]]) - p0);
+  const double len = glm::length(face);
+  if (!(len > 0.0) || !std::isfinite(len)) return axis;  // no facet to stretch
+  return std::abs(face[axis]) * std::sqrt(3.0) >= len ? axis : largest_axis(face);
+}
+
+AxisSplit split_by_facing_axis(const Mesh& m, const std::vector<glm::vec3>& normals, const glm::dvec3& centre) {
   const size_t n = m.positions.size();
   AxisSplit out;
   out.mesh = m;
+  out.normals = normals;
   out.axis.assign(n, 1);
   std::vector<char> named(n, 0);
   std::vector<uint32_t> copy_of(3 * n, UINT32_MAX);  // (vertex, axis) -> the vertex that carries it
   for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
-    glm::dvec3 sum(0.0);
-    for (int k = 0; k < 3; ++k) sum += glm::dvec3(normals[m.indices[t + k]]);
-    const glm::dvec3 a = glm::abs(sum);  // NaN (a bad given normal, refused later) falls to z
-    const uint8_t axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
+    const uint8_t axis = facing_axis(m, normals, t);
     for (int k = 0; k < 3; ++k) {
       const uint32_t v = m.indices[t + k];
       uint32_t& c = copy_of[3 * size_t(v) + axis];
@@ -335,6 +371,7 @@ AxisSplit split_by_facing_axis(const Mesh& m, const glm::dvec3& centre) {
         out.mesh.positions.push_back(m.positions[v]);
         if (!m.normals.empty()) out.mesh.normals.push_back(m.normals[v]);
         if (!m.uvs.empty()) out.mesh.uvs.push_back(m.uvs[v]);
+        out.normals.push_back(normals[v]);
         out.axis.push_back(axis);
       }
       out.mesh.indices[t + k] = c;
@@ -373,8 +410,8 @@ struct StrandLayout {
   }
 };
 
-std::optional<ParamError> lay_strands(const Mesh& input, const FurParams& params, const BoundingSphere& bounds,
-                                      StrandLayout& out) {
+std::optional<ParamError> lay_strands(const Mesh& input, const std::vector<glm::vec3>& normals,
+                                      const FurParams& params, const BoundingSphere& bounds, StrandLayout& out) {
   const double R = bounds.radius > 0.0f ? double(bounds.radius) : 1.0;
   out.k1 = 2.449490 * std::sqrt(3.0) / R;
   out.centre = glm::dvec3(bounds.centre);
@@ -403,7 +440,7 @@ std::optional<ParamError> lay_strands(const Mesh& input, const FurParams& params
     }
   }
   if (out.coordinates == StrandCoordinates::box) {
-    out.split = split_by_facing_axis(input, out.centre);
+    out.split = split_by_facing_axis(input, normals, out.centre);
     const Mesh& m = out.split.mesh;
     const double box_area = triangle_area_2d(m, [&](uint32_t i) {
       return k1 * box_plane(glm::dvec3(m.positions[i]) - out.centre, out.split.axis[i]);
@@ -418,7 +455,9 @@ std::optional<ParamError> lay_strands(const Mesh& input, const FurParams& params
 
 size_t fur_base_vertex_count(const Mesh& mesh, const FurParams& params) {
   StrandLayout layout;
-  if (validate(params) || check_mesh(mesh) || lay_strands(mesh, params, bounding_sphere(mesh), layout))
+  std::vector<glm::vec3> normals;
+  if (validate(params) || check_mesh(mesh) || fur_normals(mesh, normals) ||
+      lay_strands(mesh, normals, params, bounding_sphere(mesh), layout))
     return mesh.positions.size();
   return layout.coordinates == StrandCoordinates::box ? layout.split.mesh.positions.size() : mesh.positions.size();
 }
@@ -427,19 +466,29 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
                                              FurGeometry& out) {
   if (auto e = validate(params)) return e;
   if (auto e = check_mesh(input)) return e;
+  const auto overflows = [&](size_t vertices) { return vertices * size_t(params.shells) > size_t(UINT32_MAX); };
+  if (overflows(input.positions.size())) {
+    return ParamError{"mesh.positions", std::to_string(input.positions.size()) + " vertices x " +
+                                            std::to_string(params.shells) + " shells overflow 32-bit indices"};
+  }
+  std::vector<glm::vec3> normals;
+  if (auto e = fur_normals(input, normals)) return e;
   out.bounds = bounding_sphere(input);
   StrandLayout layout;
-  if (auto e = lay_strands(input, params, out.bounds, layout)) return e;
+  if (auto e = lay_strands(input, normals, params, out.bounds, layout)) return e;
   out.strand_coordinates = layout.coordinates;
   out.strand_uv_scale = layout.scale;
   out.uvs_cover_no_area = layout.uvs_cover_no_area;
-  const Mesh& base = layout.coordinates == StrandCoordinates::box ? layout.split.mesh : input;
+  const bool box = layout.coordinates == StrandCoordinates::box;
+  const Mesh& base = box ? layout.split.mesh : input;
+  out.base_normals = box ? std::move(layout.split.normals) : std::move(normals);
 
   const size_t N = base.positions.size();
-  if (N * size_t(params.shells) > size_t(UINT32_MAX)) {
-    return ParamError{"mesh.positions", std::to_string(N) + " vertices x " +
-                                            std::to_string(params.shells) +
-                                            " shells overflow 32-bit indices"};
+  if (overflows(N)) {
+    return ParamError{"mesh.positions", std::to_string(input.positions.size()) + " vertices and " +
+                                            std::to_string(N - input.positions.size()) +
+                                            " copies where the box mapping's planes meet x " +
+                                            std::to_string(params.shells) + " shells overflow 32-bit indices"};
   }
   const uint32_t S = uint32_t(params.shells);
   const size_t F = base.triangle_count();
@@ -448,25 +497,6 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   out.fur_length = params.length * out.bounds.radius;
   out.layer_distance = out.fur_length / float(S - 1);
 
-  // Normals: the mesh's own (renormalised), or computed like the rest of pelt.
-  if (base.normals.empty()) {
-    Mesh copy;
-    copy.positions = base.positions;
-    copy.indices = base.indices;
-    compute_vertex_normals(copy, NormalSharing::per_position);
-    out.base_normals = std::move(copy.normals);
-  } else {
-    out.base_normals.resize(N);
-    for (size_t i = 0; i < N; ++i) {
-      const glm::vec3 n = base.normals[i];
-      const float len = glm::length(n);
-      if (!finite3(n) || !(len > 0.0f)) {
-        return ParamError{"mesh.normals", "normal " + std::to_string(i) + " is zero or not finite"};
-      }
-      out.base_normals[i] = std::fabs(len - 1.0f) <= 1e-6f ? n : n / len;
-    }
-    join_hard_edges(base, out.base_normals);
-  }
   out.growth.resize(N);
   if (params.comb && params.comb->field == CombField::uv) {
     if (base.uvs.size() != N)

@@ -1,6 +1,7 @@
 // Shells and fins on one shared vertex array (seed 3.1.1, eq. 1).
 //
-// For a base mesh with N vertices and S layers, fur vertex I = i + s*N (s = 0..S-1)
+// For a base mesh with N vertices (the mesh's own, and under the box mapping the copies it makes
+// where its planes meet: build_fur_geometry) and S layers, fur vertex I = i + s*N (s = 0..S-1)
 // sits at base_v[i] + g[i] * (SL_D * s): layer 0 lies on the base surface, layer S-1 at
 // the fur length. Shells are the base triangles copied per layer (layer 0 first, so the
 // draw order is inner to outer). Fins are one quad per mesh edge and layer gap, drawn on
@@ -47,7 +48,8 @@ struct FurCounts {
   size_t base_faces = 0, shell_faces = 0, fin_faces = 0, total_faces = 0;
   size_t edges = 0;
   // Base vertices that grow another vertex's strand (same_strand_vertices): the copies a file
-  // split at texture seams or hard edges. Not in the seed's tables; `pelt info` shows them.
+  // split at texture seams or hard edges, and those the box mapping makes where its planes meet.
+  // Not in the seed's tables; `pelt info` shows them.
   size_t joined_vertices = 0;
 };
 

@@ -101,7 +101,8 @@ struct FurParams {
   // centre).e1, .e2 with k = 2.449490 sqrt(3) / R along the body diagonal (4 repeats along each
   // edge of its box); it stretches strands without bound where the surface runs along the
   // diagonal (a band around a sphere). "box" projects each triangle on the axis plane it faces
-  // most (x, y or z, by its corners' normals), which stretches a strand at most sqrt(3) times,
+  // most (x, y or z, by its corners' fur normals, or by its own normal where theirs would leave it
+  // facing that plane by less than 1/sqrt(3)), which stretches a strand at most sqrt(3) times,
   // copying the vertices where the planes meet (fur/fur_geometry.cpp, split_by_facing_axis).
   // Whatever the mapping, the strand texture is laid at one scale, so a strand is as wide on a
   // uv-mapped mesh as on the same mesh without uvs, whatever its UV layout: the mesh's uvs and the

@@ -37,10 +37,14 @@ SurfaceOrder::SurfaceOrder(const FurGeometry& geo)
     }
   for (const FurEdge& e : geo.edges) {
     if (e.face1 == kNoFace) continue;
+    // The corner of face0 off the edge, by position: the edge names the first copy of each end
+    // (same_strand_vertices) and the face may name another copy of it (a texture seam's, or
+    // the box mapping's), which by index would pass for the third corner and leave no side.
     const uint32_t* t = &base_indices_[3 * size_t{e.face0}];
+    const glm::vec3 pa = geo.positions[e.a], pb = geo.positions[e.b];
     uint32_t third = t[0];
     for (int k = 0; k < 3; ++k)
-      if (t[k] != e.a && t[k] != e.b) third = t[k];
+      if (geo.positions[t[k]] != pa && geo.positions[t[k]] != pb) third = t[k];
     edges_.push_back({e.a, e.b, third, e.face0, e.face1});
   }
   lean_.resize(edges_.size());

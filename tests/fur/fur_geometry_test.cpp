@@ -805,5 +805,42 @@ TEST(FurGeometry, BoxMappingLaysAsMuchTextureAsTheProjection) {
   }
 }
 
+// A faceted surface (a sphere whose points were jittered, without normals): where the smooth
+// normals' axis leaves a facet tilted away from it, the facet takes its own normal's axis, so no
+// triangle's texture area falls below 1/sqrt(3) of its area times k^2 (a strand stretched at most
+// sqrt(3) times).
+TEST(FurGeometry, BoxMappingBoundsTheStretchOnAFacetedSurface) {
+  Mesh sphere = io::make_builtin_mesh("sphere:32");
+  sphere.uvs.clear();
+  sphere.normals.clear();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> jitter(-0.06f, 0.06f);
+  // The same jitter for every copy of a position (the sphere's seam), so the mesh stays closed.
+  const std::vector<uint32_t> first = same_position_vertices(sphere.positions);
+  for (size_t i = 0; i < sphere.positions.size(); ++i)
+    if (first[i] == i) sphere.positions[i] += glm::vec3(jitter(rng), jitter(rng), jitter(rng));
+  for (size_t i = 0; i < sphere.positions.size(); ++i) sphere.positions[i] = sphere.positions[first[i]];
+  const FurGeometry g = build(sphere, shells(3));
+  ASSERT_EQ(g.strand_coordinates, StrandCoordinates::box);
+  EXPECT_GT(uv_cover(g).least_ratio, (1.0 - 1e-4) / std::sqrt(3.0));
+}
+
+// The axis follows the fur's normals, unit length: a file's normal ten times too long does not
+// outweigh the others. This triangle faces (1, 1, 0); two corners' normals say x, the third's,
+// ten units long, y: the unit sum (2, 1, 0) picks x, the plane (-z, y), in which the first edge
+// (-1, 1, 0) has no u. A vertex no triangle names is kept, on y's plane, finite.
+TEST(FurGeometry, BoxMappingWeighsUnitNormals) {
+  Mesh m;
+  m.positions = {{1, 0, 0}, {0, 1, 0}, {1, 0, 1}, {5, 5, 5}};
+  m.normals = {{1, 0, 0}, {1, 0, 0}, {0, 10, 0}, {0, 1, 0}};
+  m.indices = {0, 1, 2};
+  const FurGeometry g = build(m, shells(3));
+  ASSERT_EQ(g.base_vertex_count, 4u);
+  const glm::vec2 edge = g.shell_uvs[1] - g.shell_uvs[0];
+  EXPECT_EQ(edge.x, 0.0f);
+  EXPECT_NEAR(std::abs(edge.y), g.strand_uv_scale, 1e-4 * g.strand_uv_scale);
+  EXPECT_TRUE(std::isfinite(g.shell_uvs[3].x) && std::isfinite(g.shell_uvs[3].y));
+}
+
 }  // namespace
 }  // namespace pelt::fur

@@ -150,5 +150,49 @@ TEST(SurfaceOrder, VerticesBehindTheEyeOrNotFiniteLeaveTheOtherKeysFinite) {
     }
 }
 
+// A mesh split along a texture seam (or the box mapping's border) orders its shells as the same
+// mesh welded: a seam edge names the first copy of each end, and its face may name the other
+// copy, which must not pass for the face's corner off the edge (that left the edge no side, and
+// its rule was skipped).
+TEST(SurfaceOrder, ASplitSeamKeepsTheWeldedMeshesRules) {
+  const int n = 6, shells = 8;
+  Mesh welded = grid(n);
+  welded.uvs.clear();
+  for (const glm::vec3& p : welded.positions) welded.uvs.push_back({p.x, p.z});
+  // The quads right of x = 3 take their own copies of the column x = 3, uvs shifted by 10.
+  Mesh split = welded;
+  std::vector<uint32_t> copy(welded.positions.size(), UINT32_MAX);
+  for (size_t t = 0; t < split.indices.size(); t += 6) {
+    bool right = true;
+    for (int k = 0; k < 6; ++k) right &= welded.positions[welded.indices[t + k]].x >= 3.0f;
+    for (int k = 0; k < 6 && right; ++k) {
+      const uint32_t v = welded.indices[t + k];
+      if (welded.positions[v].x != 3.0f) continue;
+      if (copy[v] == UINT32_MAX) {
+        copy[v] = uint32_t(split.positions.size());
+        split.positions.push_back(welded.positions[v]);
+        split.normals.push_back(welded.normals[v]);
+        split.uvs.push_back(welded.uvs[v] + glm::vec2(10.0f, 0.0f));
+      }
+      split.indices[t + k] = copy[v];
+    }
+  }
+  FurParams params;
+  params.shells = shells;
+  params.length = 0.2f;
+  FurGeometry a, b;
+  ASSERT_FALSE(build_fur_geometry(welded, params, a).has_value());
+  ASSERT_FALSE(build_fur_geometry(split, params, b).has_value());
+  ASSERT_GT(b.counts.joined_vertices, 0u);
+  ASSERT_EQ(a.counts.edges, b.counts.edges);
+  // The strands lean across the seam (toward +x), seen at a slant.
+  const glm::mat4 m = camera({3.0f, 2.5f, 9.0f}, {3.0f, 0.0f, 3.0f});
+  const glm::vec3 step = 0.2f / float(shells - 1) * glm::normalize(glm::vec3(3.0f, 0.3f, 1.0f));
+  std::vector<float> ka, kb;
+  SurfaceOrder(a).compute(clip_of(a, m, step), ka);
+  SurfaceOrder(b).compute(clip_of(b, m, step), kb);
+  EXPECT_EQ(ka, kb);
+}
+
 }  // namespace
 }  // namespace pelt::fur

@@ -82,8 +82,8 @@ int run_info(const InfoOptions& o) {
                     double(f.texture_repeat));
       else
         std::printf("       strands  %s, %.4g texture repeats per scene unit (texture_repeat %g)\n",
-                    g.strand_coordinates == fur::StrandCoordinates::box ? "box-projected" : "projected",
-                    g.strand_uv_scale, double(f.texture_repeat));
+                    std::string(fur::to_string(g.strand_coordinates)).c_str(), g.strand_uv_scale,
+                    double(f.texture_repeat));
     }
   }
   std::printf("triangles  %llu before fur, %llu after\n", static_cast<unsigned long long>(r.base_triangles()),

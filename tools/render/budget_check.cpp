@@ -110,13 +110,19 @@ MemoryPart map_part(const io::Scene& scene, size_t i, const char* key, const std
   return p;
 }
 
-void add_fur_parts(const io::Scene& scene, const Mesh& m, size_t i, int threads, std::vector<MemoryPart>& parts) {
+void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, int threads,
+                   std::vector<MemoryPart>& parts) {
   const fur::FurParams& fp = *scene.objects[i].fur;
   std::string shells_field;
   const int shells = effective_shells(scene, i, shells_field);
+  const Mesh& m = sm.loaded.mesh;
   const uint64_t faces = m.indices.size() / 3;
   const uint64_t edges = (3 * faces + 1) / 2;
-  const fur::FurCounts c = fur::fur_counts(fur::fur_base_vertex_count(m, fp), faces, edges, shells);
+  // The fur is built on the mesh in the scene's space, where the box mapping's planes (and so its
+  // vertex copies) depend on the object's rotation.
+  Mesh world = m;
+  io::bake_transform(world, sm.model);
+  const fur::FurCounts c = fur::fur_counts(fur::fur_base_vertex_count(world, fp), faces, edges, shells);
 
   MemoryPart geo;
   geo.field = shells_field;
@@ -243,7 +249,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
                                  tangents, ", and the tangent frames");
         !nm.field.empty())
       e.parts.push_back(std::move(nm));
-    if (so.fur) add_fur_parts(scene, m, i, threads, e.parts);
+    if (so.fur) add_fur_parts(scene, meshes[i], i, threads, e.parts);
   }
   const int w = effective_side(width, scene.image.width), h = effective_side(height, scene.image.height);
   e.parts.push_back({"image.width",

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "fur/fur_geometry.h"
 #include "tests/tools/render/render_test_scenes.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
@@ -186,6 +187,26 @@ TEST(MemoryEstimate, BoundsWhatTheRendererHolds) {
   EXPECT_TRUE(st.stage("fur_sort").ran);
   EXPECT_GT(drawn.memory_estimate(), held);
   EXPECT_GE(e.total, drawn.memory_estimate());
+}
+
+// The box mapping copies vertices where its planes meet, which depends on how the object is
+// turned: the estimate counts them on the mesh as the scene places it, as the renderer builds it.
+TEST(MemoryEstimate, FurGeometryCountsTheBoxCopiesOfTheTurnedMesh) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(R"({"pelt": 1, "image": {"width": 20, "height": 20},
+      "objects": [{"mesh": "sphere:24", "material": {"type": "lambert"},
+                   "transform": {"rotate_deg": [20, 30, 0]},
+                   "fur": {"shells": 4, "texture_size": 16, "texture_coordinates": "box"}}]})");
+  const auto meshes = io::load_scene_meshes(s);
+  const MemoryEstimate e = estimate_memory(s, meshes, 0, 0, 1, 1);
+  RenderSettings rs;
+  rs.threads = 1;
+  const SceneRenderer r(s, meshes, rs);
+  const size_t built = r.fur_geometry(0)->counts.shell_vertices;
+  ASSERT_EQ(e.parts[1].field, "objects[0].fur.shells");
+  EXPECT_NE(e.parts[1].what.find(": " + std::to_string(built) + " vertices,"), std::string::npos) << e.parts[1].what;
+  // Unturned, the sphere's copies are others (the test would not see a count taken before the turn).
+  EXPECT_NE(fur::fur_base_vertex_count(meshes[0].loaded.mesh, *s.objects[0].fur) * 4, built);
 }
 
 TEST(MemoryEstimate, ColourMapSizedFromItsHeader) {

@@ -106,10 +106,10 @@ double mesh_area(const Mesh& m) {
 // The area of the mesh's triangles laid out by `uv(i)` (either winding counts alike; overlapping
 // islands count once each), in double.
 template <class Uv>
-double triangle_area_2d(const Mesh& m, Uv uv) {
+double triangle_area_2d(const std::vector<uint32_t>& indices, Uv uv) {
   double a = 0.0;
-  for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
-    const glm::dvec2 t0 = uv(m.indices[t]), d1 = uv(m.indices[t + 1]) - t0, d2 = uv(m.indices[t + 2]) - t0;
+  for (size_t t = 0; t + 2 < indices.size(); t += 3) {
+    const glm::dvec2 t0 = uv(indices[t]), d1 = uv(indices[t + 1]) - t0, d2 = uv(indices[t + 2]) - t0;
     a += 0.5 * std::abs(d1.x * d2.y - d1.y * d2.x);
   }
   return a;
@@ -309,19 +309,22 @@ glm::dvec2 box_plane(const glm::dvec3& q, uint8_t axis) {
 
 // StrandCoordinates::box. Each triangle takes the axis it faces most, judged by the sum of its
 // corners' fur normals, so that a smooth surface's regions meet along smooth borders rather than
-// along every facet that tips over 45 degrees; ties go to the lower axis. Where that axis leaves
-// the facet itself less than 1/sqrt(3) facing it (a facet tilted from its neighbours), the facet
-// takes the axis of its own normal instead: a projection on axis a keeps |n_a| of a triangle's
-// area, so no strand is stretched more than sqrt(3) times. A vertex on triangles of two or three
-// axes is copied once per further axis whose plane gives it another coordinate (q = p - centre).
-// The copies come after the mesh's own vertices, which keep their indices, with the vertex's
-// normal and uv; they grow the same strand, so they are joined as a texture seam's are (no fin
-// along the border, no crack). `normals` (one per mesh vertex) and `axis` have one entry per
-// vertex of `mesh`; a vertex no triangle names takes y.
+// along every facet that tips over 45 degrees; ties go to the lower axis. A projection on axis a
+// keeps |n_a| of a triangle's area (n its unit normal), so where that axis leaves a facet tilted
+// from its neighbours facing it by less than kBoxLeast, the facet takes the axis of its own normal
+// instead (whose share is at least 1/sqrt(3)): no strand is stretched more than 1 / kBoxLeast
+// times. Not at 1/sqrt(3) itself: facets near the cube's diagonals, all close to it, would flip
+// for nothing and cut the strands along many small islands (the bunny: 615 copies against 569).
+// A vertex on triangles of two or three axes is copied once per further axis whose plane gives it
+// another coordinate (q = p - centre). The copies come after the mesh's own vertices, which keep
+// their indices; they grow the same strand, so they are joined as a texture seam's are (no fin
+// along the border, no crack). A vertex no triangle names takes y.
+constexpr double kBoxLeast = 0.5;
+
 struct AxisSplit {
-  Mesh mesh;
-  std::vector<glm::vec3> normals;
-  std::vector<uint8_t> axis;
+  std::vector<uint32_t> indices;  // the mesh's triangles on the split vertices
+  std::vector<uint32_t> source;   // per split vertex: the mesh vertex it is, or copies
+  std::vector<uint8_t> axis;      // per split vertex
 };
 
 uint8_t largest_axis(const glm::dvec3& v) {
@@ -338,14 +341,16 @@ uint8_t facing_axis(const Mesh& m, const std::vector<glm::vec3>& normals, size_t
       glm::cross(glm::dvec3(m.positions[m.indices[t + 1]]) - p0, glm::dvec3(m.positions[m.indices[t + 2]]) - p0);
   const double len = glm::length(face);
   if (!(len > 0.0) || !std::isfinite(len)) return axis;  // no facet to stretch
-  return std::abs(face[axis]) * std::sqrt(3.0) >= len ? axis : largest_axis(face);
+  return std::abs(face[axis]) >= kBoxLeast * len ? axis : largest_axis(face);
 }
 
+// `normals`: the fur's, one per mesh vertex.
 AxisSplit split_by_facing_axis(const Mesh& m, const std::vector<glm::vec3>& normals, const glm::dvec3& centre) {
   const size_t n = m.positions.size();
   AxisSplit out;
-  out.mesh = m;
-  out.normals = normals;
+  out.indices = m.indices;
+  out.source.resize(n);
+  for (size_t i = 0; i < n; ++i) out.source[i] = uint32_t(i);
   out.axis.assign(n, 1);
   std::vector<char> named(n, 0);
   std::vector<uint32_t> copy_of(3 * n, UINT32_MAX);  // (vertex, axis) -> the vertex that carries it
@@ -367,16 +372,21 @@ AxisSplit split_by_facing_axis(const Mesh& m, const std::vector<glm::vec3>& norm
         if (other != UINT32_MAX && box_plane(q, b) == box_plane(q, axis)) c = other;
       }
       if (c == UINT32_MAX) {
-        c = uint32_t(out.mesh.positions.size());
-        out.mesh.positions.push_back(m.positions[v]);
-        if (!m.normals.empty()) out.mesh.normals.push_back(m.normals[v]);
-        if (!m.uvs.empty()) out.mesh.uvs.push_back(m.uvs[v]);
-        out.normals.push_back(normals[v]);
+        c = uint32_t(out.source.size());
+        out.source.push_back(v);
         out.axis.push_back(axis);
       }
-      out.mesh.indices[t + k] = c;
+      out.indices[t + k] = c;
     }
   }
+  return out;
+}
+
+// values[source[i]] for every i.
+template <class T>
+std::vector<T> gathered(const std::vector<T>& values, const std::vector<uint32_t>& source) {
+  std::vector<T> out(source.size());
+  for (size_t i = 0; i < source.size(); ++i) out[i] = values[source[i]];
   return out;
 }
 
@@ -401,7 +411,7 @@ struct StrandLayout {
   double k1 = 0.0;     // the projection's texture units per scene unit, before texture_repeat
   double scale = 0.0;  // the factor on the coordinates, texture_repeat included
   bool uvs_cover_no_area = false;
-  AxisSplit split;     // the box's mesh and axes (empty otherwise)
+  AxisSplit split;     // the box's split (empty otherwise)
   glm::dvec3 centre{0.0};
   glm::dvec2 diagonal(const glm::vec3& p, double s) const {
     static const glm::dvec3 e1 = glm::normalize(glm::dvec3(1, -1, 0)), e2 = glm::normalize(glm::dvec3(1, 1, -2));
@@ -417,7 +427,7 @@ std::optional<ParamError> lay_strands(const Mesh& input, const std::vector<glm::
   out.centre = glm::dvec3(bounds.centre);
   const double k1 = out.k1, repeat = double(params.texture_repeat);
   const double reference =
-      std::max(triangle_area_2d(input, [&](uint32_t i) { return out.diagonal(input.positions[i], k1); }),
+      std::max(triangle_area_2d(input.indices, [&](uint32_t i) { return out.diagonal(input.positions[i], k1); }),
                0.25 * (k1 * k1) * mesh_area(input));
   out.coordinates = params.texture_coordinates.value_or(input.uvs.empty() ? StrandCoordinates::box
                                                                           : StrandCoordinates::mesh);
@@ -426,7 +436,7 @@ std::optional<ParamError> lay_strands(const Mesh& input, const std::vector<glm::
     if (input.uvs.empty())
       return ParamError{"texture_coordinates", "\"mesh\" lays the strands by the mesh's texture coordinates, and "
                                                "this mesh has none: use \"box\" or \"projected\""};
-    const double uv_area = triangle_area_2d(input, [&](uint32_t i) { return glm::dvec2(input.uvs[i]); });
+    const double uv_area = triangle_area_2d(input.indices, [&](uint32_t i) { return glm::dvec2(input.uvs[i]); });
     if (const std::optional<double> ratio = strand_ratio(uv_area, reference)) {
       out.scale = *ratio * repeat;
     } else if (params.texture_coordinates) {
@@ -441,9 +451,9 @@ std::optional<ParamError> lay_strands(const Mesh& input, const std::vector<glm::
   }
   if (out.coordinates == StrandCoordinates::box) {
     out.split = split_by_facing_axis(input, normals, out.centre);
-    const Mesh& m = out.split.mesh;
-    const double box_area = triangle_area_2d(m, [&](uint32_t i) {
-      return k1 * box_plane(glm::dvec3(m.positions[i]) - out.centre, out.split.axis[i]);
+    const AxisSplit& split = out.split;
+    const double box_area = triangle_area_2d(split.indices, [&](uint32_t i) {
+      return k1 * box_plane(glm::dvec3(input.positions[split.source[i]]) - out.centre, split.axis[i]);
     });
     // A mesh of no area keeps k1: there is nothing to spread the strands over.
     out.scale = k1 * strand_ratio(box_area, reference).value_or(1.0) * repeat;
@@ -459,7 +469,7 @@ size_t fur_base_vertex_count(const Mesh& mesh, const FurParams& params) {
   if (validate(params) || check_mesh(mesh) || fur_normals(mesh, normals) ||
       lay_strands(mesh, normals, params, bounding_sphere(mesh), layout))
     return mesh.positions.size();
-  return layout.coordinates == StrandCoordinates::box ? layout.split.mesh.positions.size() : mesh.positions.size();
+  return layout.coordinates == StrandCoordinates::box ? layout.split.source.size() : mesh.positions.size();
 }
 
 std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams& params,
@@ -480,8 +490,15 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   out.strand_uv_scale = layout.scale;
   out.uvs_cover_no_area = layout.uvs_cover_no_area;
   const bool box = layout.coordinates == StrandCoordinates::box;
-  const Mesh& base = box ? layout.split.mesh : input;
-  out.base_normals = box ? std::move(layout.split.normals) : std::move(normals);
+  // The box's copies, as a mesh of their own: its normals are left out (the fur's are base_normals).
+  Mesh split;
+  if (box) {
+    split.positions = gathered(input.positions, layout.split.source);
+    if (!input.uvs.empty()) split.uvs = gathered(input.uvs, layout.split.source);
+    split.indices = std::move(layout.split.indices);
+  }
+  const Mesh& base = box ? split : input;
+  out.base_normals = box ? gathered(normals, layout.split.source) : std::move(normals);
 
   const size_t N = base.positions.size();
   if (overflows(N)) {

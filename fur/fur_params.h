@@ -102,8 +102,9 @@ struct FurParams {
   // edge of its box); it stretches strands without bound where the surface runs along the
   // diagonal (a band around a sphere). "box" projects each triangle on the axis plane it faces
   // most (x, y or z, by its corners' fur normals, or by its own normal where theirs would leave it
-  // facing that plane by less than 1/sqrt(3)), which stretches a strand at most sqrt(3) times,
-  // copying the vertices where the planes meet (fur/fur_geometry.cpp, split_by_facing_axis).
+  // facing that plane by less than a half), which stretches a strand at most twice (sqrt(3) times
+  // on a smooth surface), copying the vertices where the planes meet (fur/fur_geometry.cpp,
+  // split_by_facing_axis).
   // Whatever the mapping, the strand texture is laid at one scale, so a strand is as wide on a
   // uv-mapped mesh as on the same mesh without uvs, whatever its UV layout: the mesh's uvs and the
   // box's planes are multiplied by sqrt(A_p / A), A their area in the texture and A_p the texture

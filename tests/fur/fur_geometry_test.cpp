@@ -744,7 +744,7 @@ TEST(FurGeometry, BoxMappingLaysEachTriangleOnTheAxisItFaces) {
       EXPECT_NEAR(std::abs(duv.y), k * std::abs(dp[v_of[axis]]), 1e-4 * k) << "face " << f;
     }
   }
-  EXPECT_GT(uv_cover(g).least_ratio, 0.55);  // 1 / sqrt(3) = 0.577, less the facets' tilt
+  EXPECT_GT(uv_cover(g).least_ratio, 0.55);  // a smooth sphere: 1 / sqrt(3) = 0.577, less the facets' tilt
   FurParams p = shells(3);
   p.texture_coordinates = StrandCoordinates::projected;
   EXPECT_LT(uv_cover(build(sphere, p)).least_ratio, 0.1);
@@ -806,9 +806,9 @@ TEST(FurGeometry, BoxMappingLaysAsMuchTextureAsTheProjection) {
 }
 
 // A faceted surface (a sphere whose points were jittered, without normals): where the smooth
-// normals' axis leaves a facet tilted away from it, the facet takes its own normal's axis, so no
-// triangle's texture area falls below 1/sqrt(3) of its area times k^2 (a strand stretched at most
-// sqrt(3) times).
+// normals' axis leaves a facet tilted away from it facing it by less than a half, the facet takes
+// its own normal's axis, so no triangle's texture area falls below half its area times k^2 (a
+// strand stretched at most twice).
 TEST(FurGeometry, BoxMappingBoundsTheStretchOnAFacetedSurface) {
   Mesh sphere = io::make_builtin_mesh("sphere:32");
   sphere.uvs.clear();
@@ -817,12 +817,15 @@ TEST(FurGeometry, BoxMappingBoundsTheStretchOnAFacetedSurface) {
   std::uniform_real_distribution<float> jitter(-0.06f, 0.06f);
   // The same jitter for every copy of a position (the sphere's seam), so the mesh stays closed.
   const std::vector<uint32_t> first = same_position_vertices(sphere.positions);
-  for (size_t i = 0; i < sphere.positions.size(); ++i)
-    if (first[i] == i) sphere.positions[i] += glm::vec3(jitter(rng), jitter(rng), jitter(rng));
+  for (size_t i = 0; i < sphere.positions.size(); ++i) {
+    if (first[i] != i) continue;
+    const float dx = jitter(rng), dy = jitter(rng), dz = jitter(rng);  // in this order on any compiler
+    sphere.positions[i] += glm::vec3(dx, dy, dz);
+  }
   for (size_t i = 0; i < sphere.positions.size(); ++i) sphere.positions[i] = sphere.positions[first[i]];
   const FurGeometry g = build(sphere, shells(3));
   ASSERT_EQ(g.strand_coordinates, StrandCoordinates::box);
-  EXPECT_GT(uv_cover(g).least_ratio, (1.0 - 1e-4) / std::sqrt(3.0));
+  EXPECT_GT(uv_cover(g).least_ratio, 0.5 - 1e-4);
 }
 
 // The axis follows the fur's normals, unit length: a file's normal ten times too long does not

@@ -119,8 +119,12 @@ void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, in
   const uint64_t faces = m.indices.size() / 3;
   const uint64_t edges = (3 * faces + 1) / 2;
   // The fur is built on the mesh in the scene's space, where the box mapping's planes (and so its
-  // vertex copies) depend on the object's rotation.
-  Mesh world = m;
+  // vertex copies) depend on the object's rotation. The copies depend on positions, normals and
+  // triangles only: the uvs are not copied (an estimate made before the render allocates).
+  Mesh world;
+  world.positions = m.positions;
+  world.normals = m.normals;
+  world.indices = m.indices;
   io::bake_transform(world, sm.model);
   const fur::FurCounts c = fur::fur_counts(fur::fur_base_vertex_count(world, fp), faces, edges, shells);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -484,6 +485,17 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   std::vector<glm::vec3> normals;
   if (auto e = fur_normals(input, normals)) return e;
   out.bounds = bounding_sphere(input);
+  // Fur out to 1e18 scene units from the origin keeps every squared distance (lighting, lengths)
+  // within a float's range; beyond it the bounding radius itself overflowed (a vertex at 1e21 gave
+  // an infinite radius, and every fur vertex sat at infinity, silently drawn as nothing).
+  const double reach = double(out.bounds.radius) * (1.0 + double(params.length)) +
+                       glm::length(glm::dvec3(out.bounds.centre));
+  if (!(reach <= kMaxFurReach)) {
+    char text[160];
+    std::snprintf(text, sizeof text, "the mesh and its fur reach %.3g scene units from the origin; fur needs them "
+                  "within %.0e, where squared distances stay within 32-bit floats", reach, kMaxFurReach);
+    return ParamError{"mesh.positions", text};
+  }
   StrandLayout layout;
   if (auto e = lay_strands(input, normals, params, out.bounds, layout)) return e;
   out.strand_coordinates = layout.coordinates;

@@ -25,6 +25,11 @@ namespace pelt::fur {
 
 inline constexpr uint32_t kNoFace = 0xFFFFFFFFu;
 
+// The farthest a fur vertex may lie from the origin, in scene units (the mesh's bounding radius
+// times 1 + length, plus its centre's distance): squared, still a finite float. A larger mesh is
+// refused ("mesh.positions") rather than grown into infinite positions.
+inline constexpr double kMaxFurReach = 1e18;
+
 // Fur never points into its base surface (a pelt rule where the seed is silent): every growth
 // direction (combing) and every posed strand segment (gravity, wind) keeps at least this angle,
 // in radians, above its base vertex's tangent plane; they may lay fur down toward the surface,

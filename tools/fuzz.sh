@@ -3,12 +3,12 @@
 # build-fuzz and runs each for SECONDS (default 60) on its seed corpus. A crash stops that
 # target and leaves its input as build-fuzz/fuzz/crash-* / leak-* / timeout-*; copy it into
 # tests/fuzz/regressions/<target>/ so fuzz_replay_test replays it (see docs/robustness.md).
-# Usage: tools/fuzz.sh [SECONDS] [TARGET...]   (targets: obj gltf scene raster sampler)
+# Usage: tools/fuzz.sh [SECONDS] [TARGET...]   (targets: obj fur gltf scene raster sampler)
 set -euo pipefail
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(obj gltf scene raster sampler)
+[ ${#targets[@]} -eq 0 ] && targets=(obj fur gltf scene raster sampler)
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=$root/build-fuzz
 jobs=${PELT_FUZZ_JOBS:-2}
@@ -27,6 +27,7 @@ seed() {  # seed TARGET FILE...
   for f in "$@"; do [ -f "$f" ] && cp -n "$f" "$build/corpus/$shift_target/" || true; done
 }
 seed obj "$root"/tools/data/bunny.obj "$root"/tests/fuzz/seeds/obj/* "$root"/tests/fuzz/regressions/obj/*
+seed fur "$root"/tools/data/bunny.obj "$root"/tests/fuzz/seeds/obj/* "$root"/tests/fuzz/regressions/fur/*
 seed gltf "$root"/tools/data/BoxTextured.glb "$root"/tests/fuzz/seeds/gltf/* "$root"/tests/fuzz/regressions/gltf/*
 seed scene "$root"/tools/scenes/*.json "$root"/tests/fuzz/regressions/scene/*
 seed raster "$root"/tests/fuzz/seeds/raster/* "$root"/tests/fuzz/regressions/raster/*

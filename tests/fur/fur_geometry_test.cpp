@@ -845,5 +845,22 @@ TEST(FurGeometry, BoxMappingWeighsUnitNormals) {
   EXPECT_TRUE(std::isfinite(g.shell_uvs[3].x) && std::isfinite(g.shell_uvs[3].y));
 }
 
+// A vertex at 1e21 made the bounding radius overflow to infinity, and every fur vertex followed it
+// there (found by fuzz_fur; tests/fuzz/regressions/fur/huge_coordinate.obj). Such a mesh is refused,
+// naming the field; one within the reach grows finite fur.
+TEST(FurGeometry, AMeshBeyondFloatReachIsRefused) {
+  Mesh far = test::unit_square();
+  far.positions[2].z = -1e21f;
+  FurGeometry g;
+  const auto e = build_fur_geometry(far, shells(3), g);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "mesh.positions");
+  EXPECT_NE(e->reason.find("32-bit floats"), std::string::npos) << e->reason;
+  Mesh large = test::unit_square();
+  for (glm::vec3& p : large.positions) p *= 1e16f;
+  const FurGeometry h = build(large, shells(3));
+  for (const glm::vec3& p : h.positions) ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+}
+
 }  // namespace
 }  // namespace pelt::fur

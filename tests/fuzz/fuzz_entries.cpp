@@ -11,6 +11,7 @@
 #include <glm/mat4x4.hpp>
 #include <hwy/targets.h>
 
+#include "fur/fur_geometry.h"
 #include "raster/renderer.h"
 #include "raster/texture.h"
 #include "tests/tools/io/temp_dir.h"
@@ -111,6 +112,51 @@ std::string scratch_dir() {
 
 Outcome run_obj(const uint8_t* data, size_t size) {
   return load_and_check(write_scratch("input.obj", data, size));
+}
+
+Outcome run_fur(const uint8_t* data, size_t size) {
+  io::LoadedMesh loaded;
+  try {
+    loaded = io::load_mesh_file(write_scratch("fur_input.obj", data, size));
+  } catch (const io::InputError&) {
+    return Outcome::rejected;
+  }
+  const Mesh& m = loaded.mesh;
+  std::vector<fur::StrandCoordinates> mappings = {fur::StrandCoordinates::box, fur::StrandCoordinates::projected};
+  if (!m.uvs.empty()) mappings.push_back(fur::StrandCoordinates::mesh);
+  Outcome outcome = Outcome::rejected;
+  for (const fur::StrandCoordinates mapping : mappings) {
+    fur::FurParams params;
+    params.shells = 4;
+    params.texture_size = 16;
+    params.texture_coordinates = mapping;
+    fur::FurGeometry g;
+    if (fur::build_fur_geometry(m, params, g)) continue;  // the fur refused the mesh, with its reason
+    outcome = Outcome::accepted;
+    const std::string in = std::string(" (") + std::string(fur::to_string(mapping)) + ")";
+    const size_t n = g.base_vertex_count, total = g.positions.size();
+    require(n == fur::fur_base_vertex_count(m, params), "the memory estimate's vertex count is not the build's" + in);
+    require(total == n * g.layers && g.shell_uvs.size() == total && g.fin_uvs.size() == total,
+            "fur arrays of the wrong length" + in);
+    for (size_t i = 0; i < total; ++i) {
+      require(finite3(g.positions[i]), "fur position " + std::to_string(i) + " is not finite" + in);
+      require(std::isfinite(g.shell_uvs[i].x) && std::isfinite(g.shell_uvs[i].y) && std::isfinite(g.fin_uvs[i].x) &&
+                  std::isfinite(g.fin_uvs[i].y),
+              "fur uv " + std::to_string(i) + " is not finite" + in);
+    }
+    for (size_t i = 0; i < n; ++i)
+      require(finite3(g.base_normals[i]) && std::abs(glm::length(g.base_normals[i]) - 1.0f) < 1e-3f,
+              "fur normal " + std::to_string(i) + " is not a unit vector" + in);
+    for (uint32_t k : g.shell_indices) require(k < total, "shell index out of range" + in);
+    for (uint32_t k : g.fin_indices) require(k < total, "fin index out of range" + in);
+    require(n >= m.positions.size() && g.counts.joined_vertices >= n - m.positions.size(),
+            "box copies not joined to the vertex they copy" + in);
+    for (size_t i = m.positions.size(); i < n; ++i) {
+      const auto same = std::find(m.positions.begin(), m.positions.end(), g.positions[i]);
+      require(same != m.positions.end(), "fur base vertex " + std::to_string(i) + " is no vertex of the mesh" + in);
+    }
+  }
+  return outcome;
 }
 
 Outcome run_gltf(const uint8_t* data, size_t size) {

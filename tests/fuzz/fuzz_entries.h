@@ -28,6 +28,14 @@ Outcome run_obj(const uint8_t* data, size_t size);
 // The bytes as a GLB file when they start with the "glTF" magic, else as a .gltf JSON file,
 // through io::load_mesh_file.
 Outcome run_gltf(const uint8_t* data, size_t size);
+// The bytes as a Wavefront OBJ file, loaded as run_obj loads it, then grown into fur
+// (fur::build_fur_geometry, 4 shells) under every strand mapping the mesh allows: "box",
+// "projected", and "mesh" when it has uvs. Rejected when the loader refuses the file or the fur
+// refuses the mesh (a ParamError). An accepted build must give finite positions, unit normals,
+// finite shell and fin uvs and indices within its vertex array, as many base vertices as
+// fur::fur_base_vertex_count (the memory estimate's count), and box copies that each sit on a
+// vertex of the mesh and are joined to it.
+Outcome run_fur(const uint8_t* data, size_t size);
 // The bytes as scene JSON, through io::parse_scene anchored in tools/scenes/ (so the shipped
 // scenes' relative mesh paths resolve), then camera_at on the first and last frame.
 Outcome run_scene(const uint8_t* data, size_t size);

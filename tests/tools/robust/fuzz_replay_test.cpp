@@ -61,8 +61,8 @@ struct Target {
   const char* name;
   Entry entry;
 };
-const Target kTargets[] = {{"obj", run_obj}, {"gltf", run_gltf}, {"scene", run_scene}, {"raster", run_raster},
-                           {"sampler", run_sampler}};
+const Target kTargets[] = {{"obj", run_obj},       {"fur", run_fur},         {"gltf", run_gltf},
+                           {"scene", run_scene},   {"raster", run_raster}, {"sampler", run_sampler}};
 
 TEST(FuzzReplay, RegressionInputsEndCleanly) {
   size_t total = 0;
@@ -86,6 +86,7 @@ TEST(FuzzReplay, SeedCorpusIsAccepted) {
   auto obj = files_in(repo() / "tests/fuzz/seeds/obj");
   obj.push_back(repo() / "tools/data/bunny.obj");
   replay(run_obj, obj, true);
+  replay(run_fur, obj, true);  // every seed mesh grows fur under each mapping it allows
 
   auto gltf = files_in(repo() / "tests/fuzz/seeds/gltf");
   gltf.push_back(repo() / "tools/data/BoxTextured.glb");
@@ -107,6 +108,7 @@ TEST(FuzzReplay, GarbageIsRejected) {
   const std::string junk = "\x01\x02 not a mesh {";
   const auto* p = reinterpret_cast<const uint8_t*>(junk.data());
   EXPECT_EQ(run_obj(p, junk.size()), Outcome::rejected);
+  EXPECT_EQ(run_fur(p, junk.size()), Outcome::rejected);
   EXPECT_EQ(run_gltf(p, junk.size()), Outcome::rejected);
   EXPECT_EQ(run_scene(p, junk.size()), Outcome::rejected);
 }

@@ -488,8 +488,10 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   // Fur out to 1e18 scene units from the origin keeps every squared distance (lighting, lengths)
   // within a float's range; beyond it the bounding radius itself overflowed (a vertex at 1e21 gave
   // an infinite radius, and every fur vertex sat at infinity, silently drawn as nothing).
-  const double reach = double(out.bounds.radius) * (1.0 + double(params.length)) +
-                       glm::length(glm::dvec3(out.bounds.centre));
+  double radius = 0.0;  // in double: the float one is what overflowed
+  for (const glm::vec3& p : input.positions)
+    radius = std::max(radius, glm::length(glm::dvec3(p) - glm::dvec3(out.bounds.centre)));
+  const double reach = radius * (1.0 + double(params.length)) + glm::length(glm::dvec3(out.bounds.centre));
   if (!(reach <= kMaxFurReach)) {
     char text[160];
     std::snprintf(text, sizeof text, "the mesh and its fur reach %.3g scene units from the origin; fur needs them "

@@ -462,44 +462,50 @@ std::optional<ParamError> lay_strands(const Mesh& input, const std::vector<glm::
   return std::nullopt;
 }
 
-}  // namespace
-
-size_t fur_base_vertex_count(const Mesh& mesh, const FurParams& params) {
-  StrandLayout layout;
-  std::vector<glm::vec3> normals;
-  if (validate(params) || check_mesh(mesh) || fur_normals(mesh, normals) ||
-      lay_strands(mesh, normals, params, bounding_sphere(mesh), layout))
-    return mesh.positions.size();
-  return layout.coordinates == StrandCoordinates::box ? layout.split.source.size() : mesh.positions.size();
-}
-
-std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams& params,
-                                             FurGeometry& out) {
+// Everything build_fur_geometry checks and decides before it builds: the parameters and the mesh,
+// the fur's normals, its bounds and reach, and where the strands lie (with the box's copies). The
+// memory estimate's count (fur_base_vertex_count) takes the same steps, so it cannot disagree.
+std::optional<ParamError> prepare(const Mesh& input, const FurParams& params, std::vector<glm::vec3>& normals,
+                                  BoundingSphere& bounds, StrandLayout& layout) {
   if (auto e = validate(params)) return e;
   if (auto e = check_mesh(input)) return e;
-  const auto overflows = [&](size_t vertices) { return vertices * size_t(params.shells) > size_t(UINT32_MAX); };
-  if (overflows(input.positions.size())) {
+  if (input.positions.size() * size_t(params.shells) > size_t(UINT32_MAX)) {
     return ParamError{"mesh.positions", std::to_string(input.positions.size()) + " vertices x " +
                                             std::to_string(params.shells) + " shells overflow 32-bit indices"};
   }
-  std::vector<glm::vec3> normals;
   if (auto e = fur_normals(input, normals)) return e;
-  out.bounds = bounding_sphere(input);
+  bounds = bounding_sphere(input);
   // Fur out to 1e18 scene units from the origin keeps every squared distance (lighting, lengths)
   // within a float's range; beyond it the bounding radius itself overflowed (a vertex at 1e21 gave
   // an infinite radius, and every fur vertex sat at infinity, silently drawn as nothing).
   double radius = 0.0;  // in double: the float one is what overflowed
   for (const glm::vec3& p : input.positions)
-    radius = std::max(radius, glm::length(glm::dvec3(p) - glm::dvec3(out.bounds.centre)));
-  const double reach = radius * (1.0 + double(params.length)) + glm::length(glm::dvec3(out.bounds.centre));
+    radius = std::max(radius, glm::length(glm::dvec3(p) - glm::dvec3(bounds.centre)));
+  const double reach = radius * (1.0 + double(params.length)) + glm::length(glm::dvec3(bounds.centre));
   if (!(reach <= kMaxFurReach)) {
     char text[160];
     std::snprintf(text, sizeof text, "the mesh and its fur reach %.3g scene units from the origin; fur needs them "
                   "within %.0e, where squared distances stay within 32-bit floats", reach, kMaxFurReach);
     return ParamError{"mesh.positions", text};
   }
+  return lay_strands(input, normals, params, bounds, layout);
+}
+
+}  // namespace
+
+size_t fur_base_vertex_count(const Mesh& mesh, const FurParams& params) {
+  std::vector<glm::vec3> normals;
+  BoundingSphere bounds;
   StrandLayout layout;
-  if (auto e = lay_strands(input, normals, params, out.bounds, layout)) return e;
+  if (prepare(mesh, params, normals, bounds, layout)) return mesh.positions.size();
+  return layout.coordinates == StrandCoordinates::box ? layout.split.source.size() : mesh.positions.size();
+}
+
+std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams& params,
+                                             FurGeometry& out) {
+  std::vector<glm::vec3> normals;
+  StrandLayout layout;
+  if (auto e = prepare(input, params, normals, out.bounds, layout)) return e;
   out.strand_coordinates = layout.coordinates;
   out.strand_uv_scale = layout.scale;
   out.uvs_cover_no_area = layout.uvs_cover_no_area;
@@ -515,7 +521,7 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   out.base_normals = box ? gathered(normals, layout.split.source) : std::move(normals);
 
   const size_t N = base.positions.size();
-  if (overflows(N)) {
+  if (N * size_t(params.shells) > size_t(UINT32_MAX)) {
     return ParamError{"mesh.positions", std::to_string(input.positions.size()) + " vertices and " +
                                             std::to_string(N - input.positions.size()) +
                                             " copies where the box mapping's planes meet x " +

@@ -61,9 +61,8 @@ std::optional<ParamError> validate(const FurParams& p) {
                                           std::to_string(p.texture_size)};
   }
   if (auto e = check_range("texture_repeat", p.texture_repeat, 0.0, 1000.0, true)) return e;
-  if (p.texture_coordinates && *p.texture_coordinates != StrandCoordinates::mesh &&
-      *p.texture_coordinates != StrandCoordinates::projected && *p.texture_coordinates != StrandCoordinates::box)
-    return ParamError{"texture_coordinates", "must be \"mesh\", \"box\" or \"projected\""};
+  if (p.texture_coordinates && to_string(*p.texture_coordinates) == "invalid")
+    return ParamError{"texture_coordinates", kStrandCoordinatesChoice};
   // Fewer than one strand root would leave the textures empty.
   double roots = double(p.density) / 100.0 * double(p.texture_size) * double(p.texture_size);
   if (std::lround(roots) < 1) {
@@ -98,36 +97,42 @@ std::optional<ParamError> validate(const FurParams& p) {
   return std::nullopt;
 }
 
-std::string_view to_string(FinMode mode) {
-  switch (mode) {
-    case FinMode::off: return "off";
-    case FinMode::all: return "all";
-    case FinMode::silhouette: return "silhouette";
-  }
+namespace {
+
+// Each enum's names, one table each, read both ways.
+template <class E>
+struct Named {
+  E value;
+  std::string_view name;
+};
+constexpr Named<FinMode> kFinModes[] = {
+    {FinMode::off, "off"}, {FinMode::all, "all"}, {FinMode::silhouette, "silhouette"}};
+constexpr Named<StrandCoordinates> kStrandCoordinates[] = {
+    {StrandCoordinates::mesh, "mesh"}, {StrandCoordinates::projected, "projected"}, {StrandCoordinates::box, "box"}};
+
+template <class E, size_t N>
+std::string_view name_of(const Named<E> (&table)[N], E value) {
+  for (const Named<E>& n : table)
+    if (n.value == value) return n.name;
   return "invalid";
 }
 
-std::string_view to_string(StrandCoordinates coordinates) {
-  switch (coordinates) {
-    case StrandCoordinates::mesh: return "mesh";
-    case StrandCoordinates::projected: return "projected";
-    case StrandCoordinates::box: return "box";
-  }
-  return "invalid";
+template <class E, size_t N>
+std::optional<E> value_of(const Named<E> (&table)[N], std::string_view text) {
+  for (const Named<E>& n : table)
+    if (n.name == text) return n.value;
+  return std::nullopt;
 }
+
+}  // namespace
+
+std::string_view to_string(FinMode mode) { return name_of(kFinModes, mode); }
+std::string_view to_string(StrandCoordinates coordinates) { return name_of(kStrandCoordinates, coordinates); }
 
 std::optional<StrandCoordinates> strand_coordinates_from_string(std::string_view text) {
-  if (text == "mesh") return StrandCoordinates::mesh;
-  if (text == "projected") return StrandCoordinates::projected;
-  if (text == "box") return StrandCoordinates::box;
-  return std::nullopt;
+  return value_of(kStrandCoordinates, text);
 }
 
-std::optional<FinMode> fin_mode_from_string(std::string_view text) {
-  if (text == "off") return FinMode::off;
-  if (text == "all") return FinMode::all;
-  if (text == "silhouette") return FinMode::silhouette;
-  return std::nullopt;
-}
+std::optional<FinMode> fin_mode_from_string(std::string_view text) { return value_of(kFinModes, text); }
 
 }  // namespace pelt::fur

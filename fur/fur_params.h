@@ -145,6 +145,8 @@ std::optional<ParamError> validate(const FurParams& params);
 
 std::string_view to_string(FinMode mode);
 std::string_view to_string(StrandCoordinates coordinates);
+// What a texture_coordinates value must be, in the words of every error that refuses one.
+inline constexpr const char* kStrandCoordinatesChoice = "must be \"mesh\", \"box\" or \"projected\"";
 // "mesh" | "projected" | "box" (exact, lower case); nothing for any other text.
 std::optional<StrandCoordinates> strand_coordinates_from_string(std::string_view text);
 // "off" | "all" | "silhouette" (exact, lower case); nothing for any other text.

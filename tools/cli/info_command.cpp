@@ -60,7 +60,8 @@ int run_info(const InfoOptions& o) {
     }
     if (!o.material.color_map.empty()) std::printf(", colour map");
     std::printf("\n");
-    if (const fur::FurCounts* c = r.fur_counts(i)) {
+    if (const fur::FurGeometry* g = r.fur_geometry(i)) {
+      const fur::FurCounts* c = &g->counts;
       const fur::FurParams& f = *o.fur;
       std::printf("       fur: %d shells, fins %s, gravity %s, wind %s\n", f.shells,
                   std::string(fur::to_string(f.fins)).c_str(), f.gravity ? "on" : "off",
@@ -76,13 +77,12 @@ int run_info(const InfoOptions& o) {
       std::printf("\n");
       // Where the strands lie, and how large: a uv-mapped mesh's strand size depends on its UV layout
       // until scaled, which the user tunes with texture_repeat.
-      const fur::FurGeometry& g = *r.fur_geometry(i);
-      if (g.strand_coordinates == fur::StrandCoordinates::mesh)
-        std::printf("       strands  on the mesh's uvs x %.4g (texture_repeat %g)\n", g.strand_uv_scale,
+      if (g->strand_coordinates == fur::StrandCoordinates::mesh)
+        std::printf("       strands  on the mesh's uvs x %.4g (texture_repeat %g)\n", g->strand_uv_scale,
                     double(f.texture_repeat));
       else
         std::printf("       strands  %s, %.4g texture repeats per scene unit (texture_repeat %g)\n",
-                    std::string(fur::to_string(g.strand_coordinates)).c_str(), g.strand_uv_scale,
+                    std::string(fur::to_string(g->strand_coordinates)).c_str(), g->strand_uv_scale,
                     double(f.texture_repeat));
     }
   }

@@ -54,7 +54,8 @@ fur::FurParams parse_fur_block(const JsonFields& js, const json& j, const std::s
     const std::string field = json_child(path, "texture_coordinates");
     const std::string text = js.string(*v, field);
     p.texture_coordinates = fur::strand_coordinates_from_string(text);
-    if (!p.texture_coordinates) js.fail(field, "must be \"mesh\", \"box\" or \"projected\", got \"" + text + "\"");
+    if (!p.texture_coordinates)
+      js.fail(field, std::string(fur::kStrandCoordinatesChoice).append(", got \"").append(text).append("\""));
   }
   p.texture_repeat = num(js, j, path, "texture_repeat", p.texture_repeat);
   if (const json* v = JsonFields::find(j, "seed"))

@@ -98,7 +98,6 @@ class FurObject {
   // camera, lights and eye, in its sort order.
   void append_draws(std::vector<raster::DrawCall>& draws) const;
 
-  const fur::FurCounts& counts() const { return geo_.counts; }
   const fur::FurGeometry& geometry() const { return geo_; }
   // Floats per vertex of the fur draws' varyings as of the last update().
   int varying_count() const;

@@ -361,7 +361,8 @@ size_t SceneRenderer::memory_estimate() const {
 }
 
 const fur::FurCounts* SceneRenderer::fur_counts(size_t object) const {
-  return objects_[object]->fur ? &objects_[object]->fur->counts() : nullptr;
+  const fur::FurGeometry* g = fur_geometry(object);
+  return g ? &g->counts : nullptr;
 }
 
 const fur::FurGeometry* SceneRenderer::fur_geometry(size_t object) const {

@@ -54,7 +54,19 @@ void keep_above_surface(std::span<glm::dvec3> p, uint32_t k, uint32_t S, const g
   for (uint32_t j = k + 1; j < S; ++j) p[j] = p[k] + rotate(p[j] - p[k], axis, c, s);
 }
 
+// Strength as apply_gravity reads it: non-finite or negative is none.
+double gravity_strength(const GravityParams& gravity) {
+  return std::isfinite(gravity.strength) ? std::max(0.0, double(gravity.strength)) : 0.0;
+}
+
 }  // namespace
+
+bool gravity_bends(const GravityParams& gravity) {
+  // Infinitely stiff fur, no gravity or no strength: theta would be 0 (or 0 * inf).
+  const double stability = double(gravity.stability);
+  return unit_or_zero(glm::dvec3(gravity.direction)) != glm::dvec3(0.0) && gravity_strength(gravity) != 0.0 &&
+         !(std::isinf(stability) && stability > 0.0);
+}
 
 void apply_gravity(std::span<const glm::vec3> rest, std::span<const glm::vec3> surface_normals,
                    uint32_t base_vertex_count, uint32_t layers, uint32_t authored_layers,
@@ -66,11 +78,9 @@ void apply_gravity(std::span<const glm::vec3> rest, std::span<const glm::vec3> s
   // Sum of RN over a chain of n nodes: n (n - 1) / 2; the ratio keeps the authored total.
   const double rn_scale = A >= 2 && A != S && S >= 2 ? double(A) * double(A - 1) / (double(S) * double(S - 1)) : 1.0;
   const glm::dvec3 G = unit_or_zero(glm::dvec3(gravity.direction));
-  const double strength = std::isfinite(gravity.strength) ? std::max(0.0, double(gravity.strength)) : 0.0;
+  const double strength = gravity_strength(gravity);
   const double stability = double(gravity.stability);
-  // Infinitely stiff fur, no gravity or no strength: theta would be 0 (or 0 * inf).
-  const bool no_force =
-      G == glm::dvec3(0.0) || strength == 0.0 || (std::isinf(stability) && stability > 0.0);
+  const bool no_force = !gravity_bends(gravity);
   std::array<glm::dvec3, kMaxChain> p;
   // Eq. 2 at node k: turns nodes k+1..S-1 about it toward G.
   auto bend_toward_gravity = [&](uint32_t k) {
@@ -111,19 +121,25 @@ void apply_gravity(std::span<const glm::vec3> rest, std::span<const glm::vec3> s
 
 WindField make_wind_field(const FurGeometry& geometry, const WindParams& wind) {
   WindField f;
+  update_wind_field(geometry, wind, f);
+  return f;
+}
+
+void update_wind_field(const FurGeometry& geometry, const WindParams& wind, WindField& f) {
   const glm::dvec3 d = unit_or_zero(glm::dvec3(wind.direction));
-  f.direction = d == glm::dvec3(0.0) ? glm::vec3(0.0f) : glm::vec3(d);
+  const glm::vec3 direction = d == glm::dvec3(0.0) ? glm::vec3(0.0f) : glm::vec3(d);
   f.strength = std::isfinite(wind.strength) ? wind.strength : 0.0f;
   f.gust_frequency = std::isfinite(wind.gust_frequency) ? wind.gust_frequency : 0.0f;
   f.gust_scale = std::isfinite(wind.gust_scale) ? std::clamp(wind.gust_scale, 0.0f, 1.0f) : 0.0f;
   const size_t N = geometry.base_vertex_count;
+  if (f.phase.size() == N && f.direction == direction) return;
+  f.direction = direction;
   const double L = geometry.bounds.radius > 0.0f ? 2.0 * double(geometry.bounds.radius) : 1.0;
   f.phase.resize(N);
   for (size_t i = 0; i < N; ++i) {
     const glm::dvec3 q = glm::dvec3(geometry.positions[i]) - glm::dvec3(geometry.bounds.centre);
     f.phase[i] = float(glm::dot(q, d) / L);
   }
-  return f;
 }
 
 void WindField::forces(double time_seconds, std::span<glm::vec3> out, uint32_t begin,

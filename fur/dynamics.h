@@ -50,6 +50,11 @@ enum class GravityLaw { lever, seed_dot };
 // theta is scaled by A (A - 1) / (S (S - 1)), the ratio of the two counts' sums of RN, so the
 // chain's total bend is the authored chain's (before the clamp below) whatever S is, and
 // more layers resolve the same curve more finely. With A = S the scale is exactly 1.
+// Whether apply_gravity moves any node: not for a zero direction or strength, nor for
+// infinitely stiff fur. Where it does not, its pose is the rest pose bit for bit, and the
+// renderer runs no gravity pass.
+bool gravity_bends(const GravityParams& gravity);
+
 void apply_gravity(std::span<const glm::vec3> rest, std::span<const glm::vec3> surface_normals,
                    uint32_t base_vertex_count, uint32_t layers, uint32_t authored_layers,
                    const GravityParams& gravity, GravityLaw law, std::span<glm::vec3> out, uint32_t begin,
@@ -70,6 +75,10 @@ struct WindField {
   void forces(double time_seconds, std::span<glm::vec3> out, uint32_t begin, uint32_t end) const;
 };
 WindField make_wind_field(const FurGeometry& geometry, const WindParams& wind);
+// `field` for `wind`, in place: the phases, which depend on the direction alone, are made
+// again only when it changed (or the geometry's vertex count did), and their array keeps its
+// storage, so a wind whose strength or direction is animated allocates nothing per frame.
+void update_wind_field(const FurGeometry& geometry, const WindParams& wind, WindField& field);
 
 // Rotates each whole chain once about its root (seed Fig. 11): axis cross(n_i, F_i),
 // angle theta = phi * (1 - exp(-|F_i|)) where phi = angle(n_i, F_i): the strand leans

@@ -176,7 +176,7 @@ std::vector<FurEdge> mesh_edges(const Mesh& mesh, const std::vector<uint32_t>& s
   return edges;
 }
 
-FurCounts fur_counts(size_t base_vertices, size_t base_faces, size_t edges, int layers) {
+FurCounts fur_counts(size_t base_vertices, size_t base_faces, size_t edges, int layers, FinMode fins) {
   FurCounts c;
   const size_t S = size_t(std::max(layers, 0));
   c.base_vertices = base_vertices;
@@ -185,7 +185,7 @@ FurCounts fur_counts(size_t base_vertices, size_t base_faces, size_t edges, int 
   c.total_vertices = c.base_vertices + c.shell_vertices;
   c.base_faces = base_faces;
   c.shell_faces = base_faces * S;
-  c.fin_faces = S > 1 ? 2 * edges * (S - 1) : 0;
+  c.fin_faces = S > 1 && fins != FinMode::off ? 2 * edges * (S - 1) : 0;
   c.total_faces = c.base_faces + c.shell_faces + c.fin_faces;
   c.edges = edges;
   return c;
@@ -569,7 +569,9 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   const size_t V = N * S;
   out.positions.resize(V);
   out.shell_uvs.resize(V);
-  out.fin_uvs.resize(V);
+  // Without fins nothing draws or reads the fin coordinates and triangles: they are not made.
+  const bool fins = params.fins != FinMode::off;
+  if (fins) out.fin_uvs.resize(V);
   out.layer.resize(V);
   for (uint32_t s = 0; s < S; ++s) {
     const float offset = out.layer_distance * float(s);
@@ -578,7 +580,7 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
       const size_t I = i + size_t(s) * N;
       out.positions[I] = base.positions[i] + out.growth[i] * offset;
       out.shell_uvs[I] = base_uv[i];
-      out.fin_uvs[I] = {fin_u[i], fv};
+      if (fins) out.fin_uvs[I] = {fin_u[i], fv};
       out.layer[I] = uint16_t(s);
     }
   }
@@ -610,14 +612,16 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
 
   out.edges = mesh_edges(base, same_as);
   const size_t E = out.edges.size();
-  out.fin_indices.resize(size_t(S - 1) * E * 6);
-  uint32_t* fi = out.fin_indices.data();
-  for (uint32_t s = 0; s + 1 < S; ++s)
-    for (const FurEdge& e : out.edges) {
-      fin_quad_indices(e, uint32_t(N), s, s + 1, fi);
-      fi += 6;
-    }
-  out.counts = fur_counts(N, F, E, int(S));
+  if (fins) {
+    out.fin_indices.resize(size_t(S - 1) * E * 6);
+    uint32_t* fi = out.fin_indices.data();
+    for (uint32_t s = 0; s + 1 < S; ++s)
+      for (const FurEdge& e : out.edges) {
+        fin_quad_indices(e, uint32_t(N), s, s + 1, fi);
+        fi += 6;
+      }
+  }
+  out.counts = fur_counts(N, F, E, int(S), params.fins);
   for (size_t i = 0; i < N; ++i) out.counts.joined_vertices += same_as[i] != i;
   return std::nullopt;
 }

@@ -89,7 +89,7 @@ struct FurGeometry {
   // The mesh has uvs, texture_coordinates was not given, and they cover no area (all at a point):
   // the strands are laid by the box mapping instead, and the caller warns.
   bool uvs_cover_no_area = false;
-  // u = k q.(1,2,3)/sqrt14 with q = p - centre and k = 2.449490 sqrt(3) / R times texture_repeat (the
+  // Fins (empty when params.fins is off, as fin_indices is): u = k q.(1,2,3)/sqrt14 with q = p - centre and k = 2.449490 sqrt(3) / R times texture_repeat (the
   // llvmpipe harness's fin coordinate: runs along every edge that is not perpendicular
   // to (1,2,3)); v = s / (S-1), 0 at the root, 1 at the tip.
   std::vector<glm::vec2> fin_uvs;
@@ -98,7 +98,7 @@ struct FurGeometry {
   // Shell triangles: layer s's copy of base triangle f is triangle s*F + f (S*F*3 indices).
   std::vector<uint32_t> shell_indices;
   // Fin triangles: quad q = s*E + e (s = 0..S-2, e = index into `edges`) is triangles
-  // 2q, 2q+1 = (a_s, b_s, b_{s+1}), (a_s, b_{s+1}, a_{s+1}) ((S-1)*E*6 indices).
+  // 2q, 2q+1 = (a_s, b_s, b_{s+1}), (a_s, b_{s+1}, a_{s+1}) ((S-1)*E*6 indices; none with fins off).
   std::vector<uint32_t> fin_indices;
   std::vector<FurEdge> edges;             // sorted by (a, b), deduplicated
   std::vector<glm::vec3> face_normals;    // unit normal per base triangle ((0,1,0) if degenerate)
@@ -134,8 +134,9 @@ std::vector<uint32_t> same_strand_vertices(const std::vector<glm::vec3>& positio
                                            const std::vector<glm::vec3>& normals,
                                            const std::vector<glm::vec3>& growth);
 
-// Table counts for a base mesh of the given size with S layers.
-FurCounts fur_counts(size_t base_vertices, size_t base_faces, size_t edges, int layers);
+// Table counts for a base mesh of the given size with S layers; `fins` off counts no fin faces
+// (build_fur_geometry makes none).
+FurCounts fur_counts(size_t base_vertices, size_t base_faces, size_t edges, int layers, FinMode fins);
 
 // Unit growth direction from a unit normal and the optional combing (see CombParams). A blend
 // that ends up lower than kMinFurElevation above the tangent plane is raised to it, keeping its

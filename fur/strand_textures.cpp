@@ -132,6 +132,7 @@ std::optional<ParamError> generate_strand_textures(const FurParams& params, Stra
     }
   }
 
+  if (params.fins == FinMode::off) return std::nullopt;  // nothing draws a fin
   LayerTextures& fin = out.fin;
   fin.size = N;
   fin.layers = 1;

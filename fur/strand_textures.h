@@ -89,7 +89,7 @@ struct FinLuminance {
 struct StrandTextures {
   LayerTextures shells;  // params.shells layers of texture_size^2; rgba empty unless grown (ShellForms)
   ShellLuminance shell_luminance;  // the same shells as L, A and a tint per layer
-  LayerTextures fin;     // 1 layer of texture_size^2: strands seen from the side,
+  LayerTextures fin;     // 1 layer of texture_size^2 (none with fins off): strands seen from the side,
                          // u along the edge (repeat), v = row from root (0) to tip (1)
   FinLuminance fin_luminance;  // the same fin as L, A and a tint linear in v
   std::vector<ShellStrand> strands;  // in root-texel order (row-major)

@@ -1,11 +1,14 @@
 // `pelt info SCENE.json`: what a scene will compute, without rendering.
 #include <cstdio>
+#include <string>
 
 #include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/quality_options.h"
 #include "tools/io/scene.h"
+#include "tools/render/animation.h"
 #include "tools/render/budget_check.h"
+#include "tools/render/force_schedule.h"
 #include "tools/render/scene_renderer.h"
 
 namespace pelt::cli {
@@ -19,6 +22,34 @@ const char* material_name(io::MaterialType t) {
     case io::MaterialType::skin: return "skin";
   }
   return "?";
+}
+
+// In how many of the scene's frames object i's gravity pose and wind pose are made: the
+// renderer's own decisions (render::ForceSchedule) over the frames' inputs, so the line
+// agrees with the stats of a render.
+struct ForceFrames {
+  int frames = 0, gravity = 0, wind = 0;
+};
+
+ForceFrames count_force_frames(const io::Scene& scene, size_t object) {
+  ForceFrames c;
+  c.frames = scene.animation ? scene.animation->frames : 1;
+  render::ForceSchedule schedule;
+  render::FrameInputs in;
+  for (int k = 0; k < c.frames; ++k) {
+    render::evaluate_frame_inputs(scene, k, in);
+    const render::ForceStep step =
+        schedule.next(in.fur[object].gravity, in.fur[object].wind, in.time_seconds, !scene.animation);
+    c.gravity += step.gravity && step.gravity_bends;
+    c.wind += step.wind;
+  }
+  return c;
+}
+
+// "off" without the block, else the frames that compute it ("in 1 of 96 frames").
+std::string force_frames(bool present, int computed, int frames) {
+  if (!present) return "off";
+  return "computed in " + std::to_string(computed) + " of " + std::to_string(frames) + (frames == 1 ? " frame" : " frames");
 }
 
 struct InfoOptions {
@@ -63,10 +94,11 @@ int run_info(const InfoOptions& o) {
     if (const fur::FurGeometry* g = r.fur_geometry(i)) {
       const fur::FurCounts* c = &g->counts;
       const fur::FurParams& f = *o.fur;
+      const ForceFrames forces = count_force_frames(scene, i);
       std::printf("       fur: %d shells, fins %s, gravity %s, wind %s\n", f.shells,
-                  std::string(fur::to_string(f.fins)).c_str(), f.gravity ? "on" : "off",
-                  !f.wind ? "off" : (f.wind->gust_scale > 0 && f.wind->gust_frequency > 0) ? "gusting (every frame)"
-                                                                                          : "steady (once)");
+                  std::string(fur::to_string(f.fins)).c_str(),
+                  force_frames(f.gravity.has_value(), forces.gravity, forces.frames).c_str(),
+                  force_frames(f.wind.has_value(), forces.wind, forces.frames).c_str());
       std::printf("       vertices base %zu, shell %zu, fin %zu (shared), sum %zu\n", c->base_vertices,
                   c->shell_vertices, c->fin_vertices, c->total_vertices);
       std::printf("       faces    base %zu, shell %zu, fin %zu, sum %zu\n", c->base_faces, c->shell_faces,

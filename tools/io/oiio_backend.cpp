@@ -99,6 +99,10 @@ class OiioBackend final : public ImageBackend {
       // all five: as small or smaller on rendered frames, and no slower to choose.
       spec.attribute("png:filter", 0x20);
     }
+    // OIIO's EXR and TIFF writers stamp the wall-clock time (DateTime) into the header unless
+    // the spec names one; an empty one writes none. A frame's bytes then depend on its pixels
+    // alone, so renders compare with cmp across runs and thread counts.
+    spec.attribute("DateTime", "");
     if (!out->open(r.temp, spec)) return "cannot create the image file: " + out->geterror();
     const bool wrote = out->write_image(type, r.pixels);
     const std::string write_error = wrote ? std::string() : out->geterror();

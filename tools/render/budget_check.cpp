@@ -23,13 +23,15 @@ using io::sat_mul;
 // FurObject's arrays, by what they are sized on (tools/render/fur_object.*, fur/fur_geometry.h).
 // Per base vertex: unit normal, growth direction, dynamics force.
 constexpr uint64_t kFurBytesPerBaseVertex = 3 * sizeof(glm::vec3);
-// Per fur vertex: rest position, shell and fin uvs, layer, the gravity, wind and current
-// poses, tangent, the 26-row lighting SoA of vertex lighting, shell and fin varyings of the
-// larger (pixel lighting) layout, and the pose in clip space (the surface sort's keys;
-// counted whatever the sort, as the scene's own quality may be overridden).
-constexpr uint64_t kFurBytesPerVertex = sizeof(glm::vec3) + 2 * sizeof(glm::vec2) + sizeof(uint16_t) +
+// Per fur vertex: rest position, shell uv, layer, the gravity, wind and current poses,
+// tangent, the 26-row lighting SoA of vertex lighting, shell varyings of the larger (pixel
+// lighting) layout, and the pose in clip space (the surface sort's keys; counted whatever the
+// sort, as the scene's own quality may be overridden). With fins, also the fin uv and varyings.
+constexpr uint64_t kFurVaryingBytes = std::max(FurVaryings::kCount, FurPixelVaryings::kCount) * sizeof(float);
+constexpr uint64_t kFurBytesPerVertex = sizeof(glm::vec3) + sizeof(glm::vec2) + sizeof(uint16_t) +
                                         4 * sizeof(glm::vec3) + 26 * sizeof(float) + sizeof(glm::vec4) +
-                                        2 * std::max(FurVaryings::kCount, FurPixelVaryings::kCount) * sizeof(float);
+                                        kFurVaryingBytes;
+constexpr uint64_t kFurBytesPerFinVertex = sizeof(glm::vec2) + kFurVaryingBytes;
 // Per base face: its unit normal. Per shell triangle: the surface sort's key. Per shell or
 // fin triangle: three indices. Per edge: the
 // FurEdge, its fin weight, and the fin list entries of its (shells - 1) quads, counted
@@ -126,7 +128,8 @@ void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, in
   world.normals = m.normals;
   world.indices = m.indices;
   io::bake_transform(world, sm.model);
-  const fur::FurCounts c = fur::fur_counts(fur::fur_base_vertex_count(world, fp), faces, edges, shells);
+  const fur::FurCounts c = fur::fur_counts(fur::fur_base_vertex_count(world, fp), faces, edges, shells, fp.fins);
+  const bool fins = fp.fins != fur::FinMode::off;
 
   MemoryPart geo;
   geo.field = shells_field;
@@ -134,27 +137,28 @@ void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, in
              " vertices, " + std::to_string(c.shell_faces + c.fin_faces) + " shell and fin triangles";
   uint64_t g = sat_mul(c.base_vertices, kFurBytesPerBaseVertex);
   g = sat_add(g, sat_mul(c.shell_vertices, kFurBytesPerVertex));
+  if (fins) g = sat_add(g, sat_mul(c.shell_vertices, kFurBytesPerFinVertex));
   g = sat_add(g, sat_mul(c.base_faces, kFurBytesPerBaseFace));
   g = sat_add(g, sat_mul(sat_add(c.shell_faces, c.fin_faces), kFurBytesPerTriangle));
   g = sat_add(g, sat_mul(c.shell_faces, kFurBytesPerShellTriangle));
-  g = sat_add(g, sat_mul(c.edges, kFurBytesPerEdge));
+  g = sat_add(g, sat_mul(c.edges, fins ? kFurBytesPerEdge : sizeof(fur::FurEdge)));
   g = sat_add(g, sat_mul(c.fin_faces, kFurBytesPerFinTriangle));
   geo.bytes = g;
   parts.push_back(std::move(geo));
 
   // Strand textures: each shell layer generated unmipped as luminance and alpha (2 bytes a
-  // texel), the fin as RGBA8 (4), each then copied into a mipmapped texture of 4 bytes a texel
+  // texel), the fin (with fins) as RGBA8 and as luminance and alpha (6), each then copied into a mipmapped texture of 4 bytes a texel
   // (raster/texture.h); the layers are built on up to `threads` threads at once, each holding
   // a mip chain's working set (image_texture_bytes' kBuildBytes).
   const uint64_t layer_texels = uint64_t(fp.texture_size) * uint64_t(fp.texture_size);
-  const uint64_t shell_layers = uint64_t(std::max(shells, 0)), layers = shell_layers + 1;
+  const uint64_t shell_layers = uint64_t(std::max(shells, 0)), layers = shell_layers + (fins ? 1 : 0);
   MemoryPart tex;
   tex.field = object_field(i) + ".fur.texture_size";
   tex.what = "fur strand textures, " + std::to_string(layers) + " layers of " + std::to_string(fp.texture_size) +
              "^2 texels with mips";
   const uint64_t builds = std::min<uint64_t>(layers, uint64_t(std::max(threads, 1)));
   tex.bytes = sat_add(sat_add(sat_mul(layers, mipmapped_rgba8(layer_texels)),
-                              sat_mul(layer_texels, sat_add(sat_mul(shell_layers, 2), 4))),
+                              sat_mul(layer_texels, sat_add(sat_mul(shell_layers, 2), fins ? 6 : 0))),
                       sat_mul(builds, sat_mul(layer_texels, kBuildBytes)));
   parts.push_back(std::move(tex));
 }

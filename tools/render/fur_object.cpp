@@ -37,19 +37,7 @@ uint32_t fin_quads_per_sort_run(uint32_t quads) {
   return 1;
 }
 
-// One swing from the gravity pose to the wind pose and back (seed Fig. 12), in seconds of the
-// scene's clock, as gusts are: the same motion at any fps (48 frames at 24 fps, as before).
-constexpr double kSwingSeconds = 2.0;
-
 // The optional blocks, compared with animation.h's field-by-field equality.
-bool same(const std::optional<fur::GravityParams>& a, const std::optional<fur::GravityParams>& b) {
-  return a.has_value() == b.has_value() && (!a || same_gravity(*a, *b));
-}
-
-bool same(const std::optional<fur::WindParams>& a, const std::optional<fur::WindParams>& b) {
-  return a.has_value() == b.has_value() && (!a || same_wind(*a, *b));
-}
-
 bool same(const std::vector<shading::Light>& a, const std::vector<shading::Light>& b) {
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i)
@@ -90,7 +78,8 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
       filter_(options.filter),
       double_precision_(options.double_precision),
       grey_allowed_(options.grey_varyings),
-      merge_fins_(options.merge_fins && !options.match_llvmpipe && params.fins != fur::FinMode::off) {
+      fins_(params.fins != fur::FinMode::off),
+      merge_fins_(options.merge_fins && !options.match_llvmpipe && fins_) {
   {
     StageTimer t(setup, "fur_geometry");
     if (auto e = fur::build_fur_geometry(base, params, geo_)) throw_fur_error(origin, e->field, e->reason);
@@ -112,22 +101,27 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
                                                    options.parallel),
              origin);
     shell_tint_ = lum.tint;
-    // The fin likewise, with a tint linear in the fin's height v (fur::FinLuminance).
-    const fur::FinLuminance& fin_lum = tex.fin_luminance;
-    throw_if(raster::Texture::from_la8(fin_lum.size, fin_lum.size, fin_lum.la.data(), fin_tex_, options.parallel),
-             origin);
-    fin_tint_root_ = fin_lum.tint_root;
-    fin_tint_slope_ = fin_lum.tint_slope;
+    // The fin likewise, with a tint linear in the fin's height v (fur::FinLuminance); none
+    // without fins.
+    if (fins_) {
+      const fur::FinLuminance& fin_lum = tex.fin_luminance;
+      throw_if(raster::Texture::from_la8(fin_lum.size, fin_lum.size, fin_lum.la.data(), fin_tex_, options.parallel),
+               origin);
+      fin_tint_root_ = fin_lum.tint_root;
+      fin_tint_slope_ = fin_lum.tint_slope;
+    }
   }
   const size_t v = geo_.positions.size();
   pose_ = geo_.positions;
   gravity_pose_ = geo_.positions;
   tangents_.resize(v);
-  forces_.resize(geo_.base_vertex_count);
+  wind_forces_.resize(geo_.base_vertex_count);
   const int vc = lighting_ == FurLighting::pixel ? FurPixelVaryings::kCount : FurVaryings::kCount;
   shell_varyings_.resize(v * vc);
-  fin_varyings_.resize(v * vc);
-  fin_weight_.assign(geo_.edges.size(), 1.0f);
+  if (fins_) {
+    fin_varyings_.resize(v * vc);
+    fin_weight_.assign(geo_.edges.size(), 1.0f);
+  }
   if (lighting_ == FurLighting::vertex) {
     light_soa_.stride = (v + 15) / 16 * 16;
     light_soa_.storage.assign(light_soa_.stride * kSoaRows + 16, 0.0f);
@@ -142,14 +136,14 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
       const int uv = FurPixelVaryings::kUv;
       shell_varyings_[i * vc + uv] = geo_.shell_uvs[i].x;
       shell_varyings_[i * vc + uv + 1] = geo_.shell_uvs[i].y;
+      if (!fins_) continue;
       fin_varyings_[i * vc + uv] = geo_.fin_uvs[i].x;
       fin_varyings_[i * vc + uv + 1] = geo_.fin_uvs[i].y;
     }
 }
 
 uint64_t FurObject::triangles() const {
-  const uint64_t fins = params_.fins == fur::FinMode::off ? 0 : geo_.fin_indices.size() / 3;
-  return geo_.shell_indices.size() / 3 + fins;
+  return geo_.shell_indices.size() / 3 + geo_.fin_indices.size() / 3;
 }
 
 size_t FurObject::memory_bytes() const {
@@ -165,7 +159,8 @@ size_t FurObject::memory_bytes() const {
 
 void FurObject::rebuild_pose(float t) {
   const uint32_t n = geo_.base_vertex_count, s = geo_.layers;
-  if (wind_pose_.empty()) {
+  // At t = 0 the frame shows the gravity pose alone; the wind pose may be stale or unmade.
+  if (t == 0.0f) {
     pose_ = gravity_pose_;
   } else {
     fur::lerp_poses(gravity_pose_, wind_pose_, t, pose_);
@@ -238,16 +233,23 @@ void FurObject::rebuild_varyings() {
     uv_stride_ = stride;
     for (size_t i = 0; i < count; ++i) {
       float* sv = shell_varyings_.data() + i * stride;
-      float* fv = fin_varyings_.data() + i * stride;
       if (write_uvs) {
         sv[FurVaryings::kUv] = geo_.shell_uvs[i].x;
         sv[FurVaryings::kUv + 1] = geo_.shell_uvs[i].y;
+      }
+      for (int c = 0; c < channels; ++c) {
+        sv[FurVaryings::kDiffuse + c] = diffuse(c, i);
+        sv[spec + c] = specular(c, i);
+      }
+      if (!fins_) continue;
+      float* fv = fin_varyings_.data() + i * stride;
+      if (write_uvs) {
         fv[FurVaryings::kUv] = geo_.fin_uvs[i].x;
         fv[FurVaryings::kUv + 1] = geo_.fin_uvs[i].y;
       }
       for (int c = 0; c < channels; ++c) {
-        sv[FurVaryings::kDiffuse + c] = fv[FurVaryings::kDiffuse + c] = diffuse(c, i);
-        sv[spec + c] = fv[spec + c] = specular(c, i);
+        fv[FurVaryings::kDiffuse + c] = diffuse(c, i);
+        fv[spec + c] = specular(c, i);
       }
     }
     return;
@@ -260,7 +262,8 @@ void FurObject::rebuild_varyings() {
     const glm::vec3& t = tangents_[i];
     const glm::vec3& nrm = geo_.base_normals[i % n];
     const float h = float(geo_.layer[i]) * inv_top;
-    for (float* dst : {shell_varyings_.data() + i * P::kCount, fin_varyings_.data() + i * P::kCount}) {
+    for (float* dst : {shell_varyings_.data() + i * P::kCount, fins_ ? fin_varyings_.data() + i * P::kCount : nullptr}) {
+      if (!dst) continue;
       dst[P::kPos] = p.x, dst[P::kPos + 1] = p.y, dst[P::kPos + 2] = p.z;
       dst[P::kTangent] = t.x, dst[P::kTangent + 1] = t.y, dst[P::kTangent + 2] = t.z;
       dst[P::kHeight] = h;
@@ -321,24 +324,25 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
   // The sorts the rasterizer orders (per tile or per pixel) take each fin root to tip as a
   // strip; the others draw layer by layer.
   const bool strips = raster_sort_mode(f.sort) != raster::SortMode::None;
-  if (strips != fin_strips_ && params_.fins != fur::FinMode::off) {
+  if (strips != fin_strips_ && fins_) {
     fin_strips_ = strips;
     fin_list_dirty_ = true;
   }
   float t = 0.0f;
   if (match_llvmpipe_) {
-    if (!gravity_in_) {
+    if (!llvmpipe_poses_made_) {
       // The harness's two precomputed arrays (its P0 and P1) stand for both poses.
       StageTimer st(stats, "gravity");
       wind_pose_.resize(pose_.size());
       fur::llvmpipe_poses(geo_, gravity_pose_, wind_pose_);
-      gravity_in_ = std::optional<fur::GravityParams>{};
+      llvmpipe_poses_made_ = true;
       poses_dirty_ = true;
     }
     t = fur::llvmpipe_animation_t(f.frame);
   } else {
-    if (!gravity_in_ || !same(*gravity_in_, f.gravity)) {
-      if (f.gravity) {
+    const ForceStep step = forces_.next(f.gravity, f.wind, f.time_seconds, f.still);
+    if (step.gravity) {
+      if (step.gravity_bends) {
         StageTimer st(stats, "gravity");
         // The authored count keeps the bend of the scene's fur when a quality setting
         // re-slices it (fur/dynamics.h).
@@ -347,34 +351,17 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
       } else {
         gravity_pose_ = geo_.positions;
       }
-      gravity_in_ = f.gravity;
-      wind_in_.reset();  // the wind pose is pushed from the gravity pose
       poses_dirty_ = true;
     }
-    // Gusts scale the strength: a wind of strength 0 this frame pushes nothing at any time, so
-    // its pose is the gravity pose and it is no wind (no per-frame re-simulation of a static
-    // scene). An animated strength is evaluated per frame, so it is wind wherever it is not 0.
-    if (f.wind && f.wind->strength != 0.0f) {
-      // A steady wind (no gusts) gives the same field in every frame.
-      const bool gusty = f.wind->gust_scale > 0.0f && f.wind->gust_frequency > 0.0f;
-      const double wt = gusty ? f.time_seconds : 0.0;
-      if (!wind_in_ || !same(wind_in_->first, f.wind) || wind_in_->second != wt) {
-        StageTimer st(stats, "wind");
-        if (!wind_in_ || !same(wind_in_->first, f.wind)) wind_field_ = fur::make_wind_field(geo_, *f.wind);
-        wind_field_->forces(wt, forces_, 0, n);
-        wind_pose_.resize(pose_.size());
-        fur::apply_wind(gravity_pose_, geo_.growth, geo_.base_normals, forces_, n, s, wind_pose_, 0, n);
-        wind_in_ = std::make_pair(f.wind, wt);
-        poses_dirty_ = true;
-      }
-      // A still has no clock to swing on: it shows the wind it names, the wind pose.
-      t = f.still ? 1.0f : fur::animation_t(f.time_seconds, kSwingSeconds);
-    } else if (!wind_pose_.empty()) {
-      wind_pose_.clear();
-      wind_field_.reset();
-      wind_in_.reset();
+    if (step.wind) {
+      StageTimer st(stats, "wind");
+      fur::update_wind_field(geo_, *f.wind, wind_field_);
+      wind_field_.forces(step.wind_time, wind_forces_, 0, n);
+      wind_pose_.resize(pose_.size());
+      fur::apply_wind(gravity_pose_, geo_.growth, geo_.base_normals, wind_forces_, n, s, wind_pose_, 0, n);
       poses_dirty_ = true;
     }
+    t = step.t;
   }
   bool varyings_dirty = false;
   if (poses_dirty_ || !pose_t_ || *pose_t_ != t) {
@@ -405,7 +392,7 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
     StageTimer st(stats, "fur_pose");
     rebuild_varyings();
   }
-  if (params_.fins != fur::FinMode::off && (fin_list_dirty_ || !fins_eye_ || *fins_eye_ != f.eye)) {
+  if (fins_ && (fin_list_dirty_ || !fins_eye_ || *fins_eye_ != f.eye)) {
     if (params_.fins == fur::FinMode::silhouette) {
       StageTimer st(stats, "fins");
       for (size_t e = 0; e < geo_.edges.size(); ++e) {
@@ -489,7 +476,7 @@ void FurObject::prepare_shaders(const std::vector<shading::Light>& lights, const
 void FurObject::append_draws(std::vector<raster::DrawCall>& draws) const {
   const FurSort sort = sort_;
   const uint32_t faces = static_cast<uint32_t>(geo_.counts.base_faces);
-  const bool fins = params_.fins != fur::FinMode::off && !fin_quad_weight_.empty();
+  const bool fins = fins_ && !fin_quad_weight_.empty();
   auto draw = [&](bool fin, uint32_t first_tri, uint32_t count, const FurShader* sh) {
     if (count == 0) return;
     raster::DrawCall d;

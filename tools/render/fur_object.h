@@ -20,6 +20,7 @@
 #include "raster/renderer.h"
 #include "raster/texture.h"
 #include "tools/io/quality.h"
+#include "tools/render/force_schedule.h"
 #include "tools/render/frame_stats.h"
 #include "shading/fur_lighting.h"
 #include "tools/render/fur_shader.h"
@@ -89,9 +90,9 @@ class FurObject {
 
   // Brings poses, tangents, lighting, varyings and fins up to date for `f` seen under
   // `lights`; records the "gravity", "wind", "fur_pose", "fur_lighting", "fins" and
-  // "fur_sort" stages that ran. A wind of strength 0 in `f` (static, or an animated strength at 0 this frame)
-  // pushes nothing, whatever its gusts: it is no wind, and frames that differ only in time
-  // are not re-simulated.
+  // "fur_sort" stages that ran. Which poses are made again is ForceSchedule's decision: gravity
+  // that bends nothing and wind of strength 0 are none, frames that differ only in time are
+  // not re-simulated, and a frame at rest in the swing pushes no wind.
   void update(const FurFrame& f, const std::vector<shading::Light>& lights, FrameStats& stats);
 
   // Appends the shell and fin draws (after the opaque base) as of the last update(): its
@@ -122,6 +123,7 @@ class FurObject {
   raster::Filter filter_;
   bool double_precision_;
   bool grey_allowed_;
+  bool fins_;  // params_.fins is not off: the fin texture, varyings and list exist
   bool grey_ = false;  // this frame's varyings are FurGreyVaryings
   int uv_stride_ = 0;  // the record stride the uvs in the varying arrays were written for (0: none yet)
   shading::FurLightParams light_params_;
@@ -131,8 +133,8 @@ class FurObject {
   raster::Texture fin_tex_;            // La8: colour = min(1, (fin_tint_root_ + fin_tint_slope_ v) * L)
   glm::vec3 fin_tint_root_{0.0f}, fin_tint_slope_{0.0f};
 
-  std::vector<glm::vec3> gravity_pose_, wind_pose_, pose_, tangents_, forces_;
-  std::optional<fur::WindField> wind_field_;
+  std::vector<glm::vec3> gravity_pose_, wind_pose_, pose_, tangents_, wind_forces_;
+  fur::WindField wind_field_;
   std::vector<float> shell_varyings_, fin_varyings_;
   std::vector<float> fin_weight_;           // per edge
   // Fins drawn this frame: all of them, or (silhouette) those with a visible weight; the weight
@@ -165,9 +167,9 @@ class FurObject {
   std::optional<glm::vec3> lit_eye_;
   bool lighting_dirty_ = true;
 
-  // The inputs the current arrays were computed from (nullopt: never computed).
-  std::optional<std::optional<fur::GravityParams>> gravity_in_;
-  std::optional<std::pair<std::optional<fur::WindParams>, double>> wind_in_;
+  // Which poses a frame makes (the inputs the current ones were made from).
+  ForceSchedule forces_;
+  bool llvmpipe_poses_made_ = false;  // match_llvmpipe: the harness's two arrays, made once
   std::optional<float> pose_t_;
   std::optional<glm::vec3> fins_eye_;
   bool fin_list_dirty_ = true;

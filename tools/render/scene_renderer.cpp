@@ -390,8 +390,9 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   const float aspect = float(width_) / float(height_);
   const glm::mat4 clip_from_world = camera.projection(aspect) * camera.view();
   const FurSort fur_sort = quality_.sort;
+  const bool fur_shows = aov_shows_fur(settings_.aov);
   for (size_t i = 0; i < objects_.size(); ++i) {
-    if (!objects_[i]->fur) continue;
+    if (!objects_[i]->fur || !fur_shows) continue;
     FurFrame f;
     f.frame = frame;
     f.time_seconds = inputs.time_seconds;
@@ -429,7 +430,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   // Translucent fur after every opaque draw (the rasterizer shades opaque work first
   // anyway; this keeps the translucent submission order object by object).
   for (const auto& o : objects_)
-    if (o->fur) o->fur->append_draws(draws);
+    if (o->fur && fur_shows) o->fur->append_draws(draws);
 
   out.width = width_;
   out.height = height_;

@@ -27,6 +27,10 @@ enum class Aov { color, depth, id, overdraw, sebum, epidermis, dermis };
 // written to a GIF; one channel in EXR (float) and TIFF (depth float, id and overdraw 32-bit
 // unsigned), and overdraw also as a PNG heat map (overdraw_heatmap.h).
 inline bool per_pixel_value(Aov a) { return a == Aov::depth || a == Aov::id || a == Aov::overdraw; }
+// Whether fur can change the AOV: the depth and id images are the opaque surfaces' alone, and
+// fur (translucent, no depth write) changes neither, so there its poses, lighting and draws
+// are skipped (its geometry is still built, so a bad fur block is reported whatever the AOV).
+inline bool aov_shows_fur(Aov a) { return a != Aov::depth && a != Aov::id; }
 // The skin shader's layers (MaterialShader): a skin material draws one of them alone.
 inline bool skin_layer(Aov a) { return a == Aov::sebum || a == Aov::epidermis || a == Aov::dermis; }
 

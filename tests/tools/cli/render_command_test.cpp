@@ -293,6 +293,51 @@ TEST_F(RenderCommand, InfoReportsTheEstimateTheBudgetChecks) {
   EXPECT_EQ(over.code, 0) << over.err;
 }
 
+// `pelt info` says in how many frames gravity and wind are computed, and a render's stats agree:
+// a wind or gravity of strength 0 is none, a keyed wind strength changes the wind every frame
+// but frame 0 (at rest in the swing).
+TEST_F(RenderCommand, InfoCountsTheFramesThatComputeEachForceAsTheRenderDoes) {
+  struct Case {
+    const char* fur;
+    const char* tracks;
+    const char* line;
+    int gravity, wind;
+  };
+  const Case cases[] = {
+      {R"("gravity": {"strength": 0}, "wind": {"strength": 0})", "",
+       "gravity computed in 0 of 4 frames, wind computed in 0 of 4 frames", 0, 0},
+      {R"("gravity": {}, "wind": {"gust_scale": 0})", "", "gravity computed in 1 of 4 frames, wind computed in 1 of 4 frames",
+       1, 1},
+      {R"("wind": {"gust_scale": 0})",
+       R"(, "fur": [{"object": 0, "wind": {"strength": {"keys": [{"frame": 0, "value": 0.5}, {"frame": 3, "value": 2}]}}}])",
+       "gravity off, wind computed in 3 of 4 frames", 0, 3},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.line);
+    const fs::path file = dir.write("forces.json", std::string(R"({"pelt": 1, "image": {"width": 32, "height": 24},
+      "animation": {"frames": 4)") + c.tracks + R"(},
+      "objects": [{"mesh": "box:2", "material": {"type": "lambert"},
+                   "fur": {"shells": 4, "texture_size": 16, )" + c.fur + "}}]}");
+    const Result info = run_pelt({"info", file.string()}, dir.path());
+    ASSERT_EQ(info.code, 0) << info.err;
+    EXPECT_NE(info.out.find(c.line), std::string::npos) << info.out;
+    const fs::path stats = dir.path() / "forces_stats.json";
+    const Result r = run_pelt({"render", file.string(), "-o", (dir.path() / "forces_#.png").string(), "-q", "--stats",
+                               stats.string()},
+                              dir.path());
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(read_text(stats));
+    int gravity = 0, wind = 0;
+    for (const nlohmann::json& f : j["frames"])
+      for (const nlohmann::json& st : f["stages"]) {
+        gravity += st["name"] == "gravity" && st["ran"] == true;
+        wind += st["name"] == "wind" && st["ran"] == true;
+      }
+    EXPECT_EQ(gravity, c.gravity);
+    EXPECT_EQ(wind, c.wind);
+  }
+}
+
 // `pelt info` lists the fur's edges (one fin quad each per pair of layers) and, where a mesh is
 // split at texture seams or hard edges, how many vertex copies were joined: the fin count is not
 // 2 E (S - 1) of the file's own edges there. The built-in sphere is split at its seam (7 copies

@@ -139,6 +139,19 @@ TEST(ImageIo, ExrFloatRgbaAndOneChannel) {
   EXPECT_EQ(spec.nchannels, 1);
 }
 
+// A file's bytes depend on its pixels only: no wall-clock time in the header (OIIO's EXR and
+// TIFF writers add DateTime unless told not to), so two renders of a frame compare with cmp.
+TEST(ImageIo, ExrAndTiffCarryNoWriteTime) {
+  TempDir dir;
+  const auto px = ramp(3, 2, 4);
+  for (const char* name : {"t.exr", "t.tif"}) {
+    write_image_atomic(dir.path() / name, 3, 2, 4, PixelType::f32, px.data());
+    OIIO::ImageSpec spec;
+    EXPECT_EQ(read_back<float>(dir.path() / name, OIIO::TypeDesc::FLOAT, spec).size(), px.size()) << name;
+    EXPECT_EQ(spec.find_attribute("DateTime"), nullptr) << name << ": " << spec.get_string_attribute("DateTime");
+  }
+}
+
 TEST(ImageIo, OverwritesAnExistingFileWhole) {
   TempDir dir;
   const auto f = dir.path() / "o.exr";

@@ -55,6 +55,21 @@ TEST(FrameAllocations, AnimatedFurFramesAllocateNothingOnceWarm) {
   for (int threads : {1, 2}) EXPECT_EQ(allocations_of_second_pass(surface, 4, threads), 0) << threads << " threads, surface";
 }
 
+// A wind whose strength and direction are keyed changes its field every frame: the field's
+// phases are made again in place, into the array the first frames sized.
+TEST(FrameAllocations, KeyedWindAllocatesNothingOnceWarm) {
+  const std::string scene = R"({"pelt": 1, "image": {"width": 96, "height": 72},
+    "camera": {"eye": [3.5, 2.5, 5.0], "target": [0, 0, 0]},
+    "lights": [{"type": "directional", "direction": [0.3, 0.8, 0.5]}],
+    "animation": {"frames": 4, "fps": 24,
+      "fur": [{"object": 0, "wind": {
+        "strength": {"keys": [{"frame": 0, "value": 0.5}, {"frame": 3, "value": 2}]},
+        "direction": {"keys": [{"frame": 0, "value": [1, 0, 0]}, {"frame": 3, "value": [0, 0, 1]}]}}}]},
+    "objects": [{"mesh": "box:3", "material": {"type": "lambert"},
+                 "fur": {"shells": 8, "texture_size": 32, "wind": {"gust_scale": 0}}}]})";
+  for (int threads : {1, 2}) EXPECT_EQ(allocations_of_second_pass(scene, 4, threads), 0) << threads << " threads";
+}
+
 TEST(FrameAllocations, SkinFramesAllocateNothingOnceWarm) {
   const std::string scene = R"({"pelt": 1, "image": {"width": 96, "height": 72},
     "camera": {"eye": [0, 0.5, 3], "target": [0, 0, 0]},

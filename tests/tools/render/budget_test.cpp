@@ -142,9 +142,10 @@ TEST(MemoryEstimate, PartsFollowTheCounts) {
   const Mesh& box = meshes[1].loaded.mesh;
   EXPECT_EQ(e.parts[1].bytes, box.positions.size() * (24 + 8 + 32) + box.triangle_count() * 12);
   // Strand textures: 16 shells and the fin texture mipmapped, the unmipped sources (2 bytes a
-  // shell texel, 4 a fin texel), and two layers' mip working sets at once (2 threads).
+  // shell texel, 6 a fin texel: RGBA8 and luminance-alpha), and two layers' mip working sets at
+  // once (2 threads).
   const uint64_t texels = 256 * 256;
-  EXPECT_EQ(e.parts[3].bytes, 17 * mipmapped(texels) + texels * (16 * 2 + 4) + 2 * texels * 12);
+  EXPECT_EQ(e.parts[3].bytes, 17 * mipmapped(texels) + texels * (16 * 2 + 6) + 2 * texels * 12);
   EXPECT_EQ(e.parts[4].bytes, image_bytes(100, 50, 1));
   const MemoryEstimate four = estimate_memory(s, meshes, 0, 0, 4, 1);
   EXPECT_EQ(four.parts[5].bytes, 2 * e.parts[5].bytes);
@@ -158,7 +159,7 @@ TEST(MemoryEstimate, PartsFollowTheCounts) {
   const io::Scene s32 = dir.scene(two_objects(32, 256));
   const MemoryEstimate e32 = estimate_memory(s32, meshes, 0, 0, 2, 1);
   EXPECT_GT(e32.parts[2].bytes, e.parts[2].bytes * 19 / 10);
-  EXPECT_EQ(e32.parts[3].bytes, 33 * mipmapped(texels) + texels * (32 * 2 + 4) + 2 * texels * 12);
+  EXPECT_EQ(e32.parts[3].bytes, 33 * mipmapped(texels) + texels * (32 * 2 + 6) + 2 * texels * 12);
   EXPECT_EQ(e32.parts[1].bytes, e.parts[1].bytes);
 }
 
@@ -187,6 +188,36 @@ TEST(MemoryEstimate, BoundsWhatTheRendererHolds) {
   EXPECT_TRUE(st.stage("fur_sort").ran);
   EXPECT_GT(drawn.memory_estimate(), held);
   EXPECT_GE(e.total, drawn.memory_estimate());
+}
+
+// Fur without fins builds no fin texture, coordinates, varyings or triangles: the estimate counts
+// none, and still bounds what the renderer holds, which is less than with fins.
+TEST(MemoryEstimate, FurWithoutFinsCountsNoFins) {
+  SceneDir dir;
+  const std::string fins_off = R"({"pelt": 1, "image": {"width": 100, "height": 50},
+  "objects": [{"mesh": "box:2", "material": {"type": "lambert"},
+               "fur": {"shells": 16, "texture_size": 256, "fins": "off"}}]})";
+  const std::string fins_on = R"({"pelt": 1, "image": {"width": 100, "height": 50},
+  "objects": [{"mesh": "box:2", "material": {"type": "lambert"},
+               "fur": {"shells": 16, "texture_size": 256}}]})";
+  const io::Scene off = dir.scene(fins_off);
+  const io::Scene on = dir.scene(fins_on);
+  const auto meshes = io::load_scene_meshes(off);
+  const MemoryEstimate e = estimate_memory(off, meshes, 0, 0, 2, 1);
+  const MemoryEstimate with = estimate_memory(on, meshes, 0, 0, 2, 1);
+  ASSERT_EQ(e.parts[2].field, "objects[0].fur.texture_size");
+  const uint64_t texels = 256 * 256;
+  EXPECT_EQ(e.parts[2].bytes, 16 * mipmapped(texels) + texels * 16 * 2 + 2 * texels * 12);
+  EXPECT_LT(e.parts[1].bytes, with.parts[1].bytes);
+  RenderSettings rs;
+  rs.threads = 1;
+  const SceneRenderer without_fins(off, meshes, rs);
+  const SceneRenderer with_fins(on, meshes, rs);
+  EXPECT_EQ(without_fins.fur_geometry(0)->counts.fin_faces, 0u);
+  EXPECT_TRUE(without_fins.fur_geometry(0)->fin_indices.empty());
+  EXPECT_TRUE(without_fins.fur_geometry(0)->fin_uvs.empty());
+  EXPECT_LT(without_fins.memory_estimate(), with_fins.memory_estimate());
+  EXPECT_GE(estimate_memory(off, meshes, 0, 0, 1, 1).total, without_fins.memory_estimate());
 }
 
 // The box mapping copies vertices where its planes meet, which depends on how the object is

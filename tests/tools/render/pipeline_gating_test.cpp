@@ -104,11 +104,53 @@ TEST(Gating, StaticHundredFrameRenderSimulatesOnce) {
   EXPECT_EQ(count_ran(run, "raster_tiles"), 100);
 }
 
+// Every frame but frame 0, which is at rest in the swing (t = 0: the gravity pose alone, so no
+// wind is pushed for it).
 TEST(Gating, GustingWindIsReevaluatedEveryFrameAndNothingElse) {
   const Frames run = render_frames(furry_box_scene(R"("wind": {"gust_frequency": 1.0, "gust_scale": 0.5})", 6), 6);
-  EXPECT_EQ(count_ran(run, "wind"), 6);
+  EXPECT_FALSE(run.stats[0].stage("wind").ran);
+  EXPECT_EQ(count_ran(run, "wind"), 5);
   EXPECT_EQ(count_ran(run, "gravity"), 0);
   EXPECT_EQ(count_ran(run, "fur_textures"), 1);
+}
+
+// Gravity of strength 0 bends nothing: no gravity pass, in any frame, and the frames are the
+// bytes of fur without a gravity block.
+TEST(Gating, GravityOfStrengthZeroRunsNoGravityPass) {
+  const Frames zero = render_frames(furry_box_scene(R"("gravity": {"strength": 0})", 3), 3);
+  const Frames none = render_frames(furry_box_scene("", 3), 3);
+  EXPECT_EQ(count_ran(zero, "gravity"), 0);
+  for (int f = 0; f < 3; ++f) EXPECT_EQ(zero.images[f].color, none.images[f].color) << "frame " << f;
+}
+
+// A frame at rest in the swing (t = 0, frame 0) shows the gravity pose alone: it pushes no wind
+// and is the bytes of the same fur without wind.
+TEST(Gating, AFrameAtRestInTheSwingPushesNoWind) {
+  const Frames windy = render_frames(furry_box_scene(R"("gravity": {}, "wind": {"gust_scale": 0})", 2), 2);
+  const Frames calm = render_frames(furry_box_scene(R"("gravity": {})", 1), 1);
+  EXPECT_FALSE(windy.stats[0].stage("wind").ran);
+  EXPECT_TRUE(windy.stats[1].stage("wind").ran);
+  EXPECT_EQ(windy.images[0].color, calm.images[0].color);
+  EXPECT_NE(windy.images[1].color, calm.images[0].color);
+}
+
+// Fur writes neither depth nor id: those AOVs draw no fur and make none of its poses.
+TEST(Gating, DepthAndIdAovsMakeNoFurPoses) {
+  for (Aov aov : {Aov::depth, Aov::id}) {
+    const io::Scene scene = io::parse_scene(furry_box_scene(R"("gravity": {}, "wind": {})", 2), "test.json");
+    RenderSettings rs;
+    rs.threads = 1;
+    rs.aov = aov;
+    SceneRenderer r(scene, rs);
+    for (int f = 0; f < 2; ++f) {
+      FrameImage img;
+      FrameStats st;
+      r.render(f, img, st);
+      for (const char* stage : {"gravity", "wind", "fur_pose", "fur_lighting", "fins"})
+        EXPECT_FALSE(st.stage(stage).ran) << stage << " frame " << f;
+      EXPECT_EQ(st.triangles(), 588u) << "frame " << f;  // box:7's base alone
+    }
+  }
 }
 
 // Blurred normals are built for a skin whose multiple_scattering is normal_blur, and only for

@@ -24,8 +24,11 @@ std::optional<ParamError> validate_lights(const Light* lights, size_t count) {
       if (auto e = range([&] { return base() + ".color[" + std::to_string(c) + "]"; }, l.color[c], 0.0, 1e6))
         return e;
     if (l.type == Light::Type::Ambient) continue;
+    // 1e30 as a float (1.0000000150e30): a scene's 1e30, the documented bound, arrives rounded to it.
+    constexpr double kMaxCoordinate = double(1e30f);
     for (int c = 0; c < 3; ++c)
-      if (auto e = range([&] { return base() + ".vec[" + std::to_string(c) + "]"; }, l.vec[c], -1e30, 1e30))
+      if (auto e = range([&] { return base() + ".vec[" + std::to_string(c) + "]"; }, l.vec[c], -kMaxCoordinate,
+                         kMaxCoordinate))
         return e;
     if (l.type == Light::Type::Directional) {
       const double len2 = double(l.vec[0]) * l.vec[0] + double(l.vec[1]) * l.vec[1] +

@@ -11,6 +11,21 @@
 #include "tools/cli/commands.h"
 #include "tools/io/input_error.h"
 
+namespace {
+
+// An option given an empty value (`--frame ""`, `--shard "$UNSET"`) is refused: taken as "not
+// given", it would render every frame, or every shard's frames, with no word said.
+void refuse_empty_values(CLI::App& app) {
+  for (CLI::Option* opt : app.get_options())
+    if (opt->get_type_size() != 0)
+      opt->check(CLI::Validator(
+          [](std::string& value) { return value.empty() ? std::string("needs a value, got an empty one") : std::string(); },
+          "", "non-empty"));
+  for (CLI::App* sub : app.get_subcommands({})) refuse_empty_values(*sub);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"pelt: tiled SIMD rasterizer for fur and skin"};
   app.set_version_flag("--version", std::string("pelt ") + PELT_VERSION, "Print pelt's version and exit");
@@ -21,6 +36,7 @@ int main(int argc, char** argv) {
     pelt::cli::Run run = add(app);
     runs[app.get_subcommands({}).back()] = std::move(run);
   }
+  refuse_empty_values(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

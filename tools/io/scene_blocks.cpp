@@ -105,6 +105,13 @@ fur::FurParams parse_fur_block(const JsonFields& js, const json& j, const std::s
       const auto n = js.numbers(*d, json_child(c, "uv_direction"), 2, 2);
       cp.uv_direction = glm::vec2(float(n[0]), float(n[1]));
     }
+    // Each field reads one of the two directions; the other, given, would be silently unused.
+    if (cp.field == fur::CombField::uniform && JsonFields::find(*v, "uv_direction"))
+      js.fail(json_child(c, "uv_direction"),
+              "applies to a comb with \"field\": \"uv\"; this comb is uniform (it combs along `direction`)");
+    if (cp.field == fur::CombField::uv && JsonFields::find(*v, "direction"))
+      js.fail(json_child(c, "direction"),
+              "applies to a uniform comb; a comb with \"field\": \"uv\" combs along the uvs (`uv_direction`)");
     p.comb = cp;
   }
   if (auto e = fur::validate(p)) js.fail(json_child(path, e->field), e->reason);

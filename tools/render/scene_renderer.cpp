@@ -1,5 +1,6 @@
 #include "tools/render/scene_renderer.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/gtc/matrix_inverse.hpp>
@@ -191,6 +192,29 @@ void check_quality(const io::Scene& scene, const RenderSettings& rs, const io::Q
                              std::to_string(q.spp));
 }
 
+// The animated lights at every frame where one may break the shader's range, before any frame
+// is drawn, so that a scene whose light leaves it at frame 90 is refused before frame 0 is
+// written. Between two keys a track runs monotonically from one key's value to the other's
+// (linear, smooth or step), and the range bounds color x intensity from above, so the largest
+// value of each track over the frames lies at one of its keys or at the first or last frame.
+void check_light_tracks(const io::Scene& scene) {
+  if (!scene.animation || scene.animation->lights.empty()) return;
+  const int frames = scene.animation->frames;
+  std::vector<int> at = {0, frames - 1};
+  for (const io::LightTracks& t : scene.animation->lights)
+    if (t.intensity)
+      for (const auto& key : t.intensity->keys)
+        if (key.frame < frames) at.push_back(key.frame);
+  std::sort(at.begin(), at.end());
+  at.erase(std::unique(at.begin(), at.end()), at.end());
+  FrameInputs in;
+  std::vector<shading::Light> lights;
+  for (int frame : at) {
+    evaluate_frame_inputs(scene, frame, in);
+    convert_lights(scene.file, in.lights, frame, lights);
+  }
+}
+
 }  // namespace
 
 SceneRenderer::SceneRenderer(const io::Scene& scene, const RenderSettings& settings)
@@ -227,6 +251,7 @@ SceneRenderer::SceneRenderer(const io::Scene& scene, std::optional<std::vector<i
 
 void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
   convert_lights(scene_.file, scene_.lights, -1, lights_);
+  check_light_tracks(scene_);
   offsets_ = sample_offsets(quality_.spp);
   const io::Scene& scene = scene_;
   const RenderSettings& settings = settings_;

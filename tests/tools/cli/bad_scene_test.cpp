@@ -116,6 +116,37 @@ INSTANTIATE_TEST_SUITE_P(
                   {"m.mtl", "newmtl a\nmap_Kd c.ppm\n"}, {"c.ppm", "P3\n1 1\n255\n255 0 0\n"}}}),
     [](const ::testing::TestParamInfo<BadScene>& info) { return std::string(info.param.name); });
 
+// An animated light that leaves the shader's range at some frame is refused before any frame is
+// written (by render and by info), not when the render reaches that frame. The bound itself,
+// 1e30 for a point light's coordinates, is accepted as documented.
+TEST(RenderBadScene, AnimatedLightBeyondTheShaderIsRefusedBeforeAnyFrame) {
+  TempDir dir;
+  const fs::path scene = dir.write("shot.json", R"({"pelt": 1, "image": {"width": 32, "height": 24},
+      "lights": [{"type": "directional", "direction": [0, 0, 1], "color": [1000000, 1, 1]}],
+      "objects": [{"mesh": "box:1", "material": {"type": "lambert"}}],
+      "animation": {"frames": 4,
+        "lights": [{"light": 0, "intensity": {"keys": [{"frame": 0, "value": 0.5}, {"frame": 3, "value": 2}]}}]}})");
+  const fs::path out = dir.path() / "out";
+  for (const char* command : {"render", "info"}) {
+    std::vector<std::string> args = {command, scene.string()};
+    if (std::string(command) == "render")
+      args.insert(args.end(), {"-o", (out / "f_#.png").string(), "--quiet", "--stats", (out / "s.json").string()});
+    const Result r = run_pelt(args, dir.path());
+    EXPECT_EQ(r.code, 2) << command << ": " << r.err;
+    EXPECT_NE(r.err.find("shot.json: lights[0].intensity: color x intensity must be at most 1e6 in every channel"),
+              std::string::npos)
+        << command << ": " << r.err;
+    EXPECT_NE(r.err.find("at frame 3"), std::string::npos) << command << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(out));
+
+  const fs::path edge = dir.write("edge.json", R"({"pelt": 1, "image": {"width": 32, "height": 24},
+      "lights": [{"type": "point", "position": [1e30, 0, -1e30]}],
+      "objects": [{"mesh": "box:1", "material": {"type": "lambert"}}]})");
+  const Result r = run_pelt({"render", edge.string(), "-o", (dir.path() / "edge.png").string(), "--quiet"}, dir.path());
+  EXPECT_EQ(r.code, 0) << r.err;
+}
+
 // What a loader accepted but changed reaches the user, on stderr even with --quiet, and the
 // frame renders: here the file's normals replaced, as one corner has none.
 TEST(RenderMeshWarnings, AreShownAndTheFrameStillRenders) {

@@ -161,7 +161,7 @@ TEST(BenchFps, AMalformedVersusNamesItsFlag) {
         std::pair{"colour=red", "--versus: unknown quality knob `colour`"},
         std::pair{"fins=off,fins=all", "--versus: knob `fins` given twice"},
         std::pair{"filter=trilinear", "--versus: `filter=trilinear` is the run's own setting"},
-        std::pair{"", "--versus: no knob=value given"}})
+        std::pair{"", "--versus: needs a value, got an empty one"}})
     expect_refused({"--versus", spec}, message);
   expect_refused({"--match-llvmpipe", "--versus", "fin_quads=merged"},
                  "--versus: merged fins are not drawn with --match-llvmpipe");

@@ -651,7 +651,16 @@ INSTANTIATE_TEST_SUITE_P(
         BadOption{"StatsOverTheImage", {"-o", "OUT/a.png", "--frame", "0", "--stats", "OUT/a.png"},
                   "--stats: is also where -o writes"},
         BadOption{"StatsOverAFrame", {"-o", "OUT/f_#.png", "--frames", "0:3", "--stats", "OUT/f_2.png"},
-                  "--stats: is also where -o writes"}),
+                  "--stats: is also where -o writes"},
+        // An empty value (an unset shell variable) is not "not given": it would render every frame.
+        BadOption{"EmptyFrame", {"-o", "OUT/f_#.png", "--frame", ""}, "--frame: needs a value, got an empty one"},
+        BadOption{"EmptyShard", {"-o", "OUT/f_#.png", "--shard", ""}, "--shard: needs a value, got an empty one"},
+        BadOption{"EmptyStats", {"-o", "OUT/f_#.png", "--frames", "0:1", "--stats", ""},
+                  "--stats: needs a value, got an empty one"},
+        BadOption{"EmptyKnob", {"-o", "OUT/f_#.png", "--frames", "0:1", "--spp", ""},
+                  "--spp: needs a value, got an empty one"},
+        BadOption{"EmptyPreset", {"-o", "OUT/f_#.png", "--frames", "0:1", "--quality", ""},
+                  "--quality: needs a value, got an empty one"}),
     [](const ::testing::TestParamInfo<BadOption>& info) { return std::string(info.param.name); });
 
 }  // namespace

@@ -226,6 +226,13 @@ TEST_F(SceneFixture, CombFieldFromTheUvLayout) {
                "objects[1].fur.comb.uv_direction", "non-zero");
   expect_error(edited("\"gravity\": {\"strength\": 0.5}", R"("comb": {"uv_direction": [1]})"),
                "objects[1].fur.comb.uv_direction", "");
+  // Each field reads one direction: the other is refused, not silently unused.
+  expect_error(edited("\"gravity\": {\"strength\": 0.5}", R"("comb": {"field": "uniform", "uv_direction": [0, 1]})"),
+               "objects[1].fur.comb.uv_direction", "applies to a comb with \"field\": \"uv\"");
+  expect_error(edited("\"gravity\": {\"strength\": 0.5}", R"("comb": {"uv_direction": [0, 1]})"),
+               "objects[1].fur.comb.uv_direction", "this comb is uniform");
+  expect_error(edited("\"gravity\": {\"strength\": 0.5}", R"("comb": {"field": "uv", "direction": [1, 0, 0]})"),
+               "objects[1].fur.comb.direction", "applies to a uniform comb");
 }
 
 TEST_F(SceneFixture, QualityBlockErrorsNameTheKnob) {

@@ -131,7 +131,7 @@ TEST_P(TradeoffBadOption, ExitCode2NamingTheOptionAndNoOutput) {
 INSTANTIATE_TEST_SUITE_P(
     Options, TradeoffBadOption,
     ::testing::Values(BadRun{"UnknownKnob", {"--knobs", "sort,blur"}, "--knobs: unknown knob `blur`"},
-                      BadRun{"EmptyKnobs", {"--knobs", ""}, "--knobs: empty knob name"},
+                      BadRun{"EmptyKnobs", {"--knobs", ""}, "--knobs: needs a value, got an empty one"},
                       BadRun{"TooFewRuns", {"--runs", "3"}, "--runs"},
                       BadRun{"ZeroThreads", {"--threads", "0"}, "--threads"},
                       BadRun{"ZeroWidth", {"--width", "0"}, "--width"}),

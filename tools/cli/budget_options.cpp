@@ -1,5 +1,6 @@
 #include "tools/cli/budget_options.h"
 
+#include <algorithm>
 #include <cctype>
 #include <climits>
 #include <type_traits>
@@ -10,12 +11,14 @@ namespace pelt::cli {
 namespace {
 
 // One flag whose value lands in a uint64_t or int member of the budget.
+// `limit`: the largest value the flag takes (a budget no further code could honour is refused).
 template <typename T>
-void add_flag(CLI::App& sub, const char* flag, T& target, bool bytes, const std::string& help) {
+void add_flag(CLI::App& sub, const char* flag, T& target, bool bytes, const std::string& help,
+              uint64_t limit = UINT64_MAX) {
   sub.add_option_function<std::string>(
          flag,
-         [flag, &target, bytes](const std::string& text) {
-           const uint64_t max = std::is_same_v<T, int> ? uint64_t(INT_MAX) : UINT64_MAX;
+         [flag, &target, bytes, limit](const std::string& text) {
+           const uint64_t max = std::min(limit, std::is_same_v<T, int> ? uint64_t(INT_MAX) : UINT64_MAX);
            try {
              target = static_cast<T>(parse_budget_value(text, flag, max, bytes));
            } catch (const io::InputError& e) {
@@ -68,8 +71,10 @@ uint64_t parse_budget_value(std::string_view text, const std::string& flag, uint
 void add_budget_options(CLI::App& sub, io::Budget& b) {
   add_flag(sub, io::kMaxPixelsFlag, b.max_pixels, false, "Largest image, width x height pixels");
   add_flag(sub, io::kMaxTextureSideFlag, b.max_texture_side, false,
-           "Largest colour map or fur strand texture side, texels");
-  add_flag(sub, io::kMaxShellsFlag, b.max_shells, false, "Most fur shells per object");
+           "Largest colour map or fur strand texture side, texels, at most " + std::to_string(io::kTextureSideLimit),
+           io::kTextureSideLimit);
+  add_flag(sub, io::kMaxShellsFlag, b.max_shells, false,
+           "Most fur shells per object, at most " + std::to_string(io::kShellsLimit), io::kShellsLimit);
   add_flag(sub, io::kMaxFacesFlag, b.max_faces, false, "Most triangles per mesh");
   add_flag(sub, io::kMaxMemoryFlag, b.max_memory_bytes, true,
            "Largest estimated memory for one render, bytes (K, M, G, T: powers of 1024)");

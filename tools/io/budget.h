@@ -22,10 +22,17 @@ namespace pelt::io {
 //   (~16.8M vertices) is about 1.5 GiB with its varyings, before any fur.
 // - max_memory_bytes 8 GiB: a third of this 23 GiB machine, so two renders and a build fit
 //   side by side; raise it with --max-memory on a bigger machine.
+// Limits no budget can raise: the largest texture side the rasterizer samples
+// (raster::kMaxTextureSide; tools/render/budget_check.cpp asserts they agree) and the fur
+// block's own shell range. The flags refuse budgets above them, and a texture beyond the side
+// limit is refused without advice to raise a flag that cannot let it through.
+inline constexpr int kTextureSideLimit = 16384;
+inline constexpr int kShellsLimit = 128;
+
 struct Budget {
   uint64_t max_pixels = uint64_t{1} << 26;        // image width x height
-  int max_texture_side = 16384;                   // colour maps and fur strand textures, per side
-  int max_shells = 128;                           // fur shells per object
+  int max_texture_side = kTextureSideLimit;       // colour maps and fur strand textures, per side
+  int max_shells = kShellsLimit;                  // fur shells per object
   uint64_t max_faces = uint64_t{1} << 25;         // triangles per mesh
   uint64_t max_memory_bytes = uint64_t{8} << 30;  // estimated bytes for one render
 };
@@ -40,6 +47,14 @@ inline constexpr const char* kMaxMemoryFlag = "--max-memory";
 // The tail every budget refusal ends with: "more than the budget of LIMIT (raise it with FLAG)".
 inline std::string over_budget(const std::string& limit, const char* flag) {
   return "more than the budget of " + limit + " (raise it with " + flag + ")";
+}
+
+// Why a texture of width x height is refused, when a side is over `budget_side`.
+inline std::string texture_side_refusal(int width, int height, int budget_side) {
+  const std::string size = std::to_string(width) + " x " + std::to_string(height) + " texels, a side ";
+  if (width > kTextureSideLimit || height > kTextureSideLimit)
+    return size + "more than " + std::to_string(kTextureSideLimit) + ", the largest the rasterizer samples";
+  return size + over_budget(std::to_string(budget_side), kMaxTextureSideFlag);
 }
 
 // Saturating arithmetic for request sizes computed from untrusted counts: a product that

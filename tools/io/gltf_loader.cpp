@@ -482,8 +482,7 @@ bool load_image_checked(tinygltf::Image* image, const int image_idx, std::string
     check->refused.emplace("", where, "not a PNG or JPEG image with a readable size (glTF 2.0 images are PNG or JPEG)");
   } else if (dims->width > check->budget->max_texture_side || dims->height > check->budget->max_texture_side) {
     check->refused.emplace("", where,
-                           std::to_string(dims->width) + " x " + std::to_string(dims->height) + " texels, a side " +
-                               over_budget(std::to_string(check->budget->max_texture_side), kMaxTextureSideFlag));
+                           texture_side_refusal(dims->width, dims->height, check->budget->max_texture_side));
   }
   if (check->refused) {
     if (err) *err = where + ": " + check->refused->reason;

@@ -173,9 +173,7 @@ ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encod
   const auto in = open_image(path);
   const ImageFileInfo& spec = in->info();
   if (spec.width > budget.max_texture_side || spec.height > budget.max_texture_side)
-    throw InputError(file, "",
-                     std::to_string(spec.width) + " x " + std::to_string(spec.height) + " texels, a side " +
-                         over_budget(std::to_string(budget.max_texture_side), kMaxTextureSideFlag));
+    throw InputError(file, "", texture_side_refusal(spec.width, spec.height, budget.max_texture_side));
   const int channels = std::min(spec.channels, 4);
   const int bytes = bytes_of(spec.type);
   std::vector<uint8_t> buffer(static_cast<size_t>(spec.width) * spec.height * channels * bytes);

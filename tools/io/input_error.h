@@ -30,6 +30,9 @@ struct InputError : std::runtime_error {
     std::string s = file;
     if (!field.empty()) s += (s.empty() ? "" : ": ") + field;
     s += (s.empty() ? "" : ": ") + reason;
+    // A NUL from the input (a JSON "\u0000" in a path) would end what() there, and the message
+    // with it: it is shown as \0.
+    for (size_t at = s.find('\0'); at != std::string::npos; at = s.find('\0', at + 2)) s.replace(at, 1, "\\0");
     return s;
   }
 };

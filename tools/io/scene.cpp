@@ -33,14 +33,22 @@ std::pair<size_t, size_t> line_column(const std::string& text, size_t byte) {
   return {line, col};
 }
 
+// A scene file's text is read up to this size.
+constexpr size_t kMaxSceneBytes = size_t{64} << 20;
+
 // A file a scene refers to must exist and open for reading, checked at load time so the
 // error names the scene field rather than surfacing mid-render.
 void check_readable(const JsonFields& js, const std::filesystem::path& p, const std::string& field,
                     const char* what) {
   std::error_code ec;
+  if (p.native().find('\0') != std::string::npos)
+    js.fail(field, std::string(what) + " `" + p.string() + "` holds a NUL character, which no file path can hold");
   if (!std::filesystem::exists(p, ec)) js.fail(field, std::string(what) + " `" + p.string() + "` not found");
   if (std::filesystem::is_directory(p, ec))
     js.fail(field, std::string(what) + " `" + p.string() + "` is a folder");
+  // A device such as /dev/zero would be read without end.
+  if (!std::filesystem::is_regular_file(p, ec))
+    js.fail(field, std::string(what) + " `" + p.string() + "` is not a regular file (a device, a pipe or a socket)");
   std::ifstream probe(p, std::ios::binary);
   if (!probe) js.fail(field, std::string(what) + " `" + p.string() + "` cannot be read");
 }
@@ -286,10 +294,19 @@ Scene load_scene(const std::filesystem::path& file) {
   if (std::filesystem::is_directory(file, ec)) throw InputError(file.string(), "", "is a folder, not a scene file");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string(), "", "cannot open the scene file for reading");
-  std::stringstream text;
-  text << in.rdbuf();
+  // Read in pieces up to a bound: a scene may come through a pipe (`pelt render <(make_scene)`),
+  // but a device such as /dev/zero would otherwise be read until memory runs out.
+  std::string text;
+  char buffer[1 << 16];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    text.append(buffer, size_t(in.gcount()));
+    if (text.size() > kMaxSceneBytes)
+      throw InputError(file.string(), "",
+                       "is larger than " + std::to_string(kMaxSceneBytes >> 20) +
+                           " MiB; a scene names its meshes and images rather than holding them");
+  }
   if (in.bad()) throw InputError(file.string(), "", "error while reading the scene file");
-  return parse_scene(text.str(), file);
+  return parse_scene(text, file);
 }
 
 std::vector<SceneMesh> load_scene_meshes(const Scene& scene) { return load_scene_meshes(scene, Budget{}); }

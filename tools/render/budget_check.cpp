@@ -10,12 +10,15 @@
 
 #include "fur/fur_geometry.h"
 #include "raster/renderer.h"
+#include "raster/texture.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/render/varyings.h"
 
 namespace pelt::render {
 namespace {
+
+static_assert(io::kTextureSideLimit == raster::kMaxTextureSide, "the texture side budget's limit is the rasterizer's");
 
 using io::sat_add;
 using io::sat_mul;

@@ -56,6 +56,9 @@ INSTANTIATE_TEST_SUITE_P(
                  "objects[0].transform.scale"},
         BadScene{"MissingMesh", scene_with_object(R"({"mesh": "nowhere.obj", "material": {"type": "lambert"}})"),
                  "objects[0].mesh"},
+        // The path's NUL is shown (as \0), not the end of the message.
+        BadScene{"NulInPath", scene_with_object(R"({"mesh": "dec.obj\u0000x", "material": {"type": "lambert"}})"),
+                 "dec.obj\\0x` holds a NUL character, which no file path can hold"},
         BadScene{"NanInMesh", scene_with_object(R"({"mesh": "bad.obj", "material": {"type": "lambert"}})"),
                  "v 2: ", {{"bad.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"}}},
         BadScene{"IndexOutOfRange", scene_with_object(R"({"mesh": "idx.obj", "material": {"type": "lambert"}})"),
@@ -145,6 +148,25 @@ TEST(RenderBadScene, AnimatedLightBeyondTheShaderIsRefusedBeforeAnyFrame) {
       "objects": [{"mesh": "box:1", "material": {"type": "lambert"}}]})");
   const Result r = run_pelt({"render", edge.string(), "-o", (dir.path() / "edge.png").string(), "--quiet"}, dir.path());
   EXPECT_EQ(r.code, 0) << r.err;
+}
+
+// A device where a file belongs is refused, not read without end: a mesh that is a link to
+// /dev/zero by the scene's field, a scene read from /dev/zero at the scene size bound.
+TEST(RenderBadScene, ADeviceIsRefusedNotReadForever) {
+  TempDir dir;
+  std::error_code ec;
+  fs::create_symlink("/dev/zero", dir.path() / "zero.obj", ec);
+  ASSERT_FALSE(ec) << ec.message();
+  const fs::path scene =
+      dir.write("shot.json", scene_with_object(R"({"mesh": "zero.obj", "material": {"type": "lambert"}})"));
+  const Result mesh = run_pelt({"render", scene.string(), "-o", (dir.path() / "a.png").string(), "--quiet"}, dir.path());
+  EXPECT_EQ(mesh.code, 2) << mesh.err;
+  EXPECT_NE(mesh.err.find("shot.json: objects[0].mesh: mesh file"), std::string::npos) << mesh.err;
+  EXPECT_NE(mesh.err.find("is not a regular file (a device, a pipe or a socket)"), std::string::npos) << mesh.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "a.png"));
+  const Result zero = run_pelt({"info", "/dev/zero"}, dir.path());
+  EXPECT_EQ(zero.code, 2) << zero.err;
+  EXPECT_NE(zero.err.find("/dev/zero: is larger than 64 MiB"), std::string::npos) << zero.err;
 }
 
 // What a loader accepted but changed reaches the user, on stderr even with --quiet, and the

@@ -85,8 +85,10 @@ TEST(BudgetOptions, BadValuesNameTheFlagAndTheValue) {
       {{"--max-memory", "16777216T"}, "--max-memory", "too large"},  // 2^64 bytes
       {{"--max-faces", "8GB"}, "--max-faces", "`8GB`"},             // a count takes no B
       {{"--max-pixels", ""}, "--max-pixels", "expected"},
-      {{"--max-shells", "3G"}, "--max-shells", "more than the largest accepted value 2147483647"},
       {{"--max-texture-side", "0"}, "--max-texture-side", "at least 1"},
+      // Budgets beyond what the code can honour: the rasterizer's texture side, the fur's shells.
+      {{"--max-texture-side", "16385"}, "--max-texture-side", "more than the largest accepted value 16384"},
+      {{"--max-shells", "129"}, "--max-shells", "more than the largest accepted value 128"},
   };
   for (const Case& c : cases) {
     const std::string what = parse_error(c.args);

@@ -124,10 +124,55 @@ bool read_line(std::istream& in, std::string& line) {
   }
 }
 
-// Whether the line's first word, at i, is the record `kind` (`f`, `s`): the letter, then a blank
-// or the line's end.
-bool starts_record(const std::string& line, size_t i, char kind) {
-  return line[i] == kind && (i + 1 == line.size() || line[i + 1] == ' ' || line[i + 1] == '\t');
+// Whether the line's first word, at i, is the record `kind` (`f`, `s`, `vn`): the word, then a
+// blank or the line's end.
+bool starts_record(const std::string& line, size_t i, std::string_view kind) {
+  const size_t end = i + kind.size();
+  return line.compare(i, kind.size(), kind) == 0 && (end == line.size() || line[end] == ' ' || line[end] == '\t');
+}
+
+// The next word of `line` from `pos`, split as tinyobjloader splits words: at blanks (space,
+// tab) only, so `1\f2` is one word, where a stream would read two (and the checks below would
+// pass a face or a position tinyobjloader reads otherwise). Empty at the line's end.
+std::string_view next_word(std::string_view line, size_t& pos) {
+  const size_t b = line.find_first_not_of(" \t", pos);
+  if (b == std::string_view::npos) return {};
+  pos = std::min(line.find_first_of(" \t", b), line.size());
+  return line.substr(b, pos - b);
+}
+
+// Whether `t` is a decimal number as tinyobjloader reads one: [+-], digits with an optional
+// `.` and fraction (at least one digit in all), then an optional exponent e[+-]digits. strtod
+// also takes hexadecimal (`0x1`), which tinyobjloader reads as the 0 before the `x`.
+bool is_decimal(std::string_view t) {
+  size_t k = 0;
+  const auto digits = [&] {
+    const size_t from = k;
+    while (k < t.size() && t[k] >= '0' && t[k] <= '9') ++k;
+    return k - from;
+  };
+  if (k < t.size() && (t[k] == '+' || t[k] == '-')) ++k;
+  size_t mantissa = digits();
+  if (k < t.size() && t[k] == '.') ++k, mantissa += digits();
+  if (mantissa == 0) return false;
+  if (k < t.size() && (t[k] == 'e' || t[k] == 'E')) {
+    ++k;
+    if (k < t.size() && (t[k] == '+' || t[k] == '-')) ++k;
+    if (digits() == 0) return false;
+  }
+  return k == t.size();
+}
+
+// How many numbers a `v` (kind 0), `vt` (1) or `vn` (2) record may have. tinyobjloader fills
+// missing numbers with 0 and drops extra ones without a word. A position's w weights rational
+// curves and surfaces, not polygons, and its r g b are vertex colours, which pelt does not
+// draw: both forms give x y z as they are. Returns the reason, or an empty string.
+std::string check_number_count(int kind, size_t n) {
+  const std::string has = ", this one has " + std::to_string(n);
+  if (kind == 0)
+    return n == 3 || n == 4 || n == 6 ? "" : "a position is 3 numbers (x y z), 4 (x y z w) or 6 (x y z r g b)" + has;
+  if (kind == 1) return n >= 1 && n <= 3 ? "" : "a texture coordinate is 1 to 3 numbers (u [v [w]])" + has;
+  return n == 3 ? "" : "a normal is 3 numbers (x y z)" + has;
 }
 
 // What one pass over the file finds before tinyobjloader sees it.
@@ -135,9 +180,9 @@ struct ObjPrescan {
   // Triangles the faces make, each `f` line of k corners split into k - 2 (as
   // triangulate_polygon does); saturating.
   uint64_t triangles = 0;
-  // The first malformed or non-finite number, or face of fewer than three corners (see
-  // below), thrown only after the budget check so that an oversized file is refused for its
-  // size whatever follows.
+  // The first malformed or non-finite number, record of too few or too many numbers, or face
+  // of fewer than three corners (see below), thrown only after the budget check so that an
+  // oversized file is refused for its size whatever follows.
   std::optional<InputError> bad_record;
   // An `s` record was seen, and a corner without a normal index: only then (or when a given
   // normal has zero length) do smoothing groups decide the computed normals (a file without `s`
@@ -168,8 +213,9 @@ std::string check_smoothing_group(std::string_view arg) {
 
 // tinyobjloader reads a malformed number ("nan", "1.2.3", "abc") as 0 without a word,
 // so the numeric records are checked here first, numbered as the file numbers them
-// (`v 3` is the third `v` record). Each value must be a complete number; NaN and
-// infinities (including overflow such as 1e999) are reported by name. The same pass
+// (`v 3` is the third `v` record). Each value must be a complete decimal number (is_decimal);
+// NaN and infinities (including overflow such as 1e999) are reported by name; a record must
+// have as many numbers as its kind takes (check_number_count). The same pass
 // counts the triangles, one line in memory at a time, so the face budget is checked
 // before anything proportional to the file is allocated. A face of one or two corners is
 // reported too: tinyobjloader drops it without a word, leaving a hole in the mesh; so is a
@@ -186,21 +232,21 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
     ++line_number;
     size_t i = line.find_first_not_of(" \t");
     if (i == std::string::npos) continue;
-    if (starts_record(line, i, 'f')) {
+    if (starts_record(line, i, "f")) {
       uint64_t corners = 0;
-      std::istringstream tokens(line.substr(i + 1));
       const std::string where = " (line " + std::to_string(line_number) + ")";
       bool comment = false;
-      while (tokens >> tok) {
-        if (tok[0] == '#') {
+      size_t pos = i + 1;
+      for (std::string_view corner; !(corner = next_word(line, pos)).empty();) {
+        if (corner[0] == '#') {
           comment = true;
           break;
         }
         ++corners;
         // v, v/vt: no normal (v//vn and v/vt/vn have a second slash)
-        if (std::count(tok.begin(), tok.end(), '/') < 2) out.corner_without_normal = true;
+        if (std::count(corner.begin(), corner.end(), '/') < 2) out.corner_without_normal = true;
         if (out.bad_record) continue;
-        if (std::string reason = check_corner(tok, counts); !reason.empty())
+        if (std::string reason = check_corner(corner, counts); !reason.empty())
           out.bad_record.emplace(file, face_name(faces), reason + where);
       }
       ++faces;
@@ -218,7 +264,7 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
                                    std::to_string(corners) + where);
       continue;
     }
-    if (starts_record(line, i, 's')) {
+    if (starts_record(line, i, "s")) {
       out.smoothing_groups = true;
       ++smoothing_records;
       if (out.bad_record) continue;
@@ -232,21 +278,26 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
                                reason + " (line " + std::to_string(line_number) + ")");
       continue;
     }
-    if (out.bad_record || line[i] != 'v') continue;
+    if (out.bad_record) continue;
+    // A bare `v`, `vt` or `vn` is a record too: tinyobjloader skips it, which would shift every
+    // later record of its kind onto the wrong number.
     int kind;
-    if (i + 1 < line.size() && (line[i + 1] == ' ' || line[i + 1] == '\t')) kind = 0, i += 1;
-    else if (line.compare(i, 3, "vt ") == 0 || line.compare(i, 3, "vt\t") == 0) kind = 1, i += 2;
-    else if (line.compare(i, 3, "vn ") == 0 || line.compare(i, 3, "vn\t") == 0) kind = 2, i += 2;
+    if (starts_record(line, i, "v")) kind = 0, i += 1;
+    else if (starts_record(line, i, "vt")) kind = 1, i += 2;
+    else if (starts_record(line, i, "vn")) kind = 2, i += 2;
     else continue;
     const std::string record = std::string(kind == 0 ? "v " : kind == 1 ? "vt " : "vn ") +
                                std::to_string(++counts[kind]);
-    std::istringstream tokens(line.substr(i));
-    while (tokens >> tok) {
-      if (tok[0] == '#') break;
+    const auto where = [&] { return " (line " + std::to_string(line_number) + ")"; };
+    size_t numbers = 0;
+    for (std::string_view word; !(word = next_word(line, i)).empty();) {
+      if (word[0] == '#') break;
+      tok.assign(word);
+      ++numbers;
       char* end = nullptr;
       const double v = std::strtod(tok.c_str(), &end);
       if (end != tok.c_str() + tok.size()) {
-        out.bad_record.emplace(file, record, "`" + tok + "` is not a number (line " + std::to_string(line_number) + ")");
+        out.bad_record.emplace(file, record, "`" + tok + "` is not a number" + where());
         break;
       }
       if (std::isnan(v)) {
@@ -257,7 +308,14 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
         out.bad_record.emplace(file, record, std::string(kWhat[kind]) + " is infinite");
         break;
       }
+      if (!is_decimal(tok)) {
+        out.bad_record.emplace(file, record, "`" + tok + "` is not a decimal number" + where());
+        break;
+      }
     }
+    if (out.bad_record) continue;
+    if (std::string reason = check_number_count(kind, numbers); !reason.empty())
+      out.bad_record.emplace(file, record, reason + where());
   }
   return out;
 }

@@ -163,6 +163,61 @@ TEST(MeshLoader, ObjMalformedNumber) {
   expect_load_error(f, "vn 2", "`zero` is not a number (line 3)");
 }
 
+// strtod takes hexadecimal, which tinyobjloader reads as the 0 before the `x`: `v 0x1 0 0` was
+// drawn at the origin. NaN and infinity spellings stay refused by name.
+TEST(MeshLoader, ObjNumbersMustBeDecimal) {
+  TempDir dir;
+  const std::string rest = "v 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  expect_load_error(dir.write("hex.obj", "v 0x1 0 0\n" + rest), "v 1", "`0x1` is not a decimal number (line 1)");
+  expect_load_error(dir.write("hexp.obj", "vt 0 0\nv 0 0 -0X1p-2\n" + rest), "v 1",
+                    "`-0X1p-2` is not a decimal number (line 2)");
+  expect_load_error(dir.write("hexvn.obj", "vn 0 0 0x1\nv 0 0 0\n" + rest), "vn 1", "`0x1` is not a decimal number");
+  expect_load_error(dir.write("inf.obj", "v -Infinity 0 0\n" + rest), "v 1", "position is infinite");
+  expect_load_error(dir.write("nan.obj", "v 0 0 0\nvt nan(1) 0\n" + rest), "vt 1", "texture coordinate is NaN");
+  // Every decimal form tinyobjloader reads.
+  const LoadedMesh l =
+      load_mesh_file(dir.write("ok.obj", "v +0 -.5e0 1.\nv 1.E+0 0 0\nv .0 10e-1 0\nf 1 2 3\n"));
+  EXPECT_EQ(l.mesh.positions[0], glm::vec3(0.0f, -0.5f, 1.0f));
+  EXPECT_EQ(l.mesh.positions[2], glm::vec3(0.0f, 1.0f, 0.0f));
+}
+
+// tinyobjloader fills a record's missing numbers with 0 and drops extra ones: `v 1` was the
+// position (1,0,0), `vn 0 1` the normal (0,1,0). A bare `v`, which it skips, is a record too:
+// it used to shift every later position, so the error named a face (`f 1: vertex index 4 out
+// of range`) instead of line 1.
+TEST(MeshLoader, ObjRecordsMustHaveTheirNumbers) {
+  TempDir dir;
+  const std::string v = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  expect_load_error(dir.write("v1.obj", "v 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), "v 1",
+                    "a position is 3 numbers (x y z), 4 (x y z w) or 6 (x y z r g b), this one has 1 (line 1)");
+  expect_load_error(dir.write("v2.obj", v + "v 1 1 # z\nf 1 2 3\n"), "v 4", "this one has 2 (line 4)");
+  expect_load_error(dir.write("v5.obj", v + "v 1 1 1 1 1\nf 1 2 3\n"), "v 4", "this one has 5 (line 4)");
+  expect_load_error(dir.write("bare.obj", "v\n" + v + "f 2 3 4\n"), "v 1",
+                    "a position is 3 numbers (x y z), 4 (x y z w) or 6 (x y z r g b), this one has 0 (line 1)");
+  expect_load_error(dir.write("blank.obj", v + "v \t\nf 1 2 3\n"), "v 4", "this one has 0 (line 4)");
+  expect_load_error(dir.write("vn2.obj", v + "vn 0 1\nf 1//1 2//1 3//1\n"), "vn 1",
+                    "a normal is 3 numbers (x y z), this one has 2 (line 4)");
+  expect_load_error(dir.write("vn4.obj", v + "vn 0 0 1 0\nf 1//1 2//1 3//1\n"), "vn 1", "this one has 4");
+  expect_load_error(dir.write("vnbare.obj", v + "vn\nvn 0 0 1\nf 1//2 2//2 3//2\n"), "vn 1", "this one has 0");
+  expect_load_error(dir.write("vt0.obj", v + "vt\nvt 0 0\nf 1/2 2/2 3/2\n"), "vt 1",
+                    "a texture coordinate is 1 to 3 numbers (u [v [w]]), this one has 0 (line 4)");
+  expect_load_error(dir.write("vt4.obj", v + "vt 0 0 0 0\nf 1/1 2/1 3/1\n"), "vt 1", "this one has 4");
+  // tinyobjloader splits words at blanks only: `0\f1` is one word to it, read as 0.
+  expect_load_error(dir.write("ff.obj", "v 0 0\f1 0\n" + v + "f 1 2 3\n"), "v 1", "is not a number (line 1)");
+
+  // What tinyobjloader reads right: x y z w and x y z r g b give x y z; vt u [v [w]] gives u v
+  // (v 0 when missing, as the OBJ specification says).
+  const LoadedMesh l = load_mesh_file(dir.write(
+      "ok.obj", "v 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0\nvt 0.25\nvt 0.5 1\nvt 1 1 0\nf 1/1 2/2 3/3\n"));
+  ASSERT_EQ(l.mesh.vertex_count(), 3u);
+  EXPECT_EQ(l.mesh.positions[0], glm::vec3(0, 0, 0));
+  EXPECT_EQ(l.mesh.positions[1], glm::vec3(1, 0, 0));
+  ASSERT_EQ(l.mesh.uvs.size(), 3u);
+  EXPECT_EQ(l.mesh.uvs[0], glm::vec2(0.25f, 0.0f));
+  EXPECT_EQ(l.mesh.uvs[1], glm::vec2(0.5f, 1.0f));
+  EXPECT_EQ(l.mesh.uvs[2], glm::vec2(1.0f, 1.0f));
+}
+
 TEST(MeshLoader, ObjIndexOutOfRange) {
   TempDir dir;
   const auto f = dir.write("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n");
@@ -207,6 +262,9 @@ TEST(MeshLoader, ObjCornersThatAreNotIndices) {
   expect_load_error(dir.write("comment.obj", v + "f 1 2 3 # the first\n"), "f 1",
                     "a comment after a face's corners is not OBJ: put it on a line of its own (line 5)");
   expect_load_error(dir.write("glued.obj", v + "f 1 2 3#c\n"), "f 1", "`3#c` is not a corner");
+  // tinyobjloader splits words at blanks only: it read `2\f3` as 2 and dropped the face of two.
+  expect_load_error(dir.write("formfeed.obj", v + "f 1 2\f3\n"), "f 1", "is not a corner (v, v/vt, v//vn or v/vt/vn)");
+  expect_load_error(dir.write("vtab.obj", v + "v 1 1 0\nf 1 2 3\v4\n"), "f 1", "is not a corner");
   // Valid forms still load: relative indices, v//vn, a leading +.
   const auto ok = dir.write("ok.obj", v + "vn 0 0 1\nf -3//1 +2//1 -1//-1\nf 1/1 2/1 3/-1\n");
   EXPECT_EQ(load_mesh_file(ok).mesh.triangle_count(), 2u);

@@ -1,7 +1,9 @@
 // glTF 2.0 (.gltf with external or data-URI buffers, and .glb) through tinygltf.
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <functional>
 #include <optional>
 
@@ -16,6 +18,7 @@
 
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
+#include "tools/io/json_fields.h"
 #include "tools/io/mesh_loader_detail.h"
 #include "tools/io/pixels.h"
 
@@ -104,7 +107,7 @@ class GltfReader {
       }
       if (accessor < 0 || accessor >= static_cast<int>(model_.accessors.size())) continue;
       const uint64_t count = model_.accessors[size_t(accessor)].count;
-      const bool list = prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1;
+      const bool list = prim.mode == TINYGLTF_MODE_TRIANGLES;
       total = sat_add(total, list ? count / 3 : count >= 3 ? count - 2 : 0);
     }
     return total;
@@ -239,10 +242,14 @@ class GltfReader {
     for (size_t pi = 0; pi < prims.size(); ++pi) {
       const tinygltf::Primitive& prim = prims[pi];
       const std::string pw = mw + ".primitives[" + std::to_string(pi) + "]";
+      // tinygltf gives a primitive without `mode` TINYGLTF_MODE_TRIANGLES.
       if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
-          prim.mode != TINYGLTF_MODE_TRIANGLE_FAN && prim.mode != -1)
+          prim.mode != TINYGLTF_MODE_TRIANGLE_FAN)
         throw InputError(file_, pw + ".mode", "only triangles, strips and fans are supported, got mode " +
                                                   std::to_string(prim.mode));
+      if (prim.material >= static_cast<int>(model_.materials.size()))
+        throw InputError(file_, pw + ".material", "material " + std::to_string(prim.material) + " does not exist");
+      const UvSet uv_set = uv_set_of(prim.material);
       const auto pos_it = prim.attributes.find("POSITION");
       if (pos_it == prim.attributes.end()) throw InputError(file_, pw, "has no POSITION attribute");
       const std::string posw = pw + ".attributes.POSITION";
@@ -274,8 +281,9 @@ class GltfReader {
       }
       const bool flat = m.normals.size() != m.positions.size();
 
-      if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
-        const std::string tw = pw + ".attributes.TEXCOORD_0";
+      const std::string uv_name = "TEXCOORD_" + std::to_string(uv_set.index);
+      if (auto it = prim.attributes.find(uv_name); it != prim.attributes.end()) {
+        const std::string tw = pw + ".attributes." + uv_name;
         const View tv = view_of(it->second, tw);
         const bool ok_type = tv.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT ||
                              (tv.normalized && (tv.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
@@ -289,6 +297,9 @@ class GltfReader {
           m.uvs.push_back(t);
         }
         any_uvs_ = true;
+      } else if (uv_set.index != 0) {
+        // TEXCOORD_0 in its place would put the map where the file does not: refused.
+        throw InputError(file_, uv_set.where, "names " + uv_name + ", which " + pw + " does not have");
       } else {
         all_uvs_ = false;
         m.uvs.resize(m.positions.size(), glm::vec2(0.0f));
@@ -314,6 +325,8 @@ class GltfReader {
         idx.resize(pos.count);
         for (size_t i = 0; i < pos.count; ++i) idx[i] = static_cast<uint32_t>(i);
       }
+      check_index_count(prim.mode, idx.size(), prim.indices >= 0 ? prim.indices : pos_it->second,
+                        prim.indices >= 0);
       const size_t first_index = m.indices.size();
       append_triangles(prim.mode, idx, base, mirrored);
       if (flat) make_flat(base, first_index);
@@ -347,6 +360,20 @@ class GltfReader {
     }
   }
 
+  // append_triangles makes a triangle of every 3 indices of a list and of each index past the
+  // second of a strip or fan; indices left over would be dropped without a word.
+  void check_index_count(int mode, size_t count, int accessor, bool indexed) const {
+    const std::string what = indexed ? " indices" : " positions (the primitive has no indices)";
+    const std::string field = "accessors[" + std::to_string(accessor) + "].count";
+    if (mode == TINYGLTF_MODE_TRIANGLES && count % 3 != 0)
+      throw InputError(file_, field, std::to_string(count) + what + " do not make whole triangles: a triangle list " +
+                                         "takes a multiple of 3");
+    if (mode != TINYGLTF_MODE_TRIANGLES && count > 0 && count < 3)
+      throw InputError(file_, field, std::to_string(count) + what + " make no triangle: a " +
+                                         (mode == TINYGLTF_MODE_TRIANGLE_STRIP ? "strip" : "fan") +
+                                         " takes at least 3");
+  }
+
   void append_triangles(int mode, const std::vector<uint32_t>& idx, uint32_t base, bool mirrored) {
     auto& out = out_.mesh.indices;
     const auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
@@ -370,6 +397,29 @@ class GltfReader {
     bool warned = false;
   };
 
+  // The TEXCOORD_n set a material's maps are drawn with (texCoord), and the texCoord field that
+  // named it. pelt keeps one uv set per vertex, so a colour map and a normal map naming two
+  // sets cannot both be drawn as the file says.
+  struct UvSet {
+    int index = 0;
+    std::string where;
+  };
+
+  UvSet uv_set_of(int material) const {
+    if (material < 0) return {};
+    const tinygltf::Material& mat = model_.materials[size_t(material)];
+    const std::string mw = "materials[" + std::to_string(material) + "]";
+    const tinygltf::TextureInfo& color = mat.pbrMetallicRoughness.baseColorTexture;
+    const tinygltf::NormalTextureInfo& normal = mat.normalTexture;
+    if (color.index >= 0 && normal.index >= 0 && color.texCoord != normal.texCoord)
+      throw InputError(file_, mw + ".normalTexture.texCoord",
+                       "TEXCOORD_" + std::to_string(normal.texCoord) + " is not the baseColorTexture's TEXCOORD_" +
+                           std::to_string(color.texCoord) + ": pelt draws both maps with one uv set");
+    if (color.index >= 0) return {color.texCoord, mw + ".pbrMetallicRoughness.baseColorTexture.texCoord"};
+    if (normal.index >= 0) return {normal.texCoord, mw + ".normalTexture.texCoord"};
+    return {};
+  }
+
   void take_textures(int material) {
     if (material < 0 || material >= static_cast<int>(model_.materials.size())) return;
     const tinygltf::Material& mat = model_.materials[material];
@@ -385,6 +435,7 @@ class GltfReader {
   void take_texture(int texture, ColorEncoding encoding, const std::string& where, TextureRef& ref, Taken& taken,
                     const char* kind) {
     if (texture < 0) return;
+    image_source(texture, where);  // a texture not drawn is still a reference that must hold
     if (taken.texture < 0) {
       resolve_texture(texture, encoding, where, ref);
       taken.texture = texture;
@@ -396,13 +447,18 @@ class GltfReader {
     }
   }
 
-  void resolve_texture(int texture, ColorEncoding encoding, const std::string& where, TextureRef& ref) {
-    if (texture < 0) return;
+  int image_source(int texture, const std::string& where) const {
     if (texture >= static_cast<int>(model_.textures.size()))
       throw InputError(file_, where, "texture " + std::to_string(texture) + " does not exist");
     const int source = model_.textures[texture].source;
     if (source < 0 || source >= static_cast<int>(model_.images.size()))
       throw InputError(file_, where, "texture has no valid image source");
+    return source;
+  }
+
+  void resolve_texture(int texture, ColorEncoding encoding, const std::string& where, TextureRef& ref) {
+    if (texture < 0) return;
+    const int source = image_source(texture, where);
     const tinygltf::Image& img = model_.images[source];
     if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0) {
       ref.path = dir_ / decode_uri(img.uri);
@@ -491,6 +547,98 @@ bool load_image_checked(tinygltf::Image* image, const int image_idx, std::string
   return tinygltf::LoadImageData(image, image_idx, err, warn, req_width, req_height, bytes, size, nullptr);
 }
 
+uint32_t little_endian_u32(const unsigned char* p) {
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
+// tinygltf reads a GLB of any header version as glTF 2.0's layout; version 1 (KHR_binary_glTF)
+// is laid out otherwise and holds glTF 1.0 JSON.
+void check_glb_version(const std::filesystem::path& path, const std::string& file) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char header[12];
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  // Without the magic and the file's own length after the version, the bytes are no GLB
+  // header to read a version from: tinygltf names what is wrong.
+  if (!in.read(reinterpret_cast<char*>(header), sizeof header) || std::memcmp(header, "glTF", 4) != 0 || ec ||
+      little_endian_u32(header + 8) != size)
+    return;
+  const uint32_t version = little_endian_u32(header + 4);
+  if (version != 2)
+    throw InputError(file, "header.version", "GLB version " + std::to_string(version) +
+                                                 ": pelt reads glTF 2.0 binaries (version 2)");
+}
+
+// The JSON tinygltf has just read without error: the .gltf file, or a GLB's first chunk.
+std::string gltf_json_text(const std::filesystem::path& path, bool binary) {
+  std::ifstream in(path, std::ios::binary);
+  if (!binary) return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  unsigned char header[20];
+  if (!in.read(reinterpret_cast<char*>(header), sizeof header)) return {};
+  std::string text(little_endian_u32(header + 12), '\0');
+  if (!in.read(text.data(), std::streamsize(text.size()))) return {};
+  return text;
+}
+
+// tinygltf reads an optional integer it cannot take (a negative one where it wants an unsigned
+// one, a fraction, a string) as absent, keeps -1 where -1 means absent, and truncates one past
+// int's range: `"byteOffset": -4` was read from offset 0, `"mode": -1` drawn as triangles,
+// `"material": -1` as none, `"material": 4294967296` as material 0. So the integers pelt reads
+// are checked in the file's own JSON: each, where given, an integer in [0, its largest].
+void check_integer_fields(const std::string& text, const std::string& file) {
+  const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
+  constexpr uint64_t kIndex = INT_MAX;    // tinygltf keeps indices in an int
+  constexpr uint64_t kSize = UINT64_MAX;  // and offsets in a size_t
+  const auto check = [&](const nlohmann::json& obj, const std::string& path, const char* key, uint64_t most) {
+    if (!obj.is_object()) return;  // a misshapen object is tinygltf's to refuse
+    const auto it = obj.find(key);
+    if (it == obj.end()) return;
+    const std::string field = json_child(path, key);
+    if (!it->is_number_integer())
+      throw InputError(file, field, "expected an integer, got " + (it->is_number() ? it->dump() : json_type_name(*it)));
+    if (!it->is_number_unsigned() || it->get<uint64_t>() > most)
+      throw InputError(file, field, (most == kSize ? std::string("must not be negative") :
+                                                     "must be in [0, " + std::to_string(most) + "]") +
+                                        ", got " + it->dump());
+  };
+  const auto each = [&](const nlohmann::json& obj, const std::string& path, const char* key, const auto& fn) {
+    if (!obj.is_object()) return;
+    const auto it = obj.find(key);
+    if (it == obj.end() || !it->is_array()) return;
+    for (size_t i = 0; i < it->size(); ++i) fn((*it)[i], json_index(json_child(path, key), i));
+  };
+  const auto texture_info = [&](const nlohmann::json& obj, const std::string& path, const char* key) {
+    if (!obj.is_object() || !obj.contains(key)) return;
+    check(obj[key], json_child(path, key), "index", kIndex);
+    check(obj[key], json_child(path, key), "texCoord", kIndex);
+  };
+  check(doc, "", "scene", kIndex);
+  each(doc, "", "nodes", [&](const auto& n, const std::string& p) { check(n, p, "mesh", kIndex); });
+  each(doc, "", "meshes", [&](const auto& m, const std::string& mp) {
+    each(m, mp, "primitives", [&](const auto& prim, const std::string& p) {
+      check(prim, p, "mode", 6);
+      check(prim, p, "indices", kIndex);
+      check(prim, p, "material", kIndex);
+    });
+  });
+  each(doc, "", "accessors", [&](const auto& a, const std::string& p) {
+    check(a, p, "bufferView", kIndex);
+    check(a, p, "byteOffset", kSize);
+  });
+  each(doc, "", "bufferViews", [&](const auto& v, const std::string& p) {
+    check(v, p, "buffer", kIndex);
+    check(v, p, "byteOffset", kSize);
+    check(v, p, "byteStride", kSize);
+  });
+  each(doc, "", "materials", [&](const auto& m, const std::string& p) {
+    if (m.is_object() && m.contains("pbrMetallicRoughness"))
+      texture_info(m["pbrMetallicRoughness"], json_child(p, "pbrMetallicRoughness"), "baseColorTexture");
+    texture_info(m, p, "normalTexture");
+  });
+  each(doc, "", "textures", [&](const auto& t, const std::string& p) { check(t, p, "source", kIndex); });
+  each(doc, "", "images", [&](const auto& i, const std::string& p) { check(i, p, "bufferView", kIndex); });
+}
+
 }  // namespace
 
 LoadedMesh load_gltf(const std::filesystem::path& path, bool binary, const Budget& budget) {
@@ -500,6 +648,7 @@ LoadedMesh load_gltf(const std::filesystem::path& path, bool binary, const Budge
   ImageCheck check{&model, &budget, std::nullopt};
   loader.SetImageLoader(load_image_checked, &check);
   std::string err, warn;
+  if (binary) check_glb_version(path, file);
   const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, file)
                          : loader.LoadASCIIFromFile(&model, &err, &warn, file);
   if (check.refused) throw InputError(file, check.refused->field, check.refused->reason);
@@ -514,6 +663,7 @@ LoadedMesh load_gltf(const std::filesystem::path& path, bool binary, const Budge
     throw InputError(file, "extensionsRequired[0]",
                      "the file needs the extension `" + model.extensionsRequired.front() +
                          "`, which pelt does not read (it reads core glTF 2.0 only)");
+  check_integer_fields(gltf_json_text(path, binary), file);
   GltfReader reader(model, file, path.parent_path());
   check_face_budget(reader.triangle_count(), budget, file, "");
   LoadedMesh out = reader.read();

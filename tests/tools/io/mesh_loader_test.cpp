@@ -542,6 +542,152 @@ TEST(MeshLoader, GltfIndexOutOfRange) {
                     "index 7 out of range (3 vertices)");
 }
 
+// tiny_gltf with `from` replaced by `to` (each must occur once).
+std::string edited_gltf(const std::string& from, const std::string& to, float x0 = 0.0f, uint16_t i2 = 2) {
+  std::string text = tiny_gltf(x0, i2);
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  EXPECT_EQ(text.find(from, at + 1), std::string::npos) << from;
+  return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
+
+// append_triangles drops the indices a triangle list has left over, and a strip's or fan's
+// one or two: the file's triangles would be drawn short without a word.
+TEST(MeshLoader, GltfIndexCountMustMakeWholeTriangles) {
+  TempDir dir;
+  const std::string indices = R"({"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"})";
+  const std::string view = R"({"buffer":0,"byteOffset":36,"byteLength":6})";
+  const std::string four = R"({"buffer":0,"byteOffset":36,"byteLength":8})";
+  std::string text = edited_gltf(view, four);
+  const auto count = [&](int n) {
+    return R"({"bufferView":1,"componentType":5123,"count":)" + std::to_string(n) + R"(,"type":"SCALAR"})";
+  };
+  text.replace(text.find(indices), indices.size(), count(4));
+  expect_load_error(dir.write("four.gltf", text), "accessors[1].count",
+                    "4 indices do not make whole triangles: a triangle list takes a multiple of 3");
+  // Without indices, POSITION's count is the primitive's.
+  std::string no_indices = edited_gltf(R"("indices":1)", R"("mode":4)");
+  const std::string positions = R"("count":3,"type":"VEC3")";
+  no_indices.replace(no_indices.find(positions), positions.size(), R"("count":2,"type":"VEC3")");
+  expect_load_error(dir.write("positions.gltf", no_indices), "accessors[0].count",
+                    "2 positions (the primitive has no indices) do not make whole triangles");
+  std::string strip = edited_gltf(R"("indices":1)", R"("indices":1,"mode":5)");
+  strip.replace(strip.find(indices), indices.size(), count(2));
+  expect_load_error(dir.write("strip.gltf", strip), "accessors[1].count",
+                    "2 indices make no triangle: a strip takes at least 3");
+  EXPECT_EQ(load_mesh_file(dir.write("fan.gltf", edited_gltf(R"("indices":1)", R"("indices":1,"mode":6)")))
+                .mesh.triangle_count(),
+            1u);
+}
+
+// A primitive's material that does not exist was ignored (drawn without its maps), as were the
+// maps of a texture that does not exist when another primitive's texture was drawn.
+TEST(MeshLoader, GltfMaterialAndTextureReferencesMustHold) {
+  TempDir dir;
+  expect_load_error(dir.write("material.gltf", edited_gltf(R"("indices":1)", R"("indices":1,"material":5)")),
+                    "meshes[0].primitives[0].material", "material 5 does not exist");
+  TempDir dir2;
+  expect_load_error(two_material_gltf(dir2, R"([{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}},
+      {"pbrMetallicRoughness":{"baseColorTexture":{"index":7}}}])"),
+                    "materials[1].pbrMetallicRoughness.baseColorTexture", "texture 7 does not exist");
+}
+
+// The triangle with TEXCOORD_0 (every uv 0.25) and, with `second_set`, TEXCOORD_1 (every uv
+// 0.75), drawn with `material` (a JSON object) whose texture 0 is a.png beside it.
+std::filesystem::path uv_set_gltf(const TempDir& dir, bool second_set, const std::string& material) {
+  std::filesystem::copy_file(data_dir() / "BoxTextured-glTF" / "CesiumLogoFlat.png", dir.path() / "a.png",
+                             std::filesystem::copy_options::overwrite_existing);
+  const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const float uv0[6] = {0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f};
+  const float uv1[6] = {0.75f, 0.75f, 0.75f, 0.75f, 0.75f, 0.75f};
+  const uint16_t idx[4] = {0, 1, 2, 0};
+  std::string bytes(reinterpret_cast<const char*>(pos), sizeof pos);
+  bytes.append(reinterpret_cast<const char*>(uv0), sizeof uv0);
+  bytes.append(reinterpret_cast<const char*>(uv1), sizeof uv1);
+  bytes.append(reinterpret_cast<const char*>(idx), sizeof idx);
+  const std::string attributes =
+      std::string(R"({"POSITION":0,"TEXCOORD_0":1)") + (second_set ? R"(,"TEXCOORD_1":2})" : "}");
+  return dir.write("uv.gltf", R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+  "meshes":[{"primitives":[{"attributes":)" + attributes + R"(,"indices":3,"material":0}]}],
+  "materials":[)" + material + R"(],"textures":[{"source":0}],"images":[{"uri":"a.png"}],
+  "buffers":[{"byteLength":92,"uri":"data:application/octet-stream;base64,)" + base64(bytes) + R"("}],
+  "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":24},
+                 {"buffer":0,"byteOffset":60,"byteLength":24},{"buffer":0,"byteOffset":84,"byteLength":6}],
+  "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},
+               {"bufferView":1,"componentType":5126,"count":3,"type":"VEC2"},
+               {"bufferView":2,"componentType":5126,"count":3,"type":"VEC2"},
+               {"bufferView":3,"componentType":5123,"count":3,"type":"SCALAR"}]})");
+}
+
+// A map's texCoord names the uv set it is drawn with. TEXCOORD_0 was read whatever it named:
+// a set the primitive does not have was silently replaced, and one it has was never read.
+TEST(MeshLoader, GltfTexCoordNamesTheUvSet) {
+  TempDir dir;
+  const std::string color1 = R"({"pbrMetallicRoughness":{"baseColorTexture":{"index":0,"texCoord":1}}})";
+  expect_load_error(uv_set_gltf(dir, false, color1), "materials[0].pbrMetallicRoughness.baseColorTexture.texCoord",
+                    "names TEXCOORD_1, which meshes[0].primitives[0] does not have");
+  expect_load_error(uv_set_gltf(dir, false, R"({"normalTexture":{"index":0,"texCoord":1}})"),
+                    "materials[0].normalTexture.texCoord", "names TEXCOORD_1");
+  expect_load_error(
+      uv_set_gltf(dir, true, R"({"pbrMetallicRoughness":{"baseColorTexture":{"index":0,"texCoord":1}},
+                               "normalTexture":{"index":0}})"),
+      "materials[0].normalTexture.texCoord",
+      "TEXCOORD_0 is not the baseColorTexture's TEXCOORD_1: pelt draws both maps with one uv set");
+  const LoadedMesh one = load_mesh_file(uv_set_gltf(dir, true, color1));
+  ASSERT_EQ(one.mesh.uvs.size(), 3u);
+  for (const glm::vec2& uv : one.mesh.uvs) EXPECT_EQ(uv, glm::vec2(0.75f));
+  EXPECT_EQ(one.color_map.path, dir.path() / "a.png");
+  const LoadedMesh zero =
+      load_mesh_file(uv_set_gltf(dir, true, R"({"normalTexture":{"index":0,"texCoord":0}})"));
+  ASSERT_EQ(zero.mesh.uvs.size(), 3u);
+  for (const glm::vec2& uv : zero.mesh.uvs) EXPECT_EQ(uv, glm::vec2(0.25f));
+}
+
+// tinygltf reads an optional integer it cannot take as absent and keeps -1 where -1 means
+// absent: `"mode": -1` was drawn as triangles, `"byteOffset": -4` read from offset 0.
+TEST(MeshLoader, GltfIntegerFieldsAreCheckedAsWritten) {
+  TempDir dir;
+  expect_load_error(dir.write("mode.gltf", edited_gltf(R"("indices":1)", R"("indices":1,"mode":-1)")),
+                    "meshes[0].primitives[0].mode", "must be in [0, 6], got -1");
+  expect_load_error(dir.write("mode7.gltf", edited_gltf(R"("indices":1)", R"("indices":1,"mode":7)")),
+                    "meshes[0].primitives[0].mode", "must be in [0, 6], got 7");
+  const std::string accessor = R"({"bufferView":0,)";
+  expect_load_error(dir.write("offset.gltf", edited_gltf(accessor, R"({"bufferView":0,"byteOffset":-4,)")),
+                    "accessors[0].byteOffset", "must not be negative, got -4");
+  expect_load_error(dir.write("float.gltf", edited_gltf(accessor, R"({"bufferView":0,"byteOffset":4.0,)")),
+                    "accessors[0].byteOffset", "expected an integer, got 4.0");
+  expect_load_error(dir.write("view.gltf", edited_gltf(R"("byteOffset":36,)", R"("byteOffset":-36,)")),
+                    "bufferViews[1].byteOffset", "must not be negative, got -36");
+  expect_load_error(dir.write("material.gltf", edited_gltf(R"("indices":1)", R"("indices":1,"material":-1)")),
+                    "meshes[0].primitives[0].material", "must be in [0, 2147483647], got -1");
+  // tinygltf would truncate this one to 0.
+  expect_load_error(dir.write("wide.gltf", edited_gltf(R"("indices":1)", R"("indices":4294967297)")),
+                    "meshes[0].primitives[0].indices", "must be in [0, 2147483647], got 4294967297");
+  expect_load_error(dir.write("mesh.gltf", edited_gltf(R"({"mesh":0,)", R"({"mesh":"0",)")), "nodes[0].mesh",
+                    "expected an integer, got a string");
+  // Given as written, the same fields load.
+  EXPECT_EQ(load_mesh_file(dir.write("ok.gltf", edited_gltf(accessor, R"({"bufferView":0,"byteOffset":0,)")))
+                .mesh.triangle_count(),
+            1u);
+}
+
+// tinyGLTF's triangle as a GLB of header version `version`, its JSON the only chunk.
+std::string tiny_glb(uint32_t version) {
+  std::string json = tiny_gltf(0.0f, 2);
+  json.resize((json.size() + 3) / 4 * 4, ' ');
+  const auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  return "glTF" + u32(version) + u32(uint32_t(20 + json.size())) + u32(uint32_t(json.size())) + "JSON" + json;
+}
+
+// tinygltf reads any GLB header version as glTF 2.0's layout.
+TEST(MeshLoader, GlbVersionMustBeTwo) {
+  TempDir dir;
+  expect_load_error(dir.write("v1.glb", tiny_glb(1)), "header.version",
+                    "GLB version 1: pelt reads glTF 2.0 binaries (version 2)");
+  expect_load_error(dir.write("v3.glb", tiny_glb(3)), "header.version", "GLB version 3");
+  EXPECT_EQ(load_mesh_file(dir.write("v2.glb", tiny_glb(2))).mesh.triangle_count(), 1u);
+}
+
 TEST(MeshLoader, ValidateMeshNamesTheElement) {
   Mesh m;
   m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};

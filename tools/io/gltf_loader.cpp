@@ -575,7 +575,12 @@ std::string gltf_json_text(const std::filesystem::path& path, bool binary) {
   if (!binary) return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   unsigned char header[20];
   if (!in.read(reinterpret_cast<char*>(header), sizeof header)) return {};
-  std::string text(little_endian_u32(header + 12), '\0');
+  // The chunk's length is the file's word: no more than the file holds is allocated for it.
+  std::error_code ec;
+  const uint64_t size = std::filesystem::file_size(path, ec);
+  const uint32_t length = little_endian_u32(header + 12);
+  if (ec || length > size - std::min<uint64_t>(size, sizeof header)) return {};
+  std::string text(length, '\0');
   if (!in.read(text.data(), std::streamsize(text.size()))) return {};
   return text;
 }

@@ -1,5 +1,6 @@
 // `pelt info SCENE.json`: what a scene will compute, without rendering.
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include "tools/cli/budget_options.h"
@@ -66,7 +67,14 @@ int run_info(const InfoOptions& o) {
   rs.threads = worker_threads(0);
   rs.quality = resolve_quality(file_scene, o.quality);
   rs.budget = o.budget;
-  render::SceneRenderer r(file_scene, rs);
+  const std::unique_ptr<render::SceneRenderer> owned = [&] {
+    try {
+      return std::make_unique<render::SceneRenderer>(file_scene, rs);
+    } catch (const io::InputError& e) {
+      throw name_flag_origin(e, file_scene, o.quality, 0, 0);
+    }
+  }();
+  const render::SceneRenderer& r = *owned;
   for (const std::string& w : r.warnings()) std::fprintf(stderr, "pelt: warning: %s\n", w.c_str());
   // Shells, fins and skin models as the quality draws them.
   const io::Scene scene = render::apply_quality(file_scene, r.quality());

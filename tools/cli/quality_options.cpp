@@ -1,5 +1,8 @@
 #include "tools/cli/quality_options.h"
 
+#include <algorithm>
+#include <optional>
+
 #include "tools/io/input_error.h"
 
 namespace pelt::cli {
@@ -49,6 +52,29 @@ io::Quality resolve_quality(const io::Scene& scene, const QualityFlags& flags) {
   }
   for (size_t k = 0; k < std::size(io::kKnobs); ++k) apply_knob_flag(q, io::kKnobs[k], flags.values[k]);
   return q;
+}
+
+io::InputError name_flag_origin(const io::InputError& e, const io::Scene& scene, const QualityFlags& flags,
+                                int width, int height) {
+  if (e.file != scene.file.string()) return e;
+  // A knob's flag, or the preset's when it changed the knob from the scene's own value.
+  auto knob_origin = [&](std::string_view knob, bool preset_changed_it) -> std::string {
+    const size_t k = size_t(std::find(std::begin(io::kKnobs), std::end(io::kKnobs), knob) - std::begin(io::kKnobs));
+    if (k < std::size(io::kKnobs) && !flags.values[k].empty()) return flag_of(knob);
+    if (!flags.preset.empty() && preset_changed_it) return "--quality";
+    return {};
+  };
+  std::string flag;
+  if (e.field == "image.width") {
+    flag = width > 0 ? "--width" : height > 0 ? "--height" : "";
+  } else if (e.field == "quality.shells") {
+    const std::optional<io::Quality> preset = io::quality_preset(flags.preset);
+    flag = knob_origin("shells", preset && preset->shells != scene.quality.shells);
+  } else if (e.field == "quality.spp") {
+    const std::optional<io::Quality> preset = io::quality_preset(flags.preset);
+    flag = knob_origin("spp", preset && preset->spp != scene.quality.spp);
+  }
+  return flag.empty() ? e : io::InputError("", flag, e.reason);
 }
 
 }  // namespace pelt::cli

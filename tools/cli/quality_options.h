@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "tools/io/input_error.h"
 #include "tools/io/quality.h"
 #include "tools/io/scene.h"
 
@@ -29,5 +30,12 @@ void apply_knob_flag(io::Quality& q, std::string_view knob, const std::string& v
 // The quality to render `scene` at. Throws io::InputError naming the flag for an unknown
 // preset or a bad knob value.
 io::Quality resolve_quality(const io::Scene& scene, const QualityFlags& flags);
+
+// The flag that set a value the renderer refused, when one did: SceneRenderer checks the
+// resolved quality and size and names the scene's fields (`quality.shells`, `quality.spp`,
+// `image.width`), but a value a flag gave is named by its flag, with no file. `width` and
+// `height` are the --width and --height flags (0: not given). Other errors come back as they are.
+io::InputError name_flag_origin(const io::InputError& e, const io::Scene& scene, const QualityFlags& flags,
+                                int width, int height);
 
 }  // namespace pelt::cli

@@ -338,6 +338,32 @@ TEST_F(RenderCommand, InfoCountsTheFramesThatComputeEachForceAsTheRenderDoes) {
   }
 }
 
+// A budget refusal names what set the value: the --shells flag, the --quality preset that changed
+// it, or the scene's own fur block, in render and in info alike.
+TEST_F(RenderCommand, ABudgetRefusalNamesTheFlagThatSetTheValue) {
+  const fs::path furry = dir.write("furry.json", R"({"pelt": 1, "image": {"width": 32, "height": 24},
+      "objects": [{"mesh": "box:2", "material": {"type": "lambert"}, "fur": {"shells": 16, "texture_size": 16}}]})");
+  struct Case {
+    std::vector<std::string> flags;
+    const char* message;
+  };
+  const Case cases[] = {
+      {{"--shells", "8", "--max-shells", "4"}, "pelt: error: --shells: 8 fur shells, more than the budget of 4"},
+      {{"--quality", "reference", "--max-shells", "16"}, "pelt: error: --quality: 64 fur shells, more than the budget of 16"},
+      {{"--max-shells", "4"}, "furry.json: objects[0].fur.shells: 16 fur shells, more than the budget of 4"},
+  };
+  for (const Case& c : cases)
+    for (const char* command : {"render", "info"}) {
+      std::vector<std::string> args = {command, furry.string()};
+      if (std::string(command) == "render") args.insert(args.end(), {"-o", (dir.path() / "b/a.png").string()});
+      args.insert(args.end(), c.flags.begin(), c.flags.end());
+      const Result r = run_pelt(args, dir.path());
+      EXPECT_EQ(r.code, 2) << command << ": " << r.err;
+      EXPECT_NE(r.err.find(c.message), std::string::npos) << command << ": " << r.err;
+    }
+  EXPECT_FALSE(fs::exists(dir.path() / "b"));
+}
+
 // `pelt info` lists the fur's edges (one fin quad each per pair of layers) and, where a mesh is
 // split at texture seams or hard edges, how many vertex copies were joined: the fin count is not
 // 2 E (S - 1) of the file's own edges there. The built-in sphere is split at its seam (7 copies
@@ -652,6 +678,9 @@ INSTANTIATE_TEST_SUITE_P(
                   "--stats: is also where -o writes"},
         BadOption{"StatsOverAFrame", {"-o", "OUT/f_#.png", "--frames", "0:3", "--stats", "OUT/f_2.png"},
                   "--stats: is also where -o writes"},
+        // A value a flag gave is named by the flag, not by the scene's field.
+        BadOption{"WidthFlagOverBudget", {"-o", "OUT/a.png", "--frame", "0", "--width", "16384", "--height", "8193"},
+                  "pelt: error: --width: the image is 16384 x 8193"},
         // An empty value (an unset shell variable) is not "not given": it would render every frame.
         BadOption{"EmptyFrame", {"-o", "OUT/f_#.png", "--frame", ""}, "--frame: needs a value, got an empty one"},
         BadOption{"EmptyShard", {"-o", "OUT/f_#.png", "--shard", ""}, "--shard: needs a value, got an empty one"},

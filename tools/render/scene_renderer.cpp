@@ -141,8 +141,13 @@ void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind,
                     [&] { return io::read_image_rgba(*src->file, kind.file_encoding, budget); });
   }
   const io::ImageRGBA& img = src->file ? read : *src->pixels;
-  if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(), kind.texels, out, parallel))
-    throw io::InputError(src->file ? src->file->string() : so.mesh, e->field, e->reason);
+  if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(), kind.texels, out, parallel)) {
+    // The raster's name for its input buffer (rgba[k]) means nothing to the user: the texel and
+    // channel are in the reason, and the scene field that asked for the map follows it.
+    const std::string field = e->field.rfind("rgba", 0) == 0 ? std::string() : e->field;
+    throw io::InputError(src->file ? src->file->string() : so.mesh, field,
+                         e->reason + " (" + map_asked_by(scene, index, kind.field, src->named_by_mesh) + ")");
+  }
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/tools/cli/run_pelt.h"
+#include "tools/io/image_io.h"
 
 namespace pelt::cli_test {
 namespace {
@@ -167,6 +168,23 @@ TEST(RenderBadScene, ADeviceIsRefusedNotReadForever) {
   const Result zero = run_pelt({"info", "/dev/zero"}, dir.path());
   EXPECT_EQ(zero.code, 2) << zero.err;
   EXPECT_NE(zero.err.find("/dev/zero: is larger than 64 MiB"), std::string::npos) << zero.err;
+}
+
+// A colour map whose texel leaves [0, 1] is named by the texel, and the error says which scene
+// field asked for the map (not the raster's name for its input buffer).
+TEST(RenderBadScene, AColourMapTexelOutOfRangeNamesTheTexelAndTheField) {
+  TempDir dir;
+  std::vector<float> px(2 * 2 * 4, 0.5f);
+  px[4 * 3 + 1] = 1.5f;  // texel (1, 1), green
+  io::write_image_atomic(dir.path() / "hdr.exr", 2, 2, 4, io::PixelType::f32, px.data());
+  const fs::path scene = dir.write(
+      "shot.json", scene_with_object(R"({"mesh": "plane:1", "material": {"type": "lambert", "color_map": "hdr.exr"}})"));
+  const Result r = run_pelt({"render", scene.string(), "-o", (dir.path() / "a.png").string(), "--quiet"}, dir.path());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("hdr.exr: texel (1, 1) channel g = 1.500000 is outside [0, 1]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(in objects[0].material.color_map of "), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("rgba["), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "a.png"));
 }
 
 // What a loader accepted but changed reaches the user, on stderr even with --quiet, and the

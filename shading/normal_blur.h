@@ -46,11 +46,29 @@ struct BlurredNormals {
 // own vertices' results), so the result is the same whatever runs them.
 using ParallelFor = std::function<void(size_t count, const std::function<void(size_t)>& fn)>;
 
+// The most work blur_normals may do. Each welded vertex's search settles every welded vertex
+// within 3 x the largest sigma of it along the edges (itself included), and the blur's time is
+// about proportional to the number of these (source, neighbour) pairs: W of them for a radius
+// that reaches no neighbour, W^2 for one that reaches across the whole mesh (W welded
+// vertices), and at a fixed radius on a finer mesh, W times a neighbourhood that grows with W.
+// Over max_pairs, blur_normals refuses with a ParamError naming normal_blur_radius, and the
+// result is empty. It asks before any blur search: when W^2 > max_pairs, it runs the searches of
+// 64 evenly spaced vertices, counting, and refuses when W times their mean is over the budget
+// (64 of the blur's W searches when it fits; at most 64 x min(W, 64 max_pairs / W + 64) settled
+// vertices when it refuses, each sample stopping once it alone puts the estimate over). The
+// blur's searches count as well and stop past the budget, for a mesh whose samples missed a
+// dense part. Whether a mesh is refused depends only on the mesh, sigma and max_pairs, not on
+// `parallel`.
+struct NormalBlurBudget {
+  uint64_t max_pairs = UINT64_MAX;
+  std::string flag;  // when not empty, a refusal ends "(raise it with FLAG)"
+};
+
 // sigma[c] >= 0 in scene units (SkinParams::normal_blur_radius); sigma 0 returns the input
 // normals unchanged for that channel. Errors (bad index, non-finite value, negative sigma) are
 // returned as a ParamError naming the field; the result is then empty. Without `parallel`
 // the items run in order on the calling thread.
 std::optional<ParamError> blur_normals(const NormalBlurInput& mesh, const float sigma[3], BlurredNormals& out,
-                                       const ParallelFor& parallel = {});
+                                       const ParallelFor& parallel = {}, const NormalBlurBudget& budget = {});
 
 }  // namespace pelt::shading

@@ -5,9 +5,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <random>
+#include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 namespace pelt::shading {
@@ -311,6 +314,296 @@ TEST(NormalBlur, WeightsAreGaussianInEdgeDistanceTimesVertexArea) {
   EXPECT_NE(out.channel[1][0], 0.0f) << "sigma 0.4 reaches the neighbours at distance 1";
   EXPECT_EQ(out.channel[2][0], 0.0f) << "sigma 0.3 reaches no neighbour";
   EXPECT_EQ(out.channel[2][2], 1.0f);
+}
+
+// --- The searches against a brute force ----------------------------------------------------
+
+// blur_normals as its header documents it, by brute force: the same welding, vertex areas and
+// welded normals, then every vertex's edge-path distances from each source by Bellman-Ford
+// (every edge relaxed until nothing changes, only to distances within 3 sigma), and the weights
+// summed in (distance, vertex) order. A path's length is summed from the source outward, as a
+// Dijkstra search sums it, and the shortest is the same double either way, so the result is
+// the same bits, not just close: a search that missed a vertex, reached one beyond the cut-off,
+// found a longer path or summed in another order would differ.
+BlurredNormals brute_force_blur(const TestMesh& m, const float sigma[3]) {
+  const size_t V = m.pos.size() / 3;
+  auto key = [&](size_t v) {
+    std::array<uint32_t, 3> k;
+    for (int a = 0; a < 3; ++a) {
+      float f = m.pos[3 * v + a];
+      if (f == 0.0f) f = 0.0f;
+      std::memcpy(&k[a], &f, 4);
+    }
+    return k;
+  };
+  std::map<std::array<uint32_t, 3>, uint32_t> ids;
+  std::vector<uint32_t> rep(V), first;
+  for (size_t v = 0; v < V; ++v) {
+    auto [it, inserted] = ids.emplace(key(v), uint32_t(first.size()));
+    if (inserted) first.push_back(uint32_t(v));
+    rep[v] = it->second;
+  }
+  const size_t W = first.size();
+  std::vector<double> area(W, 0.0), corner(V, 0.0);
+  std::vector<std::pair<uint32_t, uint32_t>> edges;
+  for (size_t t = 0; t + 2 < m.idx.size(); t += 3) {
+    const float* p0 = &m.pos[3 * m.idx[t]];
+    const float* p1 = &m.pos[3 * m.idx[t + 1]];
+    const float* p2 = &m.pos[3 * m.idx[t + 2]];
+    const double e1[3] = {double(p1[0]) - p0[0], double(p1[1]) - p0[1], double(p1[2]) - p0[2]};
+    const double e2[3] = {double(p2[0]) - p0[0], double(p2[1]) - p0[1], double(p2[2]) - p0[2]};
+    const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+                 cz = e1[0] * e2[1] - e1[1] * e2[0];
+    const double a3 = 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz) / 3.0;
+    for (int k = 0; k < 3; ++k) {
+      area[rep[m.idx[t + k]]] += a3;
+      corner[m.idx[t + k]] += a3;
+      const uint32_t a = rep[m.idx[t + k]], b = rep[m.idx[t + (k + 1) % 3]];
+      if (a != b) edges.emplace_back(a, b);
+    }
+  }
+  // Welded normals: copies that agree give their unit normal, copies that differ the mean of
+  // their unit normals weighted by their own triangles' areas; a zero normal is left out.
+  std::vector<double> nrm(3 * W, 0.0), mixed(3 * W, 0.0), mixed_area(W, 0.0);
+  std::vector<int> state(W, 0);  // 0 none, 1 agree, 2 differ
+  for (size_t v = 0; v < V; ++v) {
+    const float* n = &m.nrm[3 * v];
+    const double len = std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2]);
+    if (!(len > 0)) continue;
+    const double u[3] = {n[0] / len, n[1] / len, n[2] / len};
+    const uint32_t w = rep[v];
+    if (state[w] == 0) {
+      std::copy(u, u + 3, &nrm[3 * w]);
+      state[w] = 1;
+    } else if (!std::equal(u, u + 3, &nrm[3 * w])) {
+      state[w] = 2;
+    }
+    for (int a = 0; a < 3; ++a) mixed[3 * w + a] += corner[v] * u[a];
+    mixed_area[w] += corner[v];
+  }
+  for (size_t w = 0; w < W; ++w)
+    if (state[w] == 2)
+      for (int a = 0; a < 3; ++a) nrm[3 * w + a] = mixed_area[w] > 0 ? mixed[3 * w + a] / mixed_area[w] : 0.0;
+  auto length = [&](uint32_t a, uint32_t b) {
+    const float* p = &m.pos[3 * first[a]];
+    const float* q = &m.pos[3 * first[b]];
+    const double dx = double(p[0]) - q[0], dy = double(p[1]) - q[1], dz = double(p[2]) - q[2];
+    return std::sqrt(dx * dx + dy * dy + dz * dz);
+  };
+  std::vector<double> edge_length;
+  for (const auto& [a, b] : edges) edge_length.push_back(length(a, b));
+  const double cutoff = 3.0 * std::max({double(sigma[0]), double(sigma[1]), double(sigma[2])});
+  std::vector<double> blurred(9 * W, 0.0);
+  for (size_t s = 0; s < W && cutoff > 0; ++s) {
+    std::vector<double> d(W, INFINITY);
+    d[s] = 0.0;
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (size_t e = 0; e < edges.size(); ++e)
+        for (const auto& [x, y] : {edges[e], std::pair{edges[e].second, edges[e].first}}) {
+          const double nd = d[x] + edge_length[e];
+          if (nd <= cutoff && nd < d[y]) d[y] = nd, changed = true;
+        }
+    }
+    std::vector<std::pair<double, uint32_t>> reached;
+    for (size_t v = 0; v < W; ++v)
+      if (d[v] <= cutoff) reached.emplace_back(d[v], uint32_t(v));
+    std::sort(reached.begin(), reached.end());
+    for (int c = 0; c < 3; ++c)
+      for (const auto& [dv, v] : reached) {
+        const double sg = sigma[c];
+        if (sg <= 0.0 || dv > 3.0 * sg) continue;
+        const double w = area[v] * std::exp(-dv * dv / (2.0 * sg * sg));
+        for (int a = 0; a < 3; ++a) blurred[(c * W + s) * 3 + a] += w * nrm[3 * v + a];
+      }
+  }
+  BlurredNormals out;
+  for (int c = 0; c < 3; ++c) {
+    out.channel[c].resize(3 * V);
+    for (size_t v = 0; v < V; ++v) {
+      const double* b = &blurred[(c * W + rep[v]) * 3];
+      const double len = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+      for (int a = 0; a < 3; ++a)
+        out.channel[c][3 * v + a] =
+            sigma[c] <= 0.0f || !(len > 1e-300) ? m.nrm[3 * v + a] : float(b[a] / len);
+    }
+  }
+  return out;
+}
+
+// Three threads taking every third item: the order items finish in is not the serial one.
+const ParallelFor kThreeThreads = [](size_t count, const std::function<void(size_t)>& fn) {
+  std::vector<std::thread> pool;
+  for (int t = 0; t < 3; ++t)
+    pool.emplace_back([&, t] {
+      for (size_t k = size_t(t); k < count; k += 3) fn(k);
+    });
+  for (auto& th : pool) th.join();
+};
+
+// blur_normals, serial and on three threads, gives the brute force's bits for every radius.
+void ExpectBruteForceBits(const TestMesh& m, const std::string& what) {
+  const float radii[][3] = {{0.0f, 0.0f, 0.0f},    {1e-7f, 1e-7f, 1e-7f}, {0.05f, 0.02f, 0.0f},
+                            {0.3f, 0.15f, 0.08f},   {1.0f, 0.5f, 0.25f},   {1e6f, 1e6f, 1e6f},
+                            {1e6f, 0.1f, 0.0f}};
+  for (const auto& sigma : radii) {
+    const BlurredNormals expected = brute_force_blur(m, sigma);
+    BlurredNormals serial, threaded;
+    ASSERT_FALSE(blur_normals(m.input(), sigma, serial).has_value()) << what;
+    ASSERT_FALSE(blur_normals(m.input(), sigma, threaded, kThreeThreads).has_value()) << what;
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(serial.channel[c], expected.channel[c]) << what << ", sigma " << sigma[0] << " " << sigma[1] << " "
+                                                        << sigma[2] << ", channel " << c;
+      EXPECT_EQ(threaded.channel[c], serial.channel[c]) << what << ", channel " << c;
+    }
+  }
+}
+
+// A jittered n x n patch, curved a little, with normals scattered about +z.
+TestMesh random_patch(int n, std::mt19937& rng) {
+  TestMesh m = plane(n, 1.0f);
+  std::uniform_real_distribution<float> jitter(-0.3f / n, 0.3f / n);
+  std::normal_distribution<float> tilt(0.0f, 0.4f);
+  for (size_t v = 0; v < m.pos.size() / 3; ++v) {
+    if (m.pos[3 * v] > 0.0f && m.pos[3 * v] < 1.0f) m.pos[3 * v] += jitter(rng);
+    if (m.pos[3 * v + 1] > 0.0f && m.pos[3 * v + 1] < 1.0f) m.pos[3 * v + 1] += jitter(rng);
+    m.pos[3 * v + 2] = 0.3f * m.pos[3 * v] * m.pos[3 * v] + jitter(rng);
+    m.nrm[3 * v] = tilt(rng);
+    m.nrm[3 * v + 1] = tilt(rng);
+  }
+  return m;
+}
+
+TEST(NormalBlurSearch, RandomPatchesMatchTheBruteForce) {
+  std::mt19937 rng(11);
+  for (int i = 0; i < 4; ++i) ExpectBruteForceBits(random_patch(6 + 3 * i, rng), "patch " + std::to_string(i));
+}
+
+// Random triangles over random points: degenerate triangles (a corner repeated), vertices in
+// no triangle, several components, zero normals, distances tied on no grid.
+TEST(NormalBlurSearch, RandomSoupsMatchTheBruteForce) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<float> coord(-1.0f, 1.0f);
+  for (int i = 0; i < 6; ++i) {
+    TestMesh m;
+    const int V = 10 + 15 * i;
+    for (int v = 0; v < V; ++v) {
+      for (int a = 0; a < 3; ++a) m.pos.push_back(coord(rng));
+      for (int a = 0; a < 3; ++a) m.nrm.push_back(v % 7 == 3 ? 0.0f : coord(rng));
+    }
+    std::uniform_int_distribution<uint32_t> vertex(0, uint32_t(V - 1));
+    for (int t = 0; t < V; ++t) m.idx.insert(m.idx.end(), {vertex(rng), vertex(rng), vertex(rng)});
+    ExpectBruteForceBits(m, "soup " + std::to_string(i));
+  }
+}
+
+// Coincident copies (seams with one normal, creases with two, -0 beside +0), the sphere the
+// other tests use (closed: at radius 1e6 its normals nearly cancel), a single vertex with and
+// without a triangle, and no vertices at all.
+TEST(NormalBlurSearch, HardCasesMatchTheBruteForce) {
+  const float right[3] = {0.6f, 0.0f, 0.8f};
+  ExpectBruteForceBits(split_column(8, 3, 2), "seam copies");
+  ExpectBruteForceBits(split_column(8, 3, 3, right), "crease copies");
+  TestMesh signed_zero = plane(4, 1.0f);
+  for (size_t v = 0; v < signed_zero.pos.size() / 3; v += 2) signed_zero.pos[3 * v + 2] = -0.0f;
+  ExpectBruteForceBits(signed_zero, "-0 and +0");
+  ExpectBruteForceBits(sphere(2), "sphere");
+  TestMesh one;
+  one.pos = {0.5f, 0.25f, 0.0f};
+  one.nrm = {0.0f, 0.0f, 2.0f};
+  ExpectBruteForceBits(one, "one vertex");
+  one.idx = {0, 0, 0};
+  ExpectBruteForceBits(one, "one vertex in a degenerate triangle");
+  TestMesh stacked = one;  // three copies of one position, one triangle
+  stacked.pos.insert(stacked.pos.end(), {0.5f, 0.25f, 0.0f, 0.5f, 0.25f, 0.0f});
+  stacked.nrm.insert(stacked.nrm.end(), {1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f});
+  stacked.idx = {0, 1, 2};
+  ExpectBruteForceBits(stacked, "three copies of one position");
+  ExpectBruteForceBits(TestMesh{}, "no vertices");
+}
+
+// --- The budget of (source, neighbour) pairs ------------------------------------------------
+
+void ExpectReasonHas(const ParamError& e, const std::vector<std::string>& parts) {
+  EXPECT_EQ(e.field, "normal_blur_radius");
+  for (const std::string& p : parts) EXPECT_NE(e.reason.find(p), std::string::npos) << "`" << p << "` in " << e.reason;
+}
+
+// At radius 1e6 every one of the sphere's 642 vertices reaches every other: 642^2 pairs. The
+// sampled vertices settle 642 each, so the estimate is exact, and a budget one pair short refuses
+// before any blur, naming the count, the budget and the flag.
+TEST(NormalBlurBudget, EveryPairAtTheBudgetAcceptedOneLessRefused) {
+  const TestMesh m = sphere(3);
+  ASSERT_EQ(m.pos.size() / 3, 642u);
+  const float sigma[3] = {1e6f, 0.5f, 0.0f};
+  BlurredNormals free, out;
+  ASSERT_FALSE(blur_normals(m.input(), sigma, free).has_value());
+  ASSERT_FALSE(blur_normals(m.input(), sigma, out, {}, {642u * 642u, "--max-blur-pairs"}).has_value());
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(out.channel[c], free.channel[c]);
+  for (const ParallelFor& parallel : {ParallelFor{}, kThreeThreads}) {
+    const auto e = blur_normals(m.input(), sigma, out, parallel, {642u * 642u - 1, "--max-blur-pairs"});
+    ASSERT_TRUE(e.has_value());
+    ExpectReasonHas(*e, {"reaches about 412164 (source, neighbour) vertex pairs",
+                         "more than the budget of 412163 pairs (raise it with --max-blur-pairs)",
+                         "3 x 1e+06", "settles about 642 of its 642 welded vertices"});
+    for (int c = 0; c < 3; ++c) EXPECT_TRUE(out.channel[c].empty());
+  }
+  // Without a flag the reason ends at the budget.
+  const auto e = blur_normals(m.input(), sigma, out, {}, {1000, ""});
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->reason.find("raise it"), std::string::npos) << e->reason;
+}
+
+// A radius that reaches no neighbour: every source settles itself alone, W pairs in all.
+// Radius 0 searches nothing and so fits any budget.
+TEST(NormalBlurBudget, EachSourceCountsItself) {
+  const TestMesh m = plane(30, 1.0f);  // 961 vertices 1/30 apart
+  const size_t W = m.pos.size() / 3;
+  const float tiny[3] = {0.001f, 0.001f, 0.0f};
+  BlurredNormals out;
+  EXPECT_FALSE(blur_normals(m.input(), tiny, out, {}, {W, ""}).has_value());
+  const auto e = blur_normals(m.input(), tiny, out, {}, {W - 1, ""});
+  ASSERT_TRUE(e.has_value());
+  ExpectReasonHas(*e, {"reaches about " + std::to_string(W) + " ", "settles about 1 of its 961"});
+  const float zero[3] = {0.0f, 0.0f, 0.0f};
+  EXPECT_FALSE(blur_normals(m.input(), zero, out, {}, {1, ""}).has_value());
+}
+
+// A sample that alone would put the estimate over the budget stops there ("at least").
+TEST(NormalBlurBudget, ASampleStopsOnceItAloneIsOverTheBudget) {
+  const TestMesh m = plane(60, 1.0f);  // 3721 vertices
+  const float sigma[3] = {1e6f, 1e6f, 1e6f};
+  BlurredNormals out;
+  const auto e = blur_normals(m.input(), sigma, out, {}, {100000, ""});
+  ASSERT_TRUE(e.has_value());
+  // The budget is 26 pairs a vertex, so each sample stops at (26 + 1) x 64 = 1728 vertices.
+  ExpectReasonHas(*e, {"reaches at least " + std::to_string(3721 * 1728) + " ", "settles at least 1728 of its 3721"});
+}
+
+// The samples (64 evenly spaced welded vertices) can miss a small dense part of a mesh: here a
+// 11 x 11 patch, all within reach of each other, whose 121 vertices come before the first sample,
+// and 5200 separate small triangles. The estimate (3 pairs a vertex) fits the budget; the
+// searches themselves count 121^2 + 5200 x 9 = 61441 pairs and refuse past it, on any thread
+// count, and a budget of exactly that many accepts.
+TEST(NormalBlurBudget, TheSearchesRefuseWhatTheSamplesMissed) {
+  TestMesh m = plane(10, 1.0f);
+  for (uint32_t t = 0; t < 5200; ++t) {
+    const uint32_t base = uint32_t(m.pos.size() / 3);
+    const float x = 10.0f + 10.0f * float(t);
+    m.pos.insert(m.pos.end(), {x, 0.0f, 0.0f, x + 0.01f, 0.0f, 0.0f, x, 0.01f, 0.0f});
+    m.nrm.insert(m.nrm.end(), {0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1.0f});
+    m.idx.insert(m.idx.end(), {base, base + 1, base + 2});
+  }
+  ASSERT_EQ(m.pos.size() / 3, 15721u);  // the first sample is vertex 15721 / 128 = 122
+  const float sigma[3] = {1.0f, 1.0f, 1.0f};
+  BlurredNormals out;
+  for (const ParallelFor& parallel : {ParallelFor{}, kThreeThreads}) {
+    EXPECT_FALSE(blur_normals(m.input(), sigma, out, parallel, {61441, ""}).has_value());
+    const auto e = blur_normals(m.input(), sigma, out, parallel, {50000, "--max-blur-pairs"});
+    ASSERT_TRUE(e.has_value());
+    ExpectReasonHas(*e, {"than the estimate from sampled vertices said", "budget of 50000 pairs"});
+    for (int c = 0; c < 3; ++c) EXPECT_TRUE(out.channel[c].empty());
+  }
 }
 
 }  // namespace

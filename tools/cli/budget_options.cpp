@@ -78,6 +78,8 @@ void add_budget_options(CLI::App& sub, io::Budget& b) {
   add_flag(sub, io::kMaxFacesFlag, b.max_faces, false, "Most triangles per mesh");
   add_flag(sub, io::kMaxMemoryFlag, b.max_memory_bytes, true,
            "Largest estimated memory for one render, bytes (K, M, G, T: powers of 1024)");
+  add_flag(sub, io::kMaxBlurPairsFlag, b.max_blur_pairs, false,
+           "Most vertex pairs the blurred normals of one normal_blur skin mesh may settle (their time)");
 }
 
 }  // namespace pelt::cli

@@ -1,5 +1,5 @@
 // The resource-budget flags shared by the commands that load scenes: --max-pixels,
-// --max-texture-side, --max-shells, --max-faces and --max-memory, each raising or lowering
+// --max-texture-side, --max-shells, --max-faces, --max-memory and --max-blur-pairs, each raising or lowering
 // one member of io::Budget (tools/io/budget.h, where the defaults are explained).
 #pragma once
 

@@ -1,7 +1,7 @@
 // Resource budgets: the largest request pelt accepts before it allocates anything for it.
 // A request beyond a budget is refused with an io::InputError naming the file, the field
 // and both numbers; every budget is configurable from the command line (tools/cli,
-// --max-pixels, --max-texture-side, --max-shells, --max-faces, --max-memory).
+// --max-pixels, --max-texture-side, --max-shells, --max-faces, --max-memory, --max-blur-pairs).
 #pragma once
 
 #include <cstdint>
@@ -22,6 +22,13 @@ namespace pelt::io {
 //   (~16.8M vertices) is about 1.5 GiB with its varyings, before any fur.
 // - max_memory_bytes 8 GiB: a third of this 23 GiB machine, so two renders and a build fit
 //   side by side; raise it with --max-memory on a bigger machine.
+// - max_blur_pairs 2^32: the (source, neighbour) vertex pairs the blurred normals of one
+//   `normal_blur` skin mesh may settle (shading::NormalBlurBudget), the measure of their time:
+//   at 60-100 ns a pair on one core of this machine, 4-7 core-minutes. The head scan at the
+//   default radius is about 3.6 x 10^6 pairs (0.3-0.4 s); sphere:256 at radius 1e6, where
+//   every vertex reaches every other, 1.06 x 10^9 (about 100 s on one core) fits; sphere:1024
+//   at the default radius (2.6 x 10^10) and sphere:2048 (2.5 x 10^11, hours) do not.
+
 // Limits no budget can raise: the largest texture side the rasterizer samples
 // (raster::kMaxTextureSide; tools/render/budget_check.cpp asserts they agree) and the fur
 // block's own shell range. The flags refuse budgets above them, and a texture beyond the side
@@ -35,6 +42,7 @@ struct Budget {
   int max_shells = kShellsLimit;                  // fur shells per object
   uint64_t max_faces = uint64_t{1} << 25;         // triangles per mesh
   uint64_t max_memory_bytes = uint64_t{8} << 30;  // estimated bytes for one render
+  uint64_t max_blur_pairs = uint64_t{1} << 32;    // normal blur vertex pairs per mesh
 };
 
 // The command-line flags that raise each budget, for error messages.
@@ -43,6 +51,7 @@ inline constexpr const char* kMaxTextureSideFlag = "--max-texture-side";
 inline constexpr const char* kMaxShellsFlag = "--max-shells";
 inline constexpr const char* kMaxFacesFlag = "--max-faces";
 inline constexpr const char* kMaxMemoryFlag = "--max-memory";
+inline constexpr const char* kMaxBlurPairsFlag = "--max-blur-pairs";
 
 // The tail every budget refusal ends with: "more than the budget of LIMIT (raise it with FLAG)".
 inline std::string over_budget(const std::string& limit, const char* flag) {

@@ -305,7 +305,8 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       const shading::NormalBlurInput in{&m.positions[0].x, &m.normals[0].x, m.vertex_count(),
                                         m.indices.data(), m.indices.size()};
       // A search per vertex (0.5 s on the head scan on one core): spread over the render's threads.
-      if (auto e = shading::blur_normals(in, obj->material.skin.normal_blur_radius, blurred, parallel))
+      const shading::NormalBlurBudget blur_budget{settings.budget.max_blur_pairs, io::kMaxBlurPairsFlag};
+      if (auto e = shading::blur_normals(in, obj->material.skin.normal_blur_radius, blurred, parallel, blur_budget))
         throw io::InputError(scene.file.string(), "objects[" + std::to_string(i) + "].material.skin." + e->field,
                              e->reason);
       obj->varying_count = SurfaceVaryings::kCountBlurred;

@@ -44,16 +44,18 @@ TEST(BudgetOptions, DefaultsWhenNoFlagIsGiven) {
   EXPECT_EQ(b.max_shells, d.max_shells);
   EXPECT_EQ(b.max_faces, d.max_faces);
   EXPECT_EQ(b.max_memory_bytes, d.max_memory_bytes);
+  EXPECT_EQ(b.max_blur_pairs, d.max_blur_pairs);
 }
 
 TEST(BudgetOptions, EveryFlagSetsItsMember) {
   const io::Budget b = parse({"--max-pixels", "1000000", "--max-texture-side", "2048", "--max-shells", "32",
-                              "--max-faces", "2M", "--max-memory", "512M"});
+                              "--max-faces", "2M", "--max-memory", "512M", "--max-blur-pairs", "3G"});
   EXPECT_EQ(b.max_pixels, 1000000u);
   EXPECT_EQ(b.max_texture_side, 2048);
   EXPECT_EQ(b.max_shells, 32);
   EXPECT_EQ(b.max_faces, 2u << 20);
   EXPECT_EQ(b.max_memory_bytes, 512u << 20);
+  EXPECT_EQ(b.max_blur_pairs, uint64_t{3} << 30);
   EXPECT_EQ(parse({"--max-memory=8G"}).max_memory_bytes, uint64_t{8} << 30);
 }
 

@@ -276,6 +276,28 @@ TEST_F(RenderCommand, AGifTooSlowForItsDelayFieldIsRefused) {
   EXPECT_FALSE(fs::exists(dir.path() / "g"));
 }
 
+// A normal_blur skin whose radius reaches too many vertex pairs is refused with exit 2, naming
+// the object's radius and --max-blur-pairs, and no image is written; the flag raises the budget.
+TEST_F(RenderCommand, BlurPairsOverTheBudgetAreRefusedNamingTheRadius) {
+  const fs::path skin = dir.write("skin.json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
+      "objects": [{"mesh": "sphere:16", "material": {"type": "skin", "skin": {"multiple_scattering": "normal_blur",
+                   "normal_blur_radius": [1e6, 1e6, 1e6]}}}]})");
+  const auto render = [&](const std::string& budget) {
+    return run_pelt({"render", skin.string(), "-o", (dir.path() / "b/a.png").string(), "--max-blur-pairs", budget},
+                    dir.path());
+  };
+  const Result over = render("12995");  // sphere:16: 114 positions, each reaching all 114
+  EXPECT_EQ(over.code, 2) << over.err;
+  EXPECT_NE(over.err.find("skin.json: objects[0].material.skin.normal_blur_radius: reaches about 12996 "),
+            std::string::npos)
+      << over.err;
+  EXPECT_NE(over.err.find("(raise it with --max-blur-pairs)"), std::string::npos) << over.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "b/a.png"));
+  const Result at = render("12996");
+  EXPECT_EQ(at.code, 0) << at.err;
+  EXPECT_TRUE(fs::exists(dir.path() / "b/a.png"));
+}
+
 // `pelt info` reports the estimate --max-memory is checked against: a budget a little under its
 // figure refuses the render, one a little over lets it run.
 TEST_F(RenderCommand, InfoReportsTheEstimateTheBudgetChecks) {

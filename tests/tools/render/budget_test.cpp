@@ -4,6 +4,7 @@
 #include "tools/render/budget_check.h"
 
 #include <atomic>
+#include <chrono>
 #include <climits>
 #include <filesystem>
 #include <fstream>
@@ -124,6 +125,47 @@ TEST(SceneBudget, DefaultBudgetAcceptsTheShippedScale) {
 // --- estimate_memory ------------------------------------------------------------------
 
 uint64_t mipmapped(uint64_t texels) { return texels * 16 / 3 + 4; }
+
+// The blurred normals' pair budget (shading::NormalBlurBudget), from the renderer: sphere:16 has
+// 16 x 7 + 2 = 114 positions, and at radius 1e6 each reaches all 114, 12996 pairs. The refusal
+// names the object's radius, the count, the budget and the flag, before any search has run.
+TEST(BlurPairBudget, AtTheLimitAcceptedOneLessRefusedNamingTheRadius) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(R"({"pelt": 1, "image": {"width": 20, "height": 20},
+      "objects": [{"mesh": "box:2", "material": {"type": "lambert"}},
+                  {"mesh": "sphere:16", "material": {"type": "skin", "skin": {"multiple_scattering": "normal_blur",
+                   "normal_blur_radius": [1e6, 0.1, 0.05]}}}]})");
+  const auto meshes = io::load_scene_meshes(s);
+  RenderSettings rs;
+  rs.threads = 2;
+  rs.budget.max_blur_pairs = 114 * 114;
+  EXPECT_NO_THROW(SceneRenderer(s, meshes, rs));
+  rs.budget.max_blur_pairs = 114 * 114 - 1;
+  const io::InputError e = refusal([&] { SceneRenderer r(s, meshes, rs); });
+  EXPECT_EQ(e.file, (dir.path() / "scene.json").string());
+  EXPECT_EQ(e.field, "objects[1].material.skin.normal_blur_radius");
+  expect_reason_has(e, {"about 12996 (source, neighbour) vertex pairs", "more than the budget of 12995 pairs",
+                        "(raise it with --max-blur-pairs)", "a smaller radius reaches fewer"});
+}
+
+// The default budget refuses sphere:1024 at the default radius (about 2.6 x 10^10 pairs, which
+// searched on one core would take most of an hour) at once: the estimate's 64 searches and the
+// welded graph, not the blur. (sphere:2048, four times the vertices and the neighbours of each,
+// about 2.5 x 10^11 pairs, is refused the same way in 5.6 s, most of it making the mesh.)
+TEST(BlurPairBudget, DefaultBudgetRefusesALargeSphereAtOnce) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(R"({"pelt": 1, "image": {"width": 20, "height": 20},
+      "objects": [{"mesh": "sphere:1024", "material": {"type": "skin", "skin": {"multiple_scattering": "normal_blur"}}}]})");
+  const auto meshes = io::load_scene_meshes(s);
+  RenderSettings rs;
+  rs.threads = 2;
+  const auto start = std::chrono::steady_clock::now();
+  const io::InputError e = refusal([&] { SceneRenderer r(s, meshes, rs); });
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(e.field, "objects[0].material.skin.normal_blur_radius");
+  expect_reason_has(e, {"more than the budget of 4294967296 pairs", "of its 523266 welded vertices"});
+  EXPECT_LT(seconds, 60.0) << "the refusal waits for no blur";
+}
 
 TEST(MemoryEstimate, PartsFollowTheCounts) {
   SceneDir dir;

@@ -661,6 +661,11 @@ LoadedMesh load_gltf(const std::filesystem::path& path, bool binary, const Budge
     err = trim(err);
     throw InputError(file, "", "malformed glTF: " + (err.empty() ? std::string("load failed") : err));
   }
+  // glTF 2.0 (section 3.2): asset.version's major number is 2 for every file this layout reads;
+  // a glTF 1.0 file parses in places and means something else where it does.
+  if (model.asset.version.rfind("2.", 0) != 0)
+    throw InputError(file, "asset.version",
+                     "`" + model.asset.version + "`: pelt reads glTF 2.0 (a version 2.x), not this one");
   // glTF 2.0 (section 3.12): a loader that does not support a required extension must not
   // load the asset. pelt reads none (a compressed or quantized mesh, a texture transform,
   // another material model would all be drawn wrong).

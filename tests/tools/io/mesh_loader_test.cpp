@@ -482,6 +482,23 @@ TEST(MeshLoader, GltfRequiredExtensionIsRefused) {
             1u);
 }
 
+// asset.version names the format's major version: a glTF 1.0 file (or a future 3.0) is refused,
+// a 2.x one read.
+TEST(MeshLoader, GltfVersionMustBeTwo) {
+  TempDir dir;
+  const std::string text = tiny_gltf(0.0f, 2);
+  const std::string asset = R"("asset":{"version":"2.0"},)";
+  ASSERT_EQ(text.find(asset), 1u);
+  for (const char* version : {"1.0", "3.0", "20"}) {
+    const std::string other = std::string(R"("asset":{"version":")") + version + R"("},)";
+    expect_load_error(dir.write("v.gltf", "{" + other + text.substr(1 + asset.size())), "asset.version",
+                      std::string("`") + version + "`: pelt reads glTF 2.0");
+  }
+  const std::string minor = R"("asset":{"version":"2.1"},)";
+  EXPECT_EQ(load_mesh_file(dir.write("minor.gltf", "{" + minor + text.substr(1 + asset.size()))).mesh.triangle_count(),
+            1u);
+}
+
 TEST(MeshLoader, GltfTrsAndComputedNormals) {
   TempDir dir;
   const LoadedMesh l = load_mesh_file(dir.write("ok.gltf", tiny_gltf(0.0f, 2)));

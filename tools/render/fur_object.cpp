@@ -392,9 +392,13 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
     StageTimer st(stats, "fur_pose");
     rebuild_varyings();
   }
-  if (fins_ && (fin_list_dirty_ || !fins_eye_ || *fins_eye_ != f.eye)) {
-    if (params_.fins == fur::FinMode::silhouette) {
-      StageTimer st(stats, "fins");
+  // Silhouette weights depend on the eye alone (and the rest mesh's faces); the list of drawn
+  // fins on the weights and, for merged fins, on the pose. Each is remade only when its own
+  // inputs moved: a pose that moves under a still camera rebuilds the list, not the weights.
+  const bool weights_stale = params_.fins == fur::FinMode::silhouette && (!fins_eye_ || *fins_eye_ != f.eye);
+  if (fins_ && (weights_stale || fin_list_dirty_)) {
+    StageTimer st(stats, "fins");
+    if (weights_stale) {
       for (size_t e = 0; e < geo_.edges.size(); ++e) {
         const fur::FurEdge& edge = geo_.edges[e];
         const glm::vec3 mid = 0.5f * (geo_.positions[edge.a] + geo_.positions[edge.b]);
@@ -403,12 +407,9 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
         if (edge.face1 != fur::kNoFace) nb = geo_.face_normals[edge.face1];
         fin_weight_[e] = fur::fin_weight(geo_.face_normals[edge.face0], nb, view, params_.fins);
       }
-      rebuild_fin_list();
-    } else if (fin_list_dirty_) {  // `all`: every fin, once (and again when merged fins move or the layout changes)
-      StageTimer st(stats, "fins");
-      rebuild_fin_list();
+      fins_eye_ = f.eye;
     }
-    fins_eye_ = f.eye;
+    rebuild_fin_list();
     fin_list_dirty_ = false;
   }
   // A subpixel jitter of the projection (supersampling) moves no key: depths are w, and the

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include <tbb/blocked_range.h>
+#include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -26,7 +27,7 @@ void start_worker_threads(int threads) {
   // (briefly, bounded) for the others makes TBB start them now rather than at first use.
   // More threads than cores get no more workers from TBB; one deadline for the whole job
   // bounds the wait however the items are scheduled.
-  const int n = std::min(threads, std::max(1, int(std::thread::hardware_concurrency())));
+  const int n = std::min(threads, std::max(1, tbb::info::default_concurrency()));
   static tbb::task_arena keep(n);
   std::atomic<int> started{0};
   const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(50);
@@ -44,7 +45,10 @@ struct ThreadPool::Arena {
 };
 
 ThreadPool::ThreadPool(int threads) : threads_(threads < 0 ? 0 : threads) {
-  if (threads_ > 0) arena_ = std::make_unique<Arena>(threads_);
+  // TBB runs no more threads at once than the process may use (its default concurrency, which
+  // follows the affinity mask), and an arena asked for more prints a warning on stderr; the
+  // image does not depend on the count, so the arena takes what can run.
+  if (threads_ > 0) arena_ = std::make_unique<Arena>(std::min(threads_, tbb::info::default_concurrency()));
 }
 
 ThreadPool::~ThreadPool() = default;

@@ -44,4 +44,12 @@ inline constexpr uint32_t kMaxBatchLanes = kMaxBatchBlocks * kBlockLanes;
 // Visibility-buffer value of an empty pixel.
 inline constexpr uint32_t kNoPrimitive = 0xFFFFFFFFu;
 
+// The depth a tile is cleared to: one float step above the far plane's depth 1. Window depth is
+// about 1 - near / distance, which rounds to exactly 1 for a surface more than about 2^24 x near
+// away (near 1e-7 and a box 5 units off, or near 0.1 and an object 5e6 away); against a clear of
+// 1 such a surface failed every depth test and the whole object vanished without a word. Against
+// this clear it is drawn, at the far plane's depth (ties there go to the first drawn, as with any
+// equal depths). The depth image reads the clear as 1.
+inline constexpr float kClearDepth = 0x1.000002p+0f;
+
 }  // namespace pelt::raster

@@ -507,7 +507,7 @@ void ClearTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& s)
   for (int c = 0; c < 4; ++c)
     for (size_t i = 0; i < kTilePixels; i += n) hn::Store(hn::Set(df, bgc[c]), df, s.color[c] + i);
   for (size_t i = 0; i < kTilePixels; i += n) {
-    hn::Store(hn::Set(df, 1.0f), df, s.depth + i);
+    hn::Store(hn::Set(df, kClearDepth), df, s.depth + i);
     hn::Store(hn::Set(du, kNoPrimitive), du, s.vis + i);
   }
   if (frame.target.overdraw)
@@ -623,7 +623,10 @@ void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& 
         for (int c = 0; c < 4; ++c) t.color[(row + x) * 4 + c] = s.color[c][src];
       }
     }
-    if (t.depth) ResolvePlaneRow(s.depth, y, w, t.depth + row);
+    if (t.depth) {
+      ResolvePlaneRow(s.depth, y, w, t.depth + row);
+      for (int32_t x = 0; x < w; ++x) t.depth[row + x] = std::min(t.depth[row + x], 1.0f);  // the clear reads 1
+    }
     if (t.overdraw) ResolvePlaneRow(s.overdraw, y, w, t.overdraw + row);
     if (t.id)
       for (int32_t x = 0; x < w; ++x) {

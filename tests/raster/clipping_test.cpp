@@ -64,6 +64,25 @@ TEST(Clipping, TrianglesCrossingTheNearPlaneAndBehindTheEye) {
   expect_matches_reference(s.draw(&sh, proj), 150, 100);
 }
 
+// A surface more than about 2^24 x near away has a window depth that rounds to exactly 1, the far
+// plane's. Against a clear of 1 it failed every depth test and vanished; it is drawn (at depth 1),
+// as the reference draws it, and the depth image still reads at most 1.
+TEST(Clipping, ASurfaceWhoseDepthRoundsToTheFarPlaneIsDrawn) {
+  Soup s;
+  s.add({-1, -1, -5}, {1, -1, -5}, {0, 1, -5});  // 5 units off, near 1e-7: 1 - near/d rounds to 1
+  const VaryingShader sh;
+  const glm::mat4 proj = glm::perspective(glm::radians(45.0f), 1.5f, 1e-7f, 100.0f);
+  const DrawCall d = s.draw(&sh, proj);
+  expect_matches_reference(d, 60, 40);
+  for_each_target([&](const std::string& target) {
+    const Image img = render({&d, 1}, 60, 40);
+    size_t covered = 0;
+    for (size_t i = 0; i < img.id.size(); ++i) covered += img.id[i] != 0;
+    EXPECT_GT(covered, 100u) << target;
+    EXPECT_EQ(*std::max_element(img.depth.begin(), img.depth.end()), 1.0f) << target;
+  });
+}
+
 TEST(Clipping, WNearZeroAndVerticesOnTheEyePlane) {
   Soup s;
   const float tiny = 1e-7f;

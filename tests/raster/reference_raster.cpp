@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "raster/clip.h"
+#include "raster/config.h"
 #include "raster/setup.h"
 
 namespace pelt::raster::test {
@@ -29,7 +30,7 @@ ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int 
   ReferenceImage img;
   img.width = width;
   img.height = height;
-  img.depth.assign(size_t(width) * height, 1.0f);
+  img.depth.assign(size_t(width) * height, kClearDepth);
   img.id.assign(size_t(width) * height, 0);
   img.count.assign(size_t(width) * height, 0);
   const Viewport vp{width, height};
@@ -91,6 +92,7 @@ ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int 
       }
     }
   }
+  for (float& z : img.depth) z = std::min(z, 1.0f);  // the clear reads 1, as the renderer resolves it
   return img;
 }
 

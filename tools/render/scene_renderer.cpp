@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -257,6 +258,18 @@ SceneRenderer::SceneRenderer(const io::Scene& scene, std::optional<std::vector<i
 void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
   convert_lights(scene_.file, scene_.lights, -1, lights_);
   check_light_tracks(scene_);
+  // Window depth is about 1 - near / distance in a float: beyond about 2^24 x near it is 1, the far
+  // plane's, for every surface, which is then drawn at that depth where nothing in front hides
+  // it (raster::kClearDepth). Said, not refused: a generous far plane with the scene well inside
+  // 2^24 x near draws right.
+  const double depth_reach = double(scene_.camera.near) * double(1 << 24);
+  if (double(scene_.camera.far) > depth_reach) {
+    char reach[32];
+    std::snprintf(reach, sizeof reach, "%.3g", depth_reach);
+    warnings_.push_back(scene_.file.string() + " (camera.near): surfaces farther than about " + reach +
+                        " scene units (2^24 x near) all take the far plane's depth, so nearer ones cannot hide "
+                        "farther ones there; raise near or lower far below it");
+  }
   offsets_ = sample_offsets(quality_.spp);
   const io::Scene& scene = scene_;
   const RenderSettings& settings = settings_;

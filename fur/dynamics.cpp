@@ -132,8 +132,12 @@ void update_wind_field(const FurGeometry& geometry, const WindParams& wind, Wind
   f.gust_frequency = std::isfinite(wind.gust_frequency) ? wind.gust_frequency : 0.0f;
   f.gust_scale = std::isfinite(wind.gust_scale) ? std::clamp(wind.gust_scale, 0.0f, 1.0f) : 0.0f;
   const size_t N = geometry.base_vertex_count;
-  if (f.phase.size() == N && f.direction == direction) return;
+  // Keyed on the direction as given, from which the phases are computed bit for bit: two inputs
+  // whose unit vectors round to the same float would otherwise share phases made from either,
+  // and a frame drawn alone could differ from the same frame in a sequence.
+  if (f.phase.size() == N && f.phase_input == wind.direction) return;
   f.direction = direction;
+  f.phase_input = wind.direction;
   const double L = geometry.bounds.radius > 0.0f ? 2.0 * double(geometry.bounds.radius) : 1.0;
   f.phase.resize(N);
   for (size_t i = 0; i < N; ++i) {

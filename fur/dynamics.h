@@ -70,6 +70,7 @@ struct WindField {
   glm::vec3 direction{1.0f, 0.0f, 0.0f};  // unit
   float strength = 0.0f, gust_frequency = 0.0f, gust_scale = 0.0f;
   std::vector<float> phase;  // (q_i.d) / L per base vertex, in wavelengths
+  glm::vec3 phase_input{0.0f};  // WindParams::direction as given, that `phase` was made from
 
   // Fills out[begin, end) with F_i(time_seconds).
   void forces(double time_seconds, std::span<glm::vec3> out, uint32_t begin, uint32_t end) const;

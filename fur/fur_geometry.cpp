@@ -181,7 +181,7 @@ FurCounts fur_counts(size_t base_vertices, size_t base_faces, size_t edges, int 
   const size_t S = size_t(std::max(layers, 0));
   c.base_vertices = base_vertices;
   c.shell_vertices = base_vertices * S;
-  c.fin_vertices = c.shell_vertices;  // the same vertices
+  c.fin_vertices = fins != FinMode::off ? c.shell_vertices : 0;  // the same vertices, when there are fins
   c.total_vertices = c.base_vertices + c.shell_vertices;
   c.base_faces = base_faces;
   c.shell_faces = base_faces * S;

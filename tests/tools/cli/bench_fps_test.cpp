@@ -97,6 +97,7 @@ TEST(BenchFps, FinsAndShellsFlagsChangeTheDrawnFur) {
   ASSERT_EQ(run.size(), 1u);
   EXPECT_EQ(run[0]["fins"], "off");
   EXPECT_EQ(run[0]["vertices"]["shell"], 8 * 296);
+  EXPECT_EQ(run[0]["vertices"]["fin"], 0);
   EXPECT_EQ(run[0]["faces"]["shell"], 8 * 588);
   EXPECT_EQ(run[0]["faces"]["fin"], 0);
   EXPECT_EQ(run[0]["faces"]["sum"], 588 + 8 * 588);

@@ -161,28 +161,11 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
   return plan;
 }
 
-// The point-sampled AOVs refuse spp > 1 (SceneRenderer checks the scene's own quality): when a
-// flag asked for the samples, the message names that flag rather than the scene file.
-void refuse_supersampled_values(const RenderOptions& o, const io::Scene& scene, const io::Quality& quality,
-                                render::Aov aov) {
-  if (quality.spp <= 1 || !render::per_pixel_value(aov)) return;
-  const auto spp_knob = std::find(std::begin(io::kKnobs), std::end(io::kKnobs), "spp");
-  const std::string& spp_flag = o.quality.values[spp_knob - std::begin(io::kKnobs)];
-  const char* flag = !spp_flag.empty()                                        ? "--spp"
-                     : !o.quality.preset.empty() && quality.spp != scene.quality.spp ? "--quality"
-                                                                               : nullptr;
-  if (flag)
-    throw io::InputError("", flag,
-                         "the depth, id and overdraw AOVs are point-sampled (one value per pixel); use spp 1, got " +
-                             std::to_string(quality.spp) + " (--aov " + o.aov + ")");
-}
-
 int run_render(const RenderOptions& o) {
   const render::Aov aov = parse_aov(o.aov);
   const render::OutputPattern pattern(o.output);
   const io::Scene scene = io::load_scene(o.scene);
   const io::Quality quality = resolve_quality(scene, o.quality);
-  refuse_supersampled_values(o, scene, quality, aov);
   const Plan plan = plan_render(o, scene, aov, pattern);
   const render::ProgressMode mode = render::progress_mode(o.quiet, fileno(stderr));
   nlohmann::json stats_frames = nlohmann::json::array();

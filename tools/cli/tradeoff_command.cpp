@@ -15,6 +15,7 @@
 
 #include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/quality_options.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/io/output_file.h"
@@ -101,6 +102,20 @@ size_t image_hash(const tradeoff::DisplayImage& image) {
 
 std::string label(const tradeoff::Setting& s) { return s.knob + "=" + s.setting; }
 
+// SceneRenderer names the scene's fields in a budget refusal (`image.width`, `quality.shells`,
+// `quality.spp`), but a size from --width or --height, or shells and samples that the sweep
+// chose (the reference's 64), are not in the scene: the message names where they came from.
+io::InputError name_origin(const io::InputError& e, const io::Scene& scene, const tradeoff::Setting& s, int width,
+                           int height) {
+  const io::InputError flagged = name_flag_origin(e, scene, QualityFlags{}, width, height);
+  if (flagged.file != e.file) return flagged;
+  if (e.file == scene.file.string() &&
+      ((e.field == "quality.shells" && s.quality.shells != scene.quality.shells) ||
+       (e.field == "quality.spp" && s.quality.spp != scene.quality.spp)))
+    return io::InputError("", "the sweep's " + label(s) + " row", e.reason);
+  return e;
+}
+
 int run_tradeoff(const TradeoffOptions& o) {
   // Everything that can be refused is checked before the first render and the first file.
   const std::vector<std::string> knobs = o.knobs_given ? tradeoff::parse_knob_list(o.knobs)
@@ -141,8 +156,14 @@ int run_tradeoff(const TradeoffOptions& o) {
       const bool is_reference = i == 0;
       std::fprintf(stderr, "pelt tradeoff: [%d/%d] %s (%s)...\n", ++rendered, to_render, label(s).c_str(),
                    io::describe(s.quality).c_str());
-      Measured m = measure(scene, settings(s.quality, o.budget, threads, o.width, o.height), is_reference ? 1 : o.runs,
-                           !is_reference);
+      Measured m = [&] {
+        try {
+          return measure(scene, settings(s.quality, o.budget, threads, o.width, o.height), is_reference ? 1 : o.runs,
+                         !is_reference);
+        } catch (const io::InputError& e) {
+          throw name_origin(e, scene, s, o.width, o.height);
+        }
+      }();
       if (is_reference) reference = m.image;
       row.time = tradeoff::summarize(m.ms, !is_reference);
       row.error = tradeoff::compare(m.image, reference);

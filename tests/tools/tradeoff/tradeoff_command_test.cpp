@@ -150,6 +150,27 @@ TEST(TradeoffCommand, BadSceneExits2NamingTheFieldAndWritesNothing) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// A budget refusal names where the refused value came from: --width, or the sweep's own
+// reference (64 shells), which the scene never asked for; not the scene's fields.
+TEST(TradeoffCommand, BudgetRefusalsNameTheFlagOrTheSweepRowNotTheScene) {
+  TempDir dir;
+  const fs::path scene = dir.write("tiny.json", kTinyFurScene);
+  const fs::path out = dir.path() / "report";
+  Result r = run_pelt({"tradeoff", scene.string(), "-o", out.string(), "--no-plot", "--width", "16384", "--height",
+                       "16384"},
+                      dir.path());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("pelt: error: --width: the image is 16384 x 16384"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("image.width"), std::string::npos) << r.err;
+
+  r = run_pelt({"tradeoff", scene.string(), "-o", out.string(), "--no-plot", "--max-shells", "8"}, dir.path());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("pelt: error: the sweep's reference=reference row: 64 fur shells"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("quality.shells"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out / "tradeoff.csv"));
+}
+
 TEST(TradeoffCommand, OutputPathThatIsAFileIsRefused) {
   TempDir dir;
   const fs::path scene = dir.write("tiny.json", kTinyFurScene);

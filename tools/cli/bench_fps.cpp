@@ -352,8 +352,14 @@ int run_fps(const Options& o) {
     for (const PaperTable& k : kTables)
       if (s == k.name) t = &k;
     if (!t) throw io::InputError("", "--scenes", "unknown scene `" + s + "` (box, teapot, teapot2)");
+    // A repeat would print the table twice and put two rows of one setting in --json.
+    if (std::find(tables.begin(), tables.end(), t) != tables.end())
+      throw io::InputError("", "--scenes", "scene `" + s + "` is listed twice");
     tables.push_back(t);
   }
+  for (auto th = o.threads.begin(); th != o.threads.end(); ++th)
+    if (std::find(o.threads.begin(), th, *th) != th)
+      throw io::InputError("", "--threads", "thread count " + std::to_string(*th) + " is listed twice");
   if (!o.json.empty()) io::prepare_output(o.json, "--json");  // before minutes of frames, not after
   std::vector<Result> results;
   std::printf("pelt bench fps: %dx%d %s, %d frames after %d warm-up, %s, %d shells, fins %s (%s quads), sort %s, "

@@ -168,6 +168,13 @@ TEST(BenchFps, AMalformedVersusNamesItsFlag) {
                  "--versus: merged fins are not drawn with --match-llvmpipe");
 }
 
+// A scene or thread count listed twice would be measured twice, its table printed twice and its
+// rows doubled in --json: refused, as --versus refuses a knob given twice.
+TEST(BenchFps, AListedTwiceSceneOrThreadCountIsRefused) {
+  expect_refused({"--scenes", "teapot,box"}, "--scenes: scene `box` is listed twice");
+  expect_refused({"--threads", "2,1"}, "--threads: thread count 1 is listed twice");
+}
+
 // A --json path that cannot be written is refused before the first frame, not after the
 // whole benchmark: no table row is printed.
 TEST(BenchFps, AnUnwritableJsonPathFailsBeforeTheRun) {

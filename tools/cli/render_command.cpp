@@ -109,11 +109,8 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
   plan.kind = render::output_kind(o.output);
   const bool gif = plan.kind == render::OutputKind::gif;
   const int frame_count = scene.animation ? scene.animation->frames : 1;
-  // parse_frame_range reads A:B as well; --frame promises one frame.
-  if (o.frame.find(':') != std::string::npos)
-    throw io::InputError("", "--frame", "takes one frame number, got `" + o.frame + "`; use --frames A:B for a range");
   const render::FrameRange range =
-      !o.frame.empty()    ? render::parse_frame_range(o.frame, frame_count, "--frame")
+      !o.frame.empty()    ? render::parse_frame(o.frame, frame_count, "--frame")
       : !o.frames.empty() ? render::parse_frame_range(o.frames, frame_count, "--frames")
                           : render::FrameRange{0, frame_count - 1};
   const render::Shard shard = o.shard.empty() ? render::Shard{} : render::parse_shard(o.shard);

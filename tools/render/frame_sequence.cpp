@@ -19,11 +19,13 @@ bool parse_int(std::string_view text, long long& out) {
   return r.ec == std::errc() && r.ptr == text.data() + text.size();
 }
 
+std::string scene_has(int frame_count) {
+  return "the scene has " + std::to_string(frame_count) + " frame(s), 0.." + std::to_string(frame_count - 1);
+}
+
 }  // namespace
 
 FrameRange parse_frame_range(const std::string& text, int frame_count, const std::string& option) {
-  const std::string last_frame = std::to_string(frame_count - 1);
-  const std::string scene_has = "the scene has " + std::to_string(frame_count) + " frame(s), 0.." + last_frame;
   const size_t colon = text.find(':');
   long long a = 0, b = 0;
   const bool ok = colon == std::string::npos
@@ -36,8 +38,19 @@ FrameRange parse_frame_range(const std::string& text, int frame_count, const std
     throw io::InputError("", option, "first frame " + std::to_string(a) + " is after last frame " +
                                          std::to_string(b));
   if (b >= frame_count)
-    throw io::InputError("", option, "frame " + std::to_string(b) + " is out of range: " + scene_has);
+    throw io::InputError("", option, "frame " + std::to_string(b) + " is out of range: " + scene_has(frame_count));
   return {static_cast<int>(a), static_cast<int>(b)};
+}
+
+FrameRange parse_frame(const std::string& text, int frame_count, const std::string& option) {
+  if (text.find(':') != std::string::npos)
+    throw io::InputError("", option, "takes one frame number, got `" + text + "`; use --frames A:B for a range");
+  long long k = 0;
+  if (!parse_int(text, k))
+    throw io::InputError("", option, "expected a frame number (a whole number >= 0), got `" + text + "`");
+  if (k >= frame_count)
+    throw io::InputError("", option, "frame " + std::to_string(k) + " is out of range: " + scene_has(frame_count));
+  return {static_cast<int>(k), static_cast<int>(k)};
 }
 
 Shard parse_shard(const std::string& text) {

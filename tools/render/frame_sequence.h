@@ -15,8 +15,12 @@ struct FrameRange {
 };
 
 // "A:B" (inclusive) or "K" (= "K:K"), both ends in [0, frame_count - 1] and A <= B.
-// Throws io::InputError naming `option` ("--frames" / "--frame").
+// Throws io::InputError naming `option` ("--frames").
 FrameRange parse_frame_range(const std::string& text, int frame_count, const std::string& option);
+
+// "K" alone, in [0, frame_count - 1], as the range K:K; "A:B" is refused, so that `--frame`
+// keeps its promise of one frame. Throws io::InputError naming `option` ("--frame").
+FrameRange parse_frame(const std::string& text, int frame_count, const std::string& option);
 
 // `--shard i/N`: the i-th (0-based) of N interleaved parts of a range: frames
 // first + i, first + i + N, first + i + 2N, ... up to last. The N shards of a range are

@@ -29,7 +29,7 @@ TEST(FrameRange, Parses) {
   EXPECT_EQ(r.first, 3);
   EXPECT_EQ(r.last, 7);
   EXPECT_EQ(r.count(), 5);
-  const FrameRange one = parse_frame_range("9", 10, "--frame");
+  const FrameRange one = parse_frame("9", 10, "--frame");
   EXPECT_EQ(one.first, 9);
   EXPECT_EQ(one.last, 9);
 }
@@ -37,9 +37,17 @@ TEST(FrameRange, Parses) {
 TEST(FrameRange, RejectsBadText) {
   expect_option_error([] { parse_frame_range("7:3", 10, "--frames"); }, "--frames", "first frame 7 is after last frame 3");
   expect_option_error([] { parse_frame_range("0:10", 10, "--frames"); }, "--frames", "frame 10 is out of range");
-  expect_option_error([] { parse_frame_range("12", 10, "--frame"); }, "--frame", "0..9");
   for (const char* bad : {"", ":", "1:", ":4", "-1:3", "a:b", "1.5:3", "1:2:3", " 1:2", "0x3"})
     expect_option_error([&] { parse_frame_range(bad, 10, "--frames"); }, "--frames", "expected FIRST:LAST");
+}
+
+// --frame takes one number: its message offers no range it would refuse.
+TEST(FrameRange, OneFrameRejectsRangesAndBadText) {
+  expect_option_error([] { parse_frame("12", 10, "--frame"); }, "--frame", "0..9");
+  expect_option_error([] { parse_frame("2:3", 10, "--frame"); }, "--frame", "takes one frame number, got `2:3`");
+  for (const char* bad : {"", "-1", "a", "1.5", " 1", "0x3", "99999999999999999999"})
+    expect_option_error([&] { parse_frame(bad, 10, "--frame"); }, "--frame",
+                        std::string("expected a frame number (a whole number >= 0), got `") + bad + "`");
 }
 
 TEST(Shard, Parses) {

@@ -662,6 +662,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadOption{"RangeOutOfScene", {"-o", "OUT/f_#.png", "--frames", "0:8"}, "--frames: frame 8 is out of range"},
         BadOption{"RangeMalformed", {"-o", "OUT/f_#.png", "--frames", "2-5"}, "--frames: expected FIRST:LAST"},
         BadOption{"FrameOutOfScene", {"-o", "OUT/a.png", "--frame", "9"}, "--frame: frame 9 is out of range"},
+        BadOption{"FrameMalformed", {"-o", "OUT/a.png", "--frame", "two"}, "--frame: expected a frame number (a whole number >= 0), got `two`"},
         BadOption{"FrameAndFrames", {"-o", "OUT/a.png", "--frame", "1", "--frames", "1:2"}, "--frame"},
         BadOption{"ShardMalformed", {"-o", "OUT/f_#.png", "--shard", "1-4"}, "--shard: expected INDEX/COUNT"},
         BadOption{"ShardIndexTooBig", {"-o", "OUT/f_#.png", "--shard", "4/4"}, "--shard: shard index 4"},

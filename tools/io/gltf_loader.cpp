@@ -588,23 +588,35 @@ std::string gltf_json_text(const std::filesystem::path& path, bool binary) {
 // tinygltf reads an optional integer it cannot take (a negative one where it wants an unsigned
 // one, a fraction, a string) as absent, keeps -1 where -1 means absent, and truncates one past
 // int's range: `"byteOffset": -4` was read from offset 0, `"mode": -1` drawn as triangles,
-// `"material": -1` as none, `"material": 4294967296` as material 0. So the integers pelt reads
-// are checked in the file's own JSON: each, where given, an integer in [0, its largest].
+// `"material": -1` as none, `"material": 4294967296` as material 0. An index list (a node's
+// children, a scene's nodes) it reads up to its first element it cannot take, dropping the rest,
+// wraps the elements past int's range, and ignores a list that is no array; a primitive's
+// attributes it wraps the same way. So the integers pelt reads are checked in the file's own
+// JSON: each, where given, an integer in [0, its largest].
 void check_integer_fields(const std::string& text, const std::string& file) {
   const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
   constexpr uint64_t kIndex = INT_MAX;    // tinygltf keeps indices in an int
   constexpr uint64_t kSize = UINT64_MAX;  // and offsets in a size_t
+  const auto integer = [&](const nlohmann::json& v, const std::string& field, uint64_t most) {
+    if (!v.is_number_integer())
+      throw InputError(file, field, "expected an integer, got " + (v.is_number() ? v.dump() : json_type_name(v)));
+    if (!v.is_number_unsigned() || v.get<uint64_t>() > most)
+      throw InputError(file, field, (most == kSize ? std::string("must not be negative") :
+                                                     "must be in [0, " + std::to_string(most) + "]") +
+                                        ", got " + v.dump());
+  };
   const auto check = [&](const nlohmann::json& obj, const std::string& path, const char* key, uint64_t most) {
     if (!obj.is_object()) return;  // a misshapen object is tinygltf's to refuse
     const auto it = obj.find(key);
+    if (it != obj.end()) integer(*it, json_child(path, key), most);
+  };
+  const auto check_indices = [&](const nlohmann::json& obj, const std::string& path, const char* key) {
+    if (!obj.is_object()) return;
+    const auto it = obj.find(key);
     if (it == obj.end()) return;
     const std::string field = json_child(path, key);
-    if (!it->is_number_integer())
-      throw InputError(file, field, "expected an integer, got " + (it->is_number() ? it->dump() : json_type_name(*it)));
-    if (!it->is_number_unsigned() || it->get<uint64_t>() > most)
-      throw InputError(file, field, (most == kSize ? std::string("must not be negative") :
-                                                     "must be in [0, " + std::to_string(most) + "]") +
-                                        ", got " + it->dump());
+    if (!it->is_array()) throw InputError(file, field, "expected an array of indices, got " + json_type_name(*it));
+    for (size_t i = 0; i < it->size(); ++i) integer((*it)[i], json_index(field, i), kIndex);
   };
   const auto each = [&](const nlohmann::json& obj, const std::string& path, const char* key, const auto& fn) {
     if (!obj.is_object()) return;
@@ -618,12 +630,19 @@ void check_integer_fields(const std::string& text, const std::string& file) {
     check(obj[key], json_child(path, key), "texCoord", kIndex);
   };
   check(doc, "", "scene", kIndex);
-  each(doc, "", "nodes", [&](const auto& n, const std::string& p) { check(n, p, "mesh", kIndex); });
+  each(doc, "", "scenes", [&](const auto& s, const std::string& p) { check_indices(s, p, "nodes"); });
+  each(doc, "", "nodes", [&](const auto& n, const std::string& p) {
+    check(n, p, "mesh", kIndex);
+    check_indices(n, p, "children");
+  });
   each(doc, "", "meshes", [&](const auto& m, const std::string& mp) {
     each(m, mp, "primitives", [&](const auto& prim, const std::string& p) {
       check(prim, p, "mode", 6);
       check(prim, p, "indices", kIndex);
       check(prim, p, "material", kIndex);
+      if (prim.is_object() && prim.contains("attributes") && prim["attributes"].is_object())
+        for (const auto& [name, accessor] : prim["attributes"].items())
+          integer(accessor, json_child(json_child(p, "attributes"), name), kIndex);
     });
   });
   each(doc, "", "accessors", [&](const auto& a, const std::string& p) {

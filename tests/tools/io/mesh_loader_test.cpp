@@ -688,6 +688,46 @@ TEST(MeshLoader, GltfIntegerFieldsAreCheckedAsWritten) {
             1u);
 }
 
+// tinygltf reads an index list up to the first element it cannot take (a fraction, a string)
+// and drops the rest, ignores a list that is not an array, and wraps an index past int's range:
+// `"children": [1, 4294967297]` drew node 1 twice, `"nodes": [0, 1.5]` dropped the 1.5.
+TEST(MeshLoader, GltfIndexListsAreCheckedAsWritten) {
+  TempDir dir;
+  // Node 0 a parent of `children` (JSON), node 1 the triangle's.
+  const auto parent = [](const std::string& children) {
+    return edited_gltf(R"("nodes":[{"mesh":0,)", R"("nodes":[{"children":)" + children + R"(},{"mesh":0,)");
+  };
+  EXPECT_EQ(load_mesh_file(dir.write("parent.gltf", parent("[1]"))).mesh.triangle_count(), 1u);
+  expect_load_error(dir.write("wrapped.gltf", parent("[1, 4294967297]")), "nodes[0].children[1]",
+                    "must be in [0, 2147483647], got 4294967297");
+  expect_load_error(dir.write("cycle.gltf", parent("[-4294967296]")), "nodes[0].children[0]",
+                    "must be in [0, 2147483647], got -4294967296");
+  expect_load_error(dir.write("negative.gltf", parent("[1, -1]")), "nodes[0].children[1]",
+                    "must be in [0, 2147483647], got -1");
+  expect_load_error(dir.write("fraction.gltf", parent("[1.5, 1]")), "nodes[0].children[0]",
+                    "expected an integer, got 1.5");
+  expect_load_error(dir.write("string.gltf", parent(R"([1, "1"])")), "nodes[0].children[1]",
+                    "expected an integer, got a string");
+  expect_load_error(dir.write("scalar.gltf", parent("1")), "nodes[0].children",
+                    "expected an array of indices, got a number");
+  const std::string scene = R"("scenes":[{"nodes":[0]}])";
+  expect_load_error(dir.write("scene_wrapped.gltf", edited_gltf(scene, R"("scenes":[{"nodes":[4294967296]}])")),
+                    "scenes[0].nodes[0]", "must be in [0, 2147483647], got 4294967296");
+  expect_load_error(dir.write("scene_fraction.gltf", edited_gltf(scene, R"("scenes":[{"nodes":[0, 1.5]}])")),
+                    "scenes[0].nodes[1]", "expected an integer, got 1.5");
+  expect_load_error(dir.write("scene_string.gltf", edited_gltf(scene, R"("scenes":[{"nodes":["0"]}])")),
+                    "scenes[0].nodes[0]", "expected an integer, got a string");
+  expect_load_error(dir.write("scene_object.gltf", edited_gltf(scene, R"("scenes":[{"nodes":{"0":0}}])")),
+                    "scenes[0].nodes", "expected an array of indices, got an object");
+  // A primitive's attributes are indices too: POSITION 4294967296 was read as accessor 0.
+  expect_load_error(dir.write("attribute.gltf", edited_gltf(R"("POSITION":0)", R"("POSITION":4294967296)")),
+                    "meshes[0].primitives[0].attributes.POSITION", "must be in [0, 2147483647], got 4294967296");
+  // The default scene's index, a lone integer, was checked already; no test named it.
+  expect_load_error(
+      dir.write("scene_index.gltf", edited_gltf(R"("scene":0,)", R"("scene":-4294967296,)")), "scene",
+      "must be in [0, 2147483647], got -4294967296");
+}
+
 // tinyGLTF's triangle as a GLB of header version `version`, its JSON the only chunk.
 std::string tiny_glb(uint32_t version) {
   std::string json = tiny_gltf(0.0f, 2);

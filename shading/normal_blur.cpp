@@ -223,17 +223,20 @@ std::string over_pair_budget(const NormalBlurBudget& budget) {
 }
 
 // Refuses, before any blur search, a mesh whose searches would settle more than
-// budget.max_pairs (source, neighbour) pairs. When W^2 pairs fit, nothing is counted. Otherwise
-// kPairSamples evenly spaced sources are searched out to the cut-off, counting what they settle,
-// and the pairs are estimated as W times their mean. Each sample stops at `cap` vertices: one
-// sample that reaches it alone puts the estimate over the budget, so the cap never changes the
-// answer, and it bounds this check's cost by kPairSamples * min(W, cap) settled vertices
-// (at most about sqrt(kPairSamples * max_pairs) per sample).
+// budget.max_pairs (source, neighbour) pairs. kPairSamples evenly spaced sources are searched out
+// to the cut-off, counting what they settle, and the pairs are estimated as W times their mean
+// (`pairs`, set whether or not it refuses). The estimate is made even when W^2 pairs would fit,
+// for the user to see (BlurredNormals::pair_estimate), at 64 searches of the blur's W. Each
+// sample stops at `cap` vertices: one sample that reaches it alone puts the estimate over the
+// budget, so the cap never changes the answer, and it bounds this check's cost by
+// kPairSamples * min(W, cap) settled vertices (at most about sqrt(kPairSamples * max_pairs) per
+// sample).
 constexpr size_t kPairSamples = 64;
 std::optional<ParamError> check_pair_estimate(const Graph& g, size_t W, double cutoff, const NormalBlurBudget& budget,
-                                              StatePool& pool, const ParallelFor& parallel) {
+                                              StatePool& pool, const ParallelFor& parallel, uint64_t& pairs) {
   const uint64_t max_pairs = budget.max_pairs;
-  if (W == 0 || W <= max_pairs / W) return std::nullopt;  // W^2 <= max_pairs
+  pairs = 0;
+  if (W == 0) return std::nullopt;
   const size_t samples = std::min(W, kPairSamples);
   const uint64_t per = max_pairs / W;  // each vertex's share, rounded down
   const uint64_t cap = per >= W / samples ? W : std::min<uint64_t>(W, (per + 1) * samples);
@@ -247,8 +250,8 @@ std::optional<ParamError> check_pair_estimate(const Graph& g, size_t W, double c
   uint64_t sum = 0;
   for (uint64_t c : counts) sum += c;
   const unsigned __int128 total = (static_cast<unsigned __int128>(W) * sum + samples - 1) / samples;
+  pairs = total > UINT64_MAX ? UINT64_MAX : uint64_t(total);
   if (total <= max_pairs) return std::nullopt;
-  const uint64_t pairs = total > UINT64_MAX ? UINT64_MAX : uint64_t(total);
   const uint64_t each = (sum + samples - 1) / samples;
   const bool capped = cap < W && std::find(counts.begin(), counts.end(), cap) != counts.end();
   const std::string about = capped ? "at least " : "about ";
@@ -297,6 +300,7 @@ std::vector<double> welded_normals(const NormalBlurInput& m, const std::vector<u
 std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sigma[3], BlurredNormals& out,
                                        const ParallelFor& parallel, const NormalBlurBudget& budget) {
   for (auto& ch : out.channel) ch.clear();
+  out.pair_estimate = 0;
   for (int c = 0; c < 3; ++c)
     if (!std::isfinite(sigma[c]) || sigma[c] < 0.0f)
       return ParamError{"normal_blur_radius[" + std::to_string(c) + "]", "must be finite and >= 0"};
@@ -373,7 +377,7 @@ std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sig
     const double cutoff = 3.0 * smax;
     StatePool pool(W);
     const uint64_t max_pairs = budget.max_pairs;
-    if (auto e = check_pair_estimate(g, W, cutoff, budget, pool, parallel)) return e;
+    if (auto e = check_pair_estimate(g, W, cutoff, budget, pool, parallel, out.pair_estimate)) return e;
     // One Dijkstra search per welded vertex, each independent of the others, in items of
     // kItemVertices sources. The searches count the pairs they settle, and stop once the count
     // passes the budget (the estimate above can miss a dense part of a mesh); whether it

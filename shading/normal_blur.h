@@ -39,6 +39,11 @@ struct BlurredNormals {
   // channel r, g, b: xyz per vertex (3 * vertex_count floats), unit length, except that a
   // channel with sigma 0, or a vertex whose weighted sum vanishes, keeps the input normal as is.
   std::vector<float> channel[3];
+  // The (source, neighbour) pairs the searches were estimated to settle, the figure the budget
+  // (NormalBlurBudget) was checked against: 0 when no channel blurs, set when refused as well
+  // (a lower bound then if a sample stopped early). For the user to see a blur's cost beside
+  // its budget before it runs for minutes.
+  uint64_t pair_estimate = 0;
 };
 
 // Calls fn(i) once for every i in [0, count), in any order and possibly on several threads at
@@ -52,13 +57,13 @@ using ParallelFor = std::function<void(size_t count, const std::function<void(si
 // that reaches no neighbour, W^2 for one that reaches across the whole mesh (W welded
 // vertices), and at a fixed radius on a finer mesh, W times a neighbourhood that grows with W.
 // Over max_pairs, blur_normals refuses with a ParamError naming normal_blur_radius, and the
-// result is empty. It asks before any blur search: when W^2 > max_pairs, it runs the searches of
-// 64 evenly spaced vertices, counting, and refuses when W times their mean is over the budget
-// (64 of the blur's W searches when it fits; at most 64 x min(W, 64 max_pairs / W + 64) settled
-// vertices when it refuses, each sample stopping once it alone puts the estimate over). The
-// blur's searches count as well and stop past the budget, for a mesh whose samples missed a
-// dense part. Whether a mesh is refused depends only on the mesh, sigma and max_pairs, not on
-// `parallel`.
+// result is empty. It asks before any blur search: it runs the searches of 64 evenly spaced
+// vertices (every vertex when W <= 64), counting, and refuses when W times their mean (the
+// result's pair_estimate) is over the budget (64 of the blur's W searches when it fits; at most
+// 64 x min(W, 64 max_pairs / W + 64) settled vertices when it refuses, each sample stopping once
+// it alone puts the estimate over). The blur's searches count as well and stop past the budget,
+// for a mesh whose samples missed a dense part. Whether a mesh is refused depends only on the
+// mesh, sigma and max_pairs, not on `parallel`.
 struct NormalBlurBudget {
   uint64_t max_pairs = UINT64_MAX;
   std::string flag;  // when not empty, a refusal ends "(raise it with FLAG)"

@@ -538,7 +538,10 @@ TEST(NormalBlurBudget, EveryPairAtTheBudgetAcceptedOneLessRefused) {
   const float sigma[3] = {1e6f, 0.5f, 0.0f};
   BlurredNormals free, out;
   ASSERT_FALSE(blur_normals(m.input(), sigma, free).has_value());
+  // The estimate is made, and reported, under any budget: `pelt info` prints it.
+  EXPECT_EQ(free.pair_estimate, 642u * 642u);
   ASSERT_FALSE(blur_normals(m.input(), sigma, out, {}, {642u * 642u, "--max-blur-pairs"}).has_value());
+  EXPECT_EQ(out.pair_estimate, 642u * 642u);
   for (int c = 0; c < 3; ++c) EXPECT_EQ(out.channel[c], free.channel[c]);
   for (const ParallelFor& parallel : {ParallelFor{}, kThreeThreads}) {
     const auto e = blur_normals(m.input(), sigma, out, parallel, {642u * 642u - 1, "--max-blur-pairs"});
@@ -547,6 +550,7 @@ TEST(NormalBlurBudget, EveryPairAtTheBudgetAcceptedOneLessRefused) {
                          "more than the budget of 412163 pairs (raise it with --max-blur-pairs)",
                          "3 x 1e+06", "settles about 642 of its 642 welded vertices"});
     for (int c = 0; c < 3; ++c) EXPECT_TRUE(out.channel[c].empty());
+    EXPECT_EQ(out.pair_estimate, 642u * 642u);  // the figure refused
   }
   // Without a flag the reason ends at the budget.
   const auto e = blur_normals(m.input(), sigma, out, {}, {1000, ""});
@@ -565,8 +569,11 @@ TEST(NormalBlurBudget, EachSourceCountsItself) {
   const auto e = blur_normals(m.input(), tiny, out, {}, {W - 1, ""});
   ASSERT_TRUE(e.has_value());
   ExpectReasonHas(*e, {"reaches about " + std::to_string(W) + " ", "settles about 1 of its 961"});
+  EXPECT_FALSE(blur_normals(m.input(), tiny, out).has_value());
+  EXPECT_EQ(out.pair_estimate, W);
   const float zero[3] = {0.0f, 0.0f, 0.0f};
   EXPECT_FALSE(blur_normals(m.input(), zero, out, {}, {1, ""}).has_value());
+  EXPECT_EQ(out.pair_estimate, 0u);
 }
 
 // A sample that alone would put the estimate over the budget stops there ("at least").

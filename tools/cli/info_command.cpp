@@ -1,6 +1,7 @@
 // `pelt info SCENE.json`: what a scene will compute, without rendering.
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "tools/cli/budget_options.h"
@@ -99,6 +100,17 @@ int run_info(const InfoOptions& o) {
     }
     if (!o.material.color_map.empty()) std::printf(", colour map");
     std::printf("\n");
+    // The blur's time is its pairs, and one under the budget can still take minutes. This is the
+    // figure --max-blur-pairs let through: one over it ended the set-up with the refusal, as every
+    // budget ends info.
+    if (const std::optional<uint64_t> pairs = r.blur_pair_estimate(i)) {
+      const float* radius = o.material.skin.normal_blur_radius;
+      std::printf("       normal blur: radius %g, %g, %g reaches about %llu (source, neighbour) vertex pairs, %.3g %% of "
+                  "the budget of %llu (%s)\n",
+                  double(radius[0]), double(radius[1]), double(radius[2]), static_cast<unsigned long long>(*pairs),
+                  100.0 * double(*pairs) / double(rs.budget.max_blur_pairs),
+                  static_cast<unsigned long long>(rs.budget.max_blur_pairs), io::kMaxBlurPairsFlag);
+    }
     if (const fur::FurGeometry* g = r.fur_geometry(i)) {
       const fur::FurCounts* c = &g->counts;
       const fur::FurParams& f = *o.fur;

@@ -30,6 +30,7 @@ struct SceneRenderer::Object {
   std::unique_ptr<FurObject> fur;
   raster::Texture color_map;
   raster::Texture normal_map;
+  std::optional<uint64_t> blur_pairs;  // shading::BlurredNormals::pair_estimate, for normal_blur skin
 };
 
 namespace {
@@ -322,6 +323,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       if (auto e = shading::blur_normals(in, obj->material.skin.normal_blur_radius, blurred, parallel, blur_budget))
         throw io::InputError(scene.file.string(), "objects[" + std::to_string(i) + "].material.skin." + e->field,
                              e->reason);
+      obj->blur_pairs = blurred.pair_estimate;
       obj->varying_count = SurfaceVaryings::kCountBlurred;
     } else if (!obj->material.color_map && !obj->material.normal_map) {
       obj->varying_count = SurfaceVaryings::kCountWithoutUv;
@@ -411,6 +413,10 @@ const fur::FurCounts* SceneRenderer::fur_counts(size_t object) const {
 
 const fur::FurGeometry* SceneRenderer::fur_geometry(size_t object) const {
   return objects_[object]->fur ? &objects_[object]->fur->geometry() : nullptr;
+}
+
+std::optional<uint64_t> SceneRenderer::blur_pair_estimate(size_t object) const {
+  return objects_[object]->blur_pairs;
 }
 
 int SceneRenderer::fur_varying_count(size_t object) const {

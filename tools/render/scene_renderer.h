@@ -95,6 +95,10 @@ class SceneRenderer {
   const fur::FurCounts* fur_counts(size_t object) const;
   // The fur's geometry of object i, as built (nullptr when it has no fur).
   const fur::FurGeometry* fur_geometry(size_t object) const;
+  // The (source, neighbour) vertex pairs object i's normal blur was estimated to settle, the
+  // figure --max-blur-pairs was checked against (shading::BlurredNormals::pair_estimate): what
+  // `pelt info` reports. nullopt when the object has no normal blur.
+  std::optional<uint64_t> blur_pair_estimate(size_t object) const;
   // Floats per fur vertex that the last frame's fur draws of object i interpolate (0 without
   // fur): 4 for grey per-vertex light, 8 for coloured, 12 lit per pixel.
   int fur_varying_count(size_t object) const;

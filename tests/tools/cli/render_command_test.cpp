@@ -298,6 +298,51 @@ TEST_F(RenderCommand, BlurPairsOverTheBudgetAreRefusedNamingTheRadius) {
   EXPECT_TRUE(fs::exists(dir.path() / "b/a.png"));
 }
 
+// `pelt info` prints a normal blur's estimated pairs beside the budget: the figure the budget check
+// refuses with once the budget is one pair lower. sphere:64 has 1986 welded vertices, more than the
+// 64 the estimate samples, so the figure is an estimate.
+TEST_F(RenderCommand, InfoPrintsTheBlurPairsTheBudgetChecks) {
+  const fs::path skin = dir.write("blur.json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
+      "objects": [{"mesh": "sphere:64", "material": {"type": "skin", "skin": {"multiple_scattering": "normal_blur",
+                   "normal_blur_radius": [0.2, 0.1, 0.05]}}}]})");
+  const auto info = [&](const std::vector<std::string>& flags) {
+    std::vector<std::string> args = {"info", skin.string()};
+    args.insert(args.end(), flags.begin(), flags.end());
+    return run_pelt(args, dir.path());
+  };
+  const Result plain = info({});
+  ASSERT_EQ(plain.code, 0) << plain.err;
+  const std::string head = "       normal blur: radius 0.2, 0.1, 0.05 reaches about ";
+  const size_t at = plain.out.find(head);
+  ASSERT_NE(at, std::string::npos) << plain.out;
+  const uint64_t pairs = std::stoull(plain.out.substr(at + head.size()));
+  ASSERT_GT(pairs, 1986u);  // each source settles itself and some neighbours
+  EXPECT_NE(plain.out.find(std::to_string(pairs) + " (source, neighbour) vertex pairs, "), std::string::npos) << plain.out;
+  EXPECT_NE(plain.out.find(" % of the budget of 4294967296 (--max-blur-pairs)\n"), std::string::npos) << plain.out;
+  const Result over = info({"--max-blur-pairs", std::to_string(pairs - 1)});
+  EXPECT_EQ(over.code, 2) << over.err;
+  EXPECT_NE(over.err.find("blur.json: objects[0].material.skin.normal_blur_radius: reaches about " +
+                          std::to_string(pairs) + " (source, neighbour) vertex pairs, more than the budget of " +
+                          std::to_string(pairs - 1) + " pairs (raise it with --max-blur-pairs)"),
+            std::string::npos)
+      << over.err;
+  EXPECT_EQ(over.out.find("normal blur"), std::string::npos) << over.out;
+  // The sphere is denser at its poles than the samples say, so the blur's own searches pass the
+  // estimate: a budget that lets the blur run is above it.
+  const Result under = info({"--max-blur-pairs", std::to_string(2 * pairs)});
+  ASSERT_EQ(under.code, 0) << under.err;
+  EXPECT_NE(under.out.find("about " + std::to_string(pairs) + " (source, neighbour) vertex pairs, 50 % of the " +
+                           "budget of " + std::to_string(2 * pairs) + " (--max-blur-pairs)\n"),
+            std::string::npos)
+      << under.out;
+  // Without a blur there is no line.
+  const fs::path lambert = dir.write("lambert.json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
+      "objects": [{"mesh": "sphere:64", "material": {"type": "lambert"}}]})");
+  const Result none = run_pelt({"info", lambert.string()}, dir.path());
+  ASSERT_EQ(none.code, 0) << none.err;
+  EXPECT_EQ(none.out.find("normal blur"), std::string::npos) << none.out;
+}
+
 // `pelt info` reports the estimate --max-memory is checked against: a budget a little under its
 // figure refuses the render, one a little over lets it run.
 TEST_F(RenderCommand, InfoReportsTheEstimateTheBudgetChecks) {

@@ -378,6 +378,7 @@ std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sig
     StatePool pool(W);
     const uint64_t max_pairs = budget.max_pairs;
     if (auto e = check_pair_estimate(g, W, cutoff, budget, pool, parallel, out.pair_estimate)) return e;
+    if (budget.estimate_only) return std::nullopt;
     // One Dijkstra search per welded vertex, each independent of the others, in items of
     // kItemVertices sources. The searches count the pairs they settle, and stop once the count
     // passes the budget (the estimate above can miss a dense part of a mesh); whether it
@@ -424,6 +425,7 @@ std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sig
                             "estimate from sampled vertices said (the mesh is denser where they missed), " +
                             over_pair_budget(budget) + "; a smaller radius reaches fewer"};
   }
+  if (budget.estimate_only) return std::nullopt;
 
   for (int c = 0; c < 3; ++c) {
     out.channel[c].resize(3 * V);

@@ -67,6 +67,10 @@ using ParallelFor = std::function<void(size_t count, const std::function<void(si
 struct NormalBlurBudget {
   uint64_t max_pairs = UINT64_MAX;
   std::string flag;  // when not empty, a refusal ends "(raise it with FLAG)"
+  // Check and estimate only (`pelt info`): the result holds pair_estimate and no channel, and
+  // no search runs past the 64 samples, so a blur of minutes is described in a moment. The
+  // blur's own searches can still refuse a mesh denser where the samples missed it.
+  bool estimate_only = false;
 };
 
 // sigma[c] >= 0 in scene units (SkinParams::normal_blur_radius); sigma 0 returns the input

@@ -558,6 +558,33 @@ TEST(NormalBlurBudget, EveryPairAtTheBudgetAcceptedOneLessRefused) {
   EXPECT_EQ(e->reason.find("raise it"), std::string::npos) << e->reason;
 }
 
+// estimate_only (pelt info) gives the same estimate and the same refusal as the blur's own
+// check, and no channel: the blur's searches are not run.
+TEST(NormalBlurBudget, EstimateOnlyEstimatesAsTheBlurAndBlursNothing) {
+  const TestMesh m = sphere(3);
+  const float sigma[3] = {0.4f, 0.2f, 0.0f};
+  BlurredNormals full, estimate;
+  ASSERT_FALSE(blur_normals(m.input(), sigma, full).has_value());
+  NormalBlurBudget only;
+  only.estimate_only = true;
+  for (const ParallelFor& parallel : {ParallelFor{}, kThreeThreads}) {
+    ASSERT_FALSE(blur_normals(m.input(), sigma, estimate, parallel, only).has_value());
+    EXPECT_EQ(estimate.pair_estimate, full.pair_estimate);
+    EXPECT_GT(estimate.pair_estimate, 642u);
+    for (int c = 0; c < 3; ++c) EXPECT_TRUE(estimate.channel[c].empty());
+  }
+  only.max_pairs = full.pair_estimate - 1;
+  const auto e = blur_normals(m.input(), sigma, estimate, {}, only);
+  ASSERT_TRUE(e.has_value());
+  ExpectReasonHas(*e, {"reaches about " + std::to_string(full.pair_estimate) + " (source, neighbour) vertex pairs"});
+  // Radius 0 everywhere: nothing to search, nothing to estimate, still no channel.
+  const float none[3] = {0.0f, 0.0f, 0.0f};
+  only.max_pairs = UINT64_MAX;
+  ASSERT_FALSE(blur_normals(m.input(), none, estimate, {}, only).has_value());
+  EXPECT_EQ(estimate.pair_estimate, 0u);
+  for (int c = 0; c < 3; ++c) EXPECT_TRUE(estimate.channel[c].empty());
+}
+
 // A radius that reaches no neighbour: every source settles itself alone, W pairs in all.
 // Radius 0 searches nothing and so fits any budget.
 TEST(NormalBlurBudget, EachSourceCountsItself) {

@@ -68,6 +68,7 @@ int run_info(const InfoOptions& o) {
   rs.threads = worker_threads(0);
   rs.quality = resolve_quality(file_scene, o.quality);
   rs.budget = o.budget;
+  rs.describe_only = true;
   const std::unique_ptr<render::SceneRenderer> owned = [&] {
     try {
       return std::make_unique<render::SceneRenderer>(file_scene, rs);
@@ -100,9 +101,9 @@ int run_info(const InfoOptions& o) {
     }
     if (!o.material.color_map.empty()) std::printf(", colour map");
     std::printf("\n");
-    // The blur's time is its pairs, and one under the budget can still take minutes. This is the
-    // figure --max-blur-pairs let through: one over it ended the set-up with the refusal, as every
-    // budget ends info.
+    // The blur's time is its pairs, and one under the budget can still take minutes: info
+    // estimates them (RenderSettings::describe_only) and shows what --max-blur-pairs let through;
+    // one over it ended the set-up with the refusal, as every budget ends info.
     if (const std::optional<uint64_t> pairs = r.blur_pair_estimate(i)) {
       const float* radius = o.material.skin.normal_blur_radius;
       std::printf("       normal blur: radius %g, %g, %g reaches about %llu (source, neighbour) vertex pairs, %.3g %% of "

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -319,7 +320,8 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       const shading::NormalBlurInput in{&m.positions[0].x, &m.normals[0].x, m.vertex_count(),
                                         m.indices.data(), m.indices.size()};
       // A search per vertex (0.5 s on the head scan on one core): spread over the render's threads.
-      const shading::NormalBlurBudget blur_budget{settings.budget.max_blur_pairs, io::kMaxBlurPairsFlag};
+      const shading::NormalBlurBudget blur_budget{settings.budget.max_blur_pairs, io::kMaxBlurPairsFlag,
+                                                  settings.describe_only};
       if (auto e = shading::blur_normals(in, obj->material.skin.normal_blur_radius, blurred, parallel, blur_budget))
         throw io::InputError(scene.file.string(), "objects[" + std::to_string(i) + "].material.skin." + e->field,
                              e->reason);
@@ -348,7 +350,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
         dst[SurfaceVaryings::kUv + 0] = m.uvs[v].x;
         dst[SurfaceVaryings::kUv + 1] = m.uvs[v].y;
       }
-      if (blur)
+      if (blur && !settings.describe_only)
         for (int c = 0; c < 3; ++c)
           for (int k = 0; k < 3; ++k) dst[SurfaceVaryings::kBlurred + 3 * c + k] = blurred.channel[c][3 * v + k];
       if (!tangents.empty())
@@ -424,6 +426,7 @@ int SceneRenderer::fur_varying_count(size_t object) const {
 }
 
 void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const io::Camera* camera_override) {
+  if (settings_.describe_only) throw std::logic_error("SceneRenderer: a describe_only renderer draws no frame");
   stats = FrameStats{};
   stats.frame = frame;
   if (!setup_reported_) {

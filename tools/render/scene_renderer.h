@@ -47,6 +47,10 @@ struct RenderSettings {
   // The colour AOV as RGBA8 UNORM bytes (FrameImage::color8, raster::unorm8 of each channel)
   // instead of floats: a frame that only has to reach memory, as bench fps draws it.
   bool color8 = false;
+  // `pelt info`: the scene is built to be described, not drawn. The set-up that can take
+  // minutes is estimated instead of run (the normal blur's searches: its pairs are counted on
+  // 64 sampled vertices and checked against the budget); render() refuses to draw.
+  bool describe_only = false;
 };
 
 // The scene as a quality setting draws it: `shells` and `fins` replace every fur block's,

@@ -327,8 +327,17 @@ TEST_F(RenderCommand, InfoPrintsTheBlurPairsTheBudgetChecks) {
             std::string::npos)
       << over.err;
   EXPECT_EQ(over.out.find("normal blur"), std::string::npos) << over.out;
-  // The sphere is denser at its poles than the samples say, so the blur's own searches pass the
-  // estimate: a budget that lets the blur run is above it.
+  // info runs only the sampled searches (describe_only), never the blur: at a budget of exactly
+  // the estimate it describes the scene, where a render's own searches find the sphere denser at
+  // its poles than the samples say and refuse it.
+  const Result at_estimate = info({"--max-blur-pairs", std::to_string(pairs)});
+  ASSERT_EQ(at_estimate.code, 0) << at_estimate.err;
+  const Result render = run_pelt({"render", skin.string(), "-o", (dir.path() / "blur.png").string(),
+                                  "--max-blur-pairs", std::to_string(pairs)},
+                                 dir.path());
+  EXPECT_EQ(render.code, 2) << render.err;
+  EXPECT_NE(render.err.find("than the estimate from sampled vertices said"), std::string::npos) << render.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "blur.png"));
   const Result under = info({"--max-blur-pairs", std::to_string(2 * pairs)});
   ASSERT_EQ(under.code, 0) << under.err;
   EXPECT_NE(under.out.find("about " + std::to_string(pairs) + " (source, neighbour) vertex pairs, 50 % of the " +

@@ -32,7 +32,11 @@ std::optional<ParamError> check_direction(const std::string& field, const glm::v
   }
   double len2 = double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z;
   // Below this the normalised direction would be dominated by rounding.
-  if (!(len2 > 1e-12)) return ParamError{field, "must be a non-zero vector"};
+  if (len2 == 0.0) return ParamError{field, "must be a non-zero vector"};
+  if (!(len2 > 1e-12)) {
+    return ParamError{field, "must have a length above 1e-06 (it is normalised, and a shorter one would be mostly "
+                             "rounding), got length " + fmt(std::sqrt(len2))};
+  }
   return std::nullopt;
 }
 

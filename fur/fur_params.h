@@ -21,14 +21,14 @@ enum class FinMode { off, all, silhouette };
 
 // Gravity (seed eq. 2). The block is optional: without it no gravity pass runs.
 struct GravityParams {
-  glm::vec3 direction{0.0f, -1.0f, 0.0f};  // "direction": any non-zero vector; normalised
+  glm::vec3 direction{0.0f, -1.0f, 0.0f};  // "direction": length > 1e-6; normalised
   float strength = 1.0f;                   // "strength": >= 0, <= 1e3; 0 = no bend
   float stability = 200.0f;                // "stability": > 0, <= 1e9; larger = stiffer
 };
 
 // Wind (seed 3.2.2). Optional: without it no wind field is built.
 struct WindParams {
-  glm::vec3 direction{1.0f, 0.0f, 0.0f};  // "direction": any non-zero vector; normalised
+  glm::vec3 direction{1.0f, 0.0f, 0.0f};  // "direction": length > 1e-6; normalised
   float strength = 1.0f;                  // "strength": >= 0, <= 1e3 (force magnitude)
   float gust_frequency = 0.5f;            // "gust_frequency": gusts per second, >= 0, <= 1e3
   float gust_scale = 0.5f;                // "gust_scale": in [0, 1]; 0 = steady wind
@@ -48,7 +48,7 @@ enum class CombField {
 // plane (fur/fur_geometry.h) is raised to it: a comb lays fur down, never into the mesh
 // (d = -n above weight 0.5 keeps the normal).
 struct CombParams {
-  glm::vec3 direction{0.0f, -1.0f, 0.0f};  // "direction": any non-zero vector; normalised
+  glm::vec3 direction{0.0f, -1.0f, 0.0f};  // "direction": length > 1e-6; normalised
   float weight = 0.5f;                     // "weight": in [0, 1]; 0 = plain normals
   CombField field = CombField::uniform;    // "field": "uniform" | "uv"
   // "uv_direction": field "uv" only: [du, dv], any non-zero vector. A vertex's d is

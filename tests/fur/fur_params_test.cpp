@@ -107,6 +107,26 @@ TEST(FurParams, ReasonSaysWhatWasWrong) {
   EXPECT_NE(e->reason.find("-3"), std::string::npos) << e->reason;
 }
 
+// A direction is refused below length 1e-6 (normalised, it would be mostly rounding). A short
+// direction that is not zero used to be told "must be a non-zero vector"; the reason now gives
+// the bound and the length it got.
+TEST(FurParams, AShortDirectionIsToldTheBoundNotThatItIsZero) {
+  FurParams p;
+  p.wind = WindParams{};
+  p.wind->direction = {1e-7f, 0.0f, 0.0f};
+  auto e = validate(p);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "wind.direction");
+  EXPECT_NE(e->reason.find("1e-06"), std::string::npos) << e->reason;
+  EXPECT_NE(e->reason.find("1e-07"), std::string::npos) << e->reason;
+  p.wind->direction = {1.1e-6f, 0.0f, 0.0f};
+  EXPECT_FALSE(validate(p).has_value());
+  p.wind->direction = {0.0f, 0.0f, 0.0f};
+  e = validate(p);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_NE(e->reason.find("non-zero"), std::string::npos) << e->reason;
+}
+
 TEST(FurParams, FinModeStringsRoundTrip) {
   for (FinMode m : {FinMode::off, FinMode::all, FinMode::silhouette}) {
     auto back = fin_mode_from_string(to_string(m));

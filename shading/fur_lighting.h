@@ -60,7 +60,7 @@
 
 namespace pelt::shading {
 
-// Also the keys of a scene's fur lighting block; error messages name them.
+// Error messages name these fields. No scene key sets them: the renderer uses these defaults.
 struct FurLightParams {
   float ambient_occlusion_root = 0.35f;  // light factor at the root, in [0, 1]; 1 at the tip
   float diffuse = 1.0f;                  // Kajiya-Kay diffuse weight, in [0, 100]

@@ -86,13 +86,7 @@ struct TrackReader {
   }
 
   VectorTrack direction(const json& j, const std::string& path) const {
-    const auto read = [&](const json& v, const std::string& field) {
-      const auto n = js.numbers(v, field, 3, 3);
-      const glm::dvec3 d(n[0], n[1], n[2]);
-      const double len = glm::length(d);
-      if (!(len > 1e-6)) js.fail(field, "direction must be non-zero");
-      return d / len;
-    };
+    const auto read = [&](const json& v, const std::string& field) { return js.unit_direction(v, field); };
     if (j.is_array()) return constant_track(read(j, path));
     if (!j.is_object())
       js.fail(path, "expected [x, y, z] or a keyframe track {\"keys\": [...]}, got " + json_type_name(j));

@@ -211,12 +211,15 @@ glm::vec3 JsonFields::vec3_in(const nlohmann::json& j, const std::string& path, 
   return out;
 }
 
-glm::vec3 JsonFields::direction(const nlohmann::json& j, const std::string& path) const {
+glm::dvec3 JsonFields::unit_direction(const nlohmann::json& j, const std::string& path) const {
   const auto v = numbers(j, path, 3, 3);
   const glm::dvec3 d(v[0], v[1], v[2]);
   const double len = glm::length(d);
-  if (!(len > 1e-6)) fail(path, "direction must be non-zero");
-  return glm::vec3(d / len);
+  if (len == 0.0) fail(path, "direction must be non-zero");
+  if (!(len > 1e-6))
+    fail(path, "direction must have a length above 1e-06 (it is normalised, and a shorter one would be mostly "
+               "rounding), got length " + fmt(len));
+  return d / len;
 }
 
 }  // namespace pelt::io

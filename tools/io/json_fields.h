@@ -57,8 +57,12 @@ class JsonFields {
   glm::vec3 vec3(const nlohmann::json& j, const std::string& path) const;
   // A vec3 with every component in [lo, hi].
   glm::vec3 vec3_in(const nlohmann::json& j, const std::string& path, double lo, double hi) const;
-  // A vec3 that is not (nearly) zero, returned normalised.
-  glm::vec3 direction(const nlohmann::json& j, const std::string& path) const;
+  // A vec3 longer than 1e-6 (the bound fur::FurParams' directions have), returned normalised
+  // in double: a shorter one would be mostly rounding once normalised.
+  glm::dvec3 unit_direction(const nlohmann::json& j, const std::string& path) const;
+  glm::vec3 direction(const nlohmann::json& j, const std::string& path) const {
+    return glm::vec3(unit_direction(j, path));
+  }
 
  private:
   std::string file_;

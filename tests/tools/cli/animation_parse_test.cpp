@@ -115,6 +115,9 @@ INSTANTIATE_TEST_SUITE_P(
                 "animation.lights[0].direction", "only directional lights have a direction; lights[1] is point"},
         BadCase{"DirectionZero", R"({"lights": [{"light": 0, "direction": [0, 0, 0]}]})",
                 "animation.lights[0].direction", "direction must be non-zero"},
+        BadCase{"DirectionShort", R"({"lights": [{"light": 0, "direction": [1e-7, 0, 0]}]})",
+                "animation.lights[0].direction", "direction must have a length above 1e-06 (it is normalised, "
+                "and a shorter one would be mostly rounding), got length 1e-07"},
         BadCase{"DirectionKeysOpposite", R"({"frames": 10, "lights": [{"light": 0, "direction": {"keys": [{"frame": 0, "value": [0, 1, 0]}, {"frame": 9, "value": [0, -2, 0]}]}}]})",
                 "animation.lights[0].direction.keys[1].value", "opposite"},
         BadCase{"FurObjectRange", R"({"fur": [{"object": 3, "wind": {"strength": 1}}]})", "animation.fur[0].object",

@@ -324,6 +324,12 @@ TEST_F(SceneFixture, BadDirectionsAndCamera) {
   expect_error(edited("\"up\": [0, 2, 0]", "\"up\": [0, -2, -16]"), "camera.up", "parallel");
   expect_error(edited("\"direction\": [1, 0, 1]", "\"direction\": [0, 0, 0]"), "objects[1].fur.wind.direction",
                "non-zero");
+  // Short but not zero: told the bound, as the fur block's directions are.
+  expect_error(edited("\"direction\": [0, 0, 2]", "\"direction\": [0, 0, 5e-7]"), "lights[0].direction",
+               "must have a length above 1e-06 (it is normalised, and a shorter one would be mostly rounding), got "
+               "length 5e-07");
+  expect_error(edited("\"direction\": [1, 0, 1]", "\"direction\": [0, 5e-7, 0]"), "objects[1].fur.wind.direction",
+               "must have a length above 1e-06");
 }
 
 TEST_F(SceneFixture, MissingRequiredField) {

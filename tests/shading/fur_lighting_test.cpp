@@ -85,6 +85,7 @@ void expect_close(const Outputs& ref, const Outputs& got, const std::function<st
   EXPECT_EQ(bad, 0u);
 }
 
+using testing::random_eye;
 using testing::random_lights;
 using testing::Rng;
 
@@ -142,9 +143,7 @@ TEST(FurLighting, MatchesReferenceOnAMillionRandomInputs) {
     const FurLightParams p = random_params(r);
     const std::vector<Light> lights = random_lights(r);
     float eye[3];
-    r.unit(eye);
-    const float dist = r.uni(2, 10);
-    for (float& e : eye) e *= dist;
+    random_eye(r, eye);
     random_surface(r, in);
     Outputs ref(n);
     shade_fur_reference(p, lights.data(), lights.size(), eye, in.soa(), ref.soa());

@@ -44,4 +44,11 @@ inline std::vector<Light> random_lights(Rng& r) {
   return lights;
 }
 
+// An eye in a random direction, 2 to 10 from the origin (the random surfaces lie within 1 of it).
+inline void random_eye(Rng& r, float eye[3]) {
+  r.unit(eye);
+  const float dist = r.uni(2, 10);
+  for (int c = 0; c < 3; ++c) eye[c] *= dist;
+}
+
 }  // namespace pelt::shading::testing

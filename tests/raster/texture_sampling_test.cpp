@@ -8,6 +8,9 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <span>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "raster/texture.h"
@@ -281,21 +284,14 @@ TEST(TextureSampling, LuminanceIntoOneArrayForAllThreeChannels) {
   });
 }
 
-// A block mask (a fur batch's covered lanes): the lanes inside it sample bit for bit as without
-// the mask, both in the kernel and in the reference, and within the reference's tolerance; every
-// lane outside it reads +0. The
-// masks cover the shapes that let a vector be skipped on each width (one half, one row, one
-// lane) as well as empty, full and random blocks. On 16-lane targets the power-of-two textures
-// with repeat go through the dense lanes (texture_kernels.cc): 150 blocks span three of its
-// chunks, and the non-square textures give levels whose width and height stop halving apart.
-TEST(TextureSampling, ABlockMaskSamplesItsLanesAndZeroesTheRest) {
+// Samples `textures` with and without a block mask on every target, filter and (wrap_u, wrap_v)
+// of `wraps`, on random and hard coordinates: the lanes inside the mask sample bit for bit as
+// without it, both in the kernel and in the reference, and within the reference's tolerance; every
+// lane outside it reads +0. The masks cover the shapes that let a vector be skipped on each width
+// (one half, one row, one lane) as well as empty, full and random blocks.
+void expect_masked_samples_like_unmasked(std::span<const Texture> textures, std::span<const std::pair<Wrap, Wrap>> wraps,
+                                         uint32_t seed) {
   const uint16_t shapes[] = {0x0000, 0xFFFF, 0x00FF, 0xFF00, 0x000F, 0xF000, 0x0001, 0x8000, 0x0F0F, 0x1248};
-  uint32_t seed = 500;
-  const LaPair la = random_la_texture(64, 64, seed++);
-  const LaPair la_wide = random_la_texture(256, 16, seed++);
-  const Texture textures[] = {random_texture(64, 64, TexelEncoding::Linear, seed++),
-                              random_texture(37, 20, TexelEncoding::Srgb, seed++),
-                              random_texture(8, 128, TexelEncoding::Srgb, seed++), la.la, la_wide.la};
   for (const Texture& tex : textures)
     for (const Coords& c : {random_coords(150, seed++), hard_coords(tex.width(), tex.height(), seed++)}) {
       std::mt19937 rng(seed++);
@@ -305,8 +301,8 @@ TEST(TextureSampling, ABlockMaskSamplesItsLanesAndZeroesTheRest) {
       auto inside = [&](size_t i) { return (mask[i / 16] >> (i % 16)) & 1u; };
       for_each_target([&](const std::string& target) {
         for (Filter f : kAllFilters)
-          for (Wrap w : kWraps) {
-            const SamplerState s{f, w, w, f == Filter::Trilinear ? 0.75f : 0.0f};
+          for (const auto& [wu, wv] : wraps) {
+            const SamplerState s{f, wu, wv, f == Filter::Trilinear ? 0.75f : 0.0f};
             const Samples all = run_sample(tex, s, c.u, c.v), masked = run_sample(tex, s, c.u, c.v, mask.data());
             const RefSamples ref_all = run_reference(tex, s, c.u, c.v);
             const RefSamples ref_masked = run_reference(tex, s, c.u, c.v, mask.data());
@@ -321,14 +317,44 @@ TEST(TextureSampling, ABlockMaskSamplesItsLanesAndZeroesTheRest) {
                 const bool near_ref = f == Filter::Nearest || !inside(i) ||
                                       std::abs(double(masked.c[ch][i]) - ref_all.c[ch][i]) <= linear_tolerance(tex);
                 failures += !ok || !near_ref;
-                EXPECT_TRUE(near_ref) << target << " filter " << int(f) << " lane " << i << " channel " << ch;
-                EXPECT_TRUE(ok) << target << " filter " << int(f) << " wrap " << int(w) << " lane " << i
+                EXPECT_TRUE(near_ref) << target << " filter " << int(f) << " wrap " << int(wu) << int(wv) << " lane "
+                                      << i << " channel " << ch << ": " << masked.c[ch][i] << " / " << ref_all.c[ch][i];
+                EXPECT_TRUE(ok) << target << " filter " << int(f) << " wrap " << int(wu) << int(wv) << " lane " << i
                                 << " mask " << mask[i / 16] << " channel " << ch << ": " << masked.c[ch][i]
                                 << " / " << ref_masked.c[ch][i] << " want " << want << " / " << ref_want;
               }
           }
       });
     }
+}
+
+// A block mask (a fur batch's covered lanes), the same wrap on both axes. On 16-lane targets the
+// power-of-two textures with repeat go through the dense lanes (texture_kernels.cc): 150 blocks
+// span three of its chunks, and the non-square textures give levels whose width and height stop
+// halving apart.
+TEST(TextureSampling, ABlockMaskSamplesItsLanesAndZeroesTheRest) {
+  uint32_t seed = 500;
+  const LaPair la = random_la_texture(64, 64, seed++);
+  const LaPair la_wide = random_la_texture(256, 16, seed++);
+  const Texture textures[] = {random_texture(64, 64, TexelEncoding::Linear, seed++),
+                              random_texture(37, 20, TexelEncoding::Srgb, seed++),
+                              random_texture(8, 128, TexelEncoding::Srgb, seed++), la.la, la_wide.la};
+  const std::pair<Wrap, Wrap> wraps[] = {{Wrap::Repeat, Wrap::Repeat}, {Wrap::Clamp, Wrap::Clamp}};
+  expect_masked_samples_like_unmasked(textures, wraps, seed);
+}
+
+// The dense lanes decide repeat or clamp per axis (DenseLevels::repeat_u, repeat_v), and apply
+// when each repeating axis has a power-of-two size, whatever the size of a clamped one: a fin's
+// texture repeats along u and clamps from root to tip. Mixed wraps, with the clamped axis of
+// power-of-two and of other sizes, and one repeating non-power-of-two axis (the per-block path).
+TEST(TextureSampling, ABlockMaskWithMixedWrapsSamplesLikeNoMask) {
+  uint32_t seed = 900;
+  const LaPair fin = random_la_texture(64, 20, seed++);
+  const LaPair tall = random_la_texture(12, 64, seed++);
+  const Texture textures[] = {fin.la, tall.la, random_texture(32, 32, TexelEncoding::Srgb, seed++),
+                              random_texture(128, 5, TexelEncoding::Linear, seed++)};
+  const std::pair<Wrap, Wrap> wraps[] = {{Wrap::Repeat, Wrap::Clamp}, {Wrap::Clamp, Wrap::Repeat}};
+  expect_masked_samples_like_unmasked(textures, wraps, seed);
 }
 
 // Non-finite coordinates give unspecified samples but never read outside the texture

@@ -2,9 +2,14 @@
 // must count exactly the fragments the scalar reference rasterizer finds (the translucent
 // draws depth-tested against the opaque ones, without depth writes), once per fragment for
 // every sort mode and thread count, a pixel on a shared edge once, and leave the colour alone.
+// And the colour the translucent pass blends from those fragments, per pixel against a scalar
+// compositor over the reference's fragment lists.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <string>
@@ -143,6 +148,109 @@ TEST(Overdraw, APixelOnASharedEdgeCountsOnce) {
     EXPECT_GT(covered, size_t(kW) * kH / 2) << target;  // the grid covers most of the frame
     EXPECT_EQ(covered, got.stats.fragments_blended) << target;
   });
+}
+
+// The translucent pass's colour (tile_kernels.cc: FlushBatch's src-over and additive blends, the
+// exact sort's CompositeExact) against a scalar compositor over the reference rasterizer's
+// per-pixel fragment lists: the opaque colour, then the translucent fragments that passed the
+// depth test, in submission order (SortMode::None) or, for SortMode::Exact, the additive ones in
+// submission order (they are blended as they come) and then the src-over ones farthest first,
+// equal depths in submission order. Every fragment has its triangle's own colour, so any change
+// of order, any lost or doubled fragment, shows. Hard cases: alphas outside [0, 1] and NaN
+// (clamped; NaN counts as 0), alpha 0 and 1, every triangle of one draw submitted twice (piles of
+// equal depths), a tall pile of full-frame layers (more than the 64 fragments the exact sort
+// sorts in place), depth functions Less, LessEqual and Always, shaders with and without
+// derivatives (which decide how triangles share a batch's blocks), partial tiles.
+// SortMode::Tile orders triangles by their sort keys, not per pixel: see the Blending tests.
+TEST(Overdraw, BlendedColourMatchesAPerPixelCompositorOnEveryTarget) {
+  std::mt19937 rng(7);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const Soup walls = random_triangles(rng, 30), glass = random_triangles(rng, 120), glow = random_triangles(rng, 60);
+  const Soup grid = quad_grid(6, 0.1f);
+  Soup twice = random_triangles(rng, 40);
+  Soup pile;
+  for (int k = 0; k < 70; ++k) {  // full-frame layers; every fifth at the depth of the one before
+    const float z = 0.5f - 0.01f * float(k - k / 5);
+    for (const glm::vec3 v : {glm::vec3(-3, -3, z), glm::vec3(3, -3, z), glm::vec3(0, 4, z)}) {
+      pile.pos.push_back(v);
+      pile.idx.push_back(uint32_t(pile.pos.size() - 1));
+    }
+  }
+  const size_t once = twice.idx.size();
+  for (size_t i = 0; i < once; ++i) twice.idx.push_back(twice.idx[i]);
+  const PrimitiveShader opaque_sh(1, {1.0f}), glass_sh(2, {0.3f, 0.6f, 1.5f, -0.25f, nan, 0.0f, 1.0f});
+  const PrimitiveShader glow_sh(3, {0.5f, 2.0f, nan, -1.0f}), grid_sh(4, {0.4f, 0.8f}, true);
+  const PrimitiveShader twice_sh(5, {0.5f, 0.7f}, true), pile_sh(6, {0.05f, 0.1f, 0.2f});
+  std::vector<DrawCall> draws = {walls.draw(opaque_sh, BlendMode::Opaque), glass.draw(glass_sh, BlendMode::AlphaOver),
+                                 glow.draw(glow_sh, BlendMode::Additive), grid.draw(grid_sh, BlendMode::AlphaOver),
+                                 twice.draw(twice_sh, BlendMode::AlphaOver), pile.draw(pile_sh, BlendMode::AlphaOver),
+                                 glass.draw(glow_sh, BlendMode::Additive)};
+  draws[2].state.depth_func = DepthFunc::Less;
+  draws[3].state.depth_func = DepthFunc::Always;
+  const PrimitiveShader* shaders[] = {&opaque_sh, &glass_sh, &glow_sh, &grid_sh, &twice_sh, &pile_sh, &glow_sh};
+
+  // The reference's fragments: the opaque draw, then the translucent ones drawn as opaque
+  // without depth writes (so each is tested against the opaque depth only).
+  std::vector<DrawCall> as_opaque = draws;
+  for (size_t k = 1; k < as_opaque.size(); ++k) {
+    as_opaque[k].state.blend = BlendMode::Opaque;
+    as_opaque[k].state.depth_write = false;
+  }
+  const ReferenceImage ref = reference_render(as_opaque, kW, kH, true);
+  const glm::vec4 bg(0.05f, 0.1f, 0.2f, 0.75f);
+  size_t most = 0;
+  for (const auto& f : ref.fragments) most = std::max(most, f.size());
+  ASSERT_GT(most, 64u) << "no pile takes the exact sort's long path";
+
+  auto composite = [&](size_t pixel, SortMode sort) {
+    glm::vec4 c = bg;
+    if (ref.id[pixel] != 0) c = opaque_sh.colour(ref.id[pixel] - 1);
+    std::vector<ReferenceFragment> frags;
+    for (const ReferenceFragment& f : ref.fragments[pixel])
+      if (f.draw != 0) frags.push_back(f);
+    auto additive = [&](const ReferenceFragment& f) { return draws[f.draw].state.blend == BlendMode::Additive; };
+    if (sort == SortMode::Exact) {
+      std::stable_partition(frags.begin(), frags.end(), additive);
+      const auto over = std::find_if_not(frags.begin(), frags.end(), additive);
+      std::stable_sort(over, frags.end(), [](const auto& a, const auto& b) { return a.depth > b.depth; });
+    }
+    for (const ReferenceFragment& f : frags) {
+      const glm::vec4 s = shaders[f.draw]->colour(f.primitive);
+      const float a = s[3] > 0.0f ? std::min(s[3], 1.0f) : 0.0f, keep = 1.0f - a;
+      if (additive(f)) {
+        for (int k = 0; k < 3; ++k) c[k] = c[k] + s[k] * a;
+      } else {
+        for (int k = 0; k < 3; ++k) c[k] = s[k] * a + c[k] * keep;
+        c[3] = a + c[3] * keep;
+      }
+    }
+    return c;
+  };
+  for (SortMode sort : {SortMode::None, SortMode::Exact}) {
+    std::vector<glm::vec4> want(size_t(kW) * kH);
+    for (size_t i = 0; i < want.size(); ++i) want[i] = composite(i, sort);
+    for_each_target([&](const std::string& target) {
+      for (int threads : {1, 2}) {
+        RenderOptions opt;
+        opt.background = bg;
+        opt.sort = sort;
+        const Image img = render(draws, kW, kH, threads, opt);
+        size_t wrong = 0;
+        for (size_t i = 0; i < want.size(); ++i)
+          for (int k = 0; k < 4; ++k) {
+            const float got = img.color[i * 4 + k], w = want[i][k];
+            // The blends are the compositor's float operations in its order (no fused
+            // multiply-add): only a rounding's worth of slack.
+            if (std::abs(got - w) <= 1e-6f * std::max(1.0f, std::abs(w))) continue;
+            if (wrong++ < 5)
+              ADD_FAILURE() << target << " sort " << int(sort) << " threads " << threads << " pixel (" << i % kW
+                            << ", " << i / kW << ") channel " << k << ": " << got << " against " << w << " ("
+                            << ref.fragments[i].size() << " fragments)";
+          }
+        EXPECT_EQ(wrong, 0u) << target << " sort " << int(sort) << " threads " << threads;
+      }
+    });
+  }
 }
 
 }  // namespace

@@ -26,16 +26,18 @@ bool reference_covers(const int32_t x[3], const int32_t y[3], int32_t px, int32_
   return true;
 }
 
-ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int height) {
+ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int height, bool record_fragments) {
   ReferenceImage img;
   img.width = width;
   img.height = height;
   img.depth.assign(size_t(width) * height, kClearDepth);
   img.id.assign(size_t(width) * height, 0);
   img.count.assign(size_t(width) * height, 0);
+  if (record_fragments) img.fragments.resize(size_t(width) * height);
   const Viewport vp{width, height};
   const ClipBounds bounds = make_clip_bounds(width, height);
-  for (const DrawCall& d : draws) {
+  for (size_t draw = 0; draw < draws.size(); ++draw) {
+    const DrawCall& d = draws[draw];
     for (uint32_t p = 0; p < d.triangle_count; ++p) {
       glm::vec4 c[3];
       bool bad = false;
@@ -84,6 +86,7 @@ ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int 
                                                                       : z <= zb;
             if (!pass) continue;
             ++img.count[size_t(py) * width + px];
+            if (record_fragments) img.fragments[size_t(py) * width + px].push_back({uint32_t(draw), p, z});
             if (d.state.depth_write) {
               zb = z;
               img.id[size_t(py) * width + px] = d.id_base + p + 1;

@@ -13,15 +13,24 @@
 
 namespace pelt::raster::test {
 
+// A fragment that passed the depth test: its draw (index into the draws), triangle and depth.
+struct ReferenceFragment {
+  uint32_t draw = 0, primitive = 0;
+  float depth = 0.0f;
+};
+
 struct ReferenceImage {
   int width = 0, height = 0;
   std::vector<float> depth;      // 1 where empty
   std::vector<uint32_t> id;      // 0 where empty
   std::vector<uint32_t> count;   // fragments that passed the depth test, per pixel
+  // With record_fragments: per pixel, those fragments in the order they were drawn.
+  std::vector<std::vector<ReferenceFragment>> fragments;
 };
 
 // Opaque draws only (state.blend == Opaque), in order; honours depth_func and cull.
-ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int height);
+ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int height,
+                                bool record_fragments = false);
 
 // Inside test of pixel (px, py) against a triangle of snapped vertices (1/256 pixel,
 // y down) with positive orientation, by the literal top-left rule.

@@ -2,6 +2,10 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
 #include <glm/vec4.hpp>
 
 #include "raster/pipeline.h"
@@ -36,6 +40,34 @@ class VaryingShader final : public Shader {
 
  private:
   float alpha_;
+  bool derivatives_;
+};
+
+// A colour per triangle: r, g, b from a hash of (seed, primitive), alpha one of `alphas` by the
+// same hash (values outside [0, 1] and NaN included, as a shader may write them).
+class PrimitiveShader final : public Shader {
+ public:
+  PrimitiveShader(uint32_t seed, std::vector<float> alphas, bool derivatives = false)
+      : seed_(seed), alphas_(std::move(alphas)), derivatives_(derivatives) {}
+  bool uses_derivatives() const override { return derivatives_; }
+  glm::vec4 colour(uint32_t primitive) const {
+    uint32_t h = (primitive + 1) * 0x9E3779B1u ^ seed_;
+    h ^= h >> 15;
+    h *= 0x85EBCA6Bu;
+    h ^= h >> 13;
+    return {float(h & 255u) / 255.0f, float((h >> 8) & 255u) / 255.0f, float((h >> 16) & 255u) / 255.0f,
+            alphas_[(h >> 24) % alphas_.size()]};
+  }
+  void shade(const FragmentBatch& b) const override {
+    for (size_t i = 0; i < size_t{b.blocks} * kBlockLanes; ++i) {
+      const glm::vec4 c = colour(b.primitive[i]);
+      for (int k = 0; k < 4; ++k) b.out[k][i] = c[k];
+    }
+  }
+
+ private:
+  uint32_t seed_;
+  std::vector<float> alphas_;
   bool derivatives_;
 };
 

@@ -155,13 +155,13 @@ TEST(Overdraw, APixelOnASharedEdgeCountsOnce) {
 // per-pixel fragment lists: the opaque colour, then the translucent fragments that passed the
 // depth test, in submission order (SortMode::None) or, for SortMode::Exact, the additive ones in
 // submission order (they are blended as they come) and then the src-over ones farthest first,
-// equal depths in submission order. Every fragment has its triangle's own colour, so any change
+// equal depths in submission order; for SortMode::Tile, all of them by the caller's sort keys
+// (DrawCall::sort_keys, largest first, NaN first, ties in submission order). Every fragment has its triangle's own colour, so any change
 // of order, any lost or doubled fragment, shows. Hard cases: alphas outside [0, 1] and NaN
 // (clamped; NaN counts as 0), alpha 0 and 1, every triangle of one draw submitted twice (piles of
 // equal depths), a tall pile of full-frame layers (more than the 64 fragments the exact sort
 // sorts in place), depth functions Less, LessEqual and Always, shaders with and without
 // derivatives (which decide how triangles share a batch's blocks), partial tiles.
-// SortMode::Tile orders triangles by their sort keys, not per pixel: see the Blending tests.
 TEST(Overdraw, BlendedColourMatchesAPerPixelCompositorOnEveryTarget) {
   std::mt19937 rng(7);
   const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -187,6 +187,13 @@ TEST(Overdraw, BlendedColourMatchesAPerPixelCompositorOnEveryTarget) {
                                  glass.draw(glow_sh, BlendMode::Additive)};
   draws[2].state.depth_func = DepthFunc::Less;
   draws[3].state.depth_func = DepthFunc::Always;
+  // The tile sort's keys, the caller's: ties, -0 against 0, NaN (first, in submission order).
+  const float key_values[] = {0.5f, 0.25f, 0.0f, -0.0f, 1.0f, 2.0f, nan};
+  std::vector<std::vector<float>> keys(draws.size());
+  for (size_t k = 1; k < draws.size(); ++k) {
+    for (uint32_t p = 0; p < draws[k].triangle_count; ++p) keys[k].push_back(key_values[rng() % std::size(key_values)]);
+    draws[k].sort_keys = keys[k].data();
+  }
   const PrimitiveShader* shaders[] = {&opaque_sh, &glass_sh, &glow_sh, &grid_sh, &twice_sh, &pile_sh, &glow_sh};
 
   // The reference's fragments: the opaque draw, then the translucent ones drawn as opaque
@@ -214,6 +221,11 @@ TEST(Overdraw, BlendedColourMatchesAPerPixelCompositorOnEveryTarget) {
       const auto over = std::find_if_not(frags.begin(), frags.end(), additive);
       std::stable_sort(over, frags.end(), [](const auto& a, const auto& b) { return a.depth > b.depth; });
     }
+    if (sort == SortMode::Tile)  // back_to_front_before (translucent_sort.h), ties in submission order
+      std::stable_sort(frags.begin(), frags.end(), [&](const auto& a, const auto& b) {
+        const float ka = keys[a.draw][a.primitive], kb = keys[b.draw][b.primitive];
+        return ka != ka || kb != kb ? ka != ka && kb == kb : ka > kb;
+      });
     for (const ReferenceFragment& f : frags) {
       const glm::vec4 s = shaders[f.draw]->colour(f.primitive);
       const float a = s[3] > 0.0f ? std::min(s[3], 1.0f) : 0.0f, keep = 1.0f - a;
@@ -226,7 +238,7 @@ TEST(Overdraw, BlendedColourMatchesAPerPixelCompositorOnEveryTarget) {
     }
     return c;
   };
-  for (SortMode sort : {SortMode::None, SortMode::Exact}) {
+  for (SortMode sort : {SortMode::None, SortMode::Tile, SortMode::Exact}) {
     std::vector<glm::vec4> want(size_t(kW) * kH);
     for (size_t i = 0; i < want.size(); ++i) want[i] = composite(i, sort);
     for_each_target([&](const std::string& target) {

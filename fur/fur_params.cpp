@@ -23,6 +23,15 @@ std::optional<ParamError> check_range(const std::string& field, double v, double
                                fmt(hi) + "], got " + fmt(v)};
 }
 
+// A direction of squared length len2 (summed in double, where no float's square underflows):
+// a short one is told the bound and its length, not that it is zero. `why` ends the bound.
+std::optional<ParamError> check_length(const std::string& field, double len2, const std::string& why) {
+  if (len2 == 0.0) return ParamError{field, "must be a non-zero vector"};
+  if (!(len2 > 1e-12))
+    return ParamError{field, "must have a length above 1e-06" + why + ", got length " + fmt(std::sqrt(len2))};
+  return std::nullopt;
+}
+
 std::optional<ParamError> check_direction(const std::string& field, const glm::vec3& d) {
   for (int k = 0; k < 3; ++k) {
     if (!std::isfinite(d[k])) {
@@ -30,14 +39,9 @@ std::optional<ParamError> check_direction(const std::string& field, const glm::v
                         "must be a finite number, got " + fmt(d[k])};
     }
   }
-  double len2 = double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z;
-  // Below this the normalised direction would be dominated by rounding.
-  if (len2 == 0.0) return ParamError{field, "must be a non-zero vector"};
-  if (!(len2 > 1e-12)) {
-    return ParamError{field, "must have a length above 1e-06 (it is normalised, and a shorter one would be mostly "
-                             "rounding), got length " + fmt(std::sqrt(len2))};
-  }
-  return std::nullopt;
+  // Below the bound the normalised direction would be dominated by rounding.
+  return check_length(field, double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z,
+                      " (it is normalised, and a shorter one would be mostly rounding)");
 }
 
 std::optional<ParamError> check_color(const std::string& field, const glm::vec3& c) {
@@ -95,8 +99,10 @@ std::optional<ParamError> validate(const FurParams& p) {
     if (auto e = check_direction("comb.direction", p.comb->direction)) return e;
     if (auto e = check_range("comb.weight", p.comb->weight, 0.0, 1.0)) return e;
     const glm::vec2 uvd = p.comb->uv_direction;
-    if (!std::isfinite(uvd.x) || !std::isfinite(uvd.y) || !(uvd.x * uvd.x + uvd.y * uvd.y > 1e-12f))
-      return ParamError{"comb.uv_direction", "must be a finite, non-zero [du, dv]"};
+    if (!std::isfinite(uvd.x) || !std::isfinite(uvd.y))
+      return ParamError{"comb.uv_direction", "must be finite, got [" + fmt(uvd.x) + ", " + fmt(uvd.y) + "]"};
+    // The bound the comb's other direction has; d scales with it, and a d that vanishes keeps the normal.
+    if (auto e = check_length("comb.uv_direction", double(uvd.x) * uvd.x + double(uvd.y) * uvd.y, "")) return e;
   }
   return std::nullopt;
 }

@@ -51,7 +51,7 @@ struct CombParams {
   glm::vec3 direction{0.0f, -1.0f, 0.0f};  // "direction": length > 1e-6; normalised
   float weight = 0.5f;                     // "weight": in [0, 1]; 0 = plain normals
   CombField field = CombField::uniform;    // "field": "uniform" | "uv"
-  // "uv_direction": field "uv" only: [du, dv], any non-zero vector. A vertex's d is
+  // "uv_direction": field "uv" only: [du, dv], length > 1e-6. A vertex's d is
   // du T_u + dv T_v, with T_u, T_v its surface derivatives of position with respect to
   // u and v (the area-weighted sum over its triangles, projected onto its tangent plane),
   // normalised; the copies of a split seam's vertex take their joined direction. Where the

@@ -127,6 +127,29 @@ TEST(FurParams, AShortDirectionIsToldTheBoundNotThatItIsZero) {
   EXPECT_NE(e->reason.find("non-zero"), std::string::npos) << e->reason;
 }
 
+// comb.uv_direction has the same bound, and a short one was told "must be a finite, non-zero
+// [du, dv]": told the bound and its length now, as the 3-vectors are.
+TEST(FurParams, AShortUvDirectionIsToldTheBoundNotThatItIsZero) {
+  FurParams p;
+  p.comb = CombParams{};
+  p.comb->field = CombField::uv;
+  p.comb->uv_direction = {5e-7f, 5e-7f};
+  auto e = validate(p);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "comb.uv_direction");
+  EXPECT_NE(e->reason.find("must have a length above 1e-06, got length 7.07107e-07"), std::string::npos) << e->reason;
+  p.comb->uv_direction = {1.1e-6f, 0.0f};
+  EXPECT_FALSE(validate(p).has_value());
+  p.comb->uv_direction = {0.0f, 0.0f};
+  e = validate(p);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->reason, "must be a non-zero vector");
+  p.comb->uv_direction = {1.0f, INFINITY};
+  e = validate(p);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->reason, "must be finite, got [1, inf]");
+}
+
 TEST(FurParams, FinModeStringsRoundTrip) {
   for (FinMode m : {FinMode::off, FinMode::all, FinMode::silhouette}) {
     auto back = fin_mode_from_string(to_string(m));

@@ -10,17 +10,26 @@
 namespace pelt::render {
 namespace {
 
+bool is_digits(std::string_view text) {
+  return !text.empty() && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
 // A whole decimal number filling all of `text` (no sign, no spaces), or false.
 bool parse_int(std::string_view text, long long& out) {
-  if (text.empty()) return false;
-  for (char c : text)
-    if (c < '0' || c > '9') return false;
+  if (!is_digits(text)) return false;
   const auto r = std::from_chars(text.data(), text.data() + text.size(), out);
   return r.ec == std::errc() && r.ptr == text.data() + text.size();
 }
 
 std::string scene_has(int frame_count) {
   return "the scene has " + std::to_string(frame_count) + " frame(s), 0.." + std::to_string(frame_count - 1);
+}
+
+// Digits that parse_int refused are a frame past long long's range: told it is out of range,
+// not that it is no whole number.
+void refuse_if_huge(std::string_view text, int frame_count, const std::string& option) {
+  if (is_digits(text))
+    throw io::InputError("", option, "frame " + std::string(text) + " is out of range: " + scene_has(frame_count));
 }
 
 }  // namespace
@@ -32,8 +41,13 @@ FrameRange parse_frame_range(const std::string& text, int frame_count, const std
                       ? parse_int(text, a) && (b = a, true)
                       : parse_int(std::string_view(text).substr(0, colon), a) &&
                             parse_int(std::string_view(text).substr(colon + 1), b);
-  if (!ok)
+  if (!ok) {
+    const std::string_view t(text);
+    const std::string_view first = colon == std::string::npos ? t : t.substr(0, colon);
+    const std::string_view last = colon == std::string::npos ? t : t.substr(colon + 1);
+    if (is_digits(first) && is_digits(last)) refuse_if_huge(parse_int(first, a) ? last : first, frame_count, option);
     throw io::InputError("", option, "expected FIRST:LAST or FRAME (whole numbers >= 0), got `" + text + "`");
+  }
   if (a > b)
     throw io::InputError("", option, "first frame " + std::to_string(a) + " is after last frame " +
                                          std::to_string(b));
@@ -46,8 +60,10 @@ FrameRange parse_frame(const std::string& text, int frame_count, const std::stri
   if (text.find(':') != std::string::npos)
     throw io::InputError("", option, "takes one frame number, got `" + text + "`; use --frames A:B for a range");
   long long k = 0;
-  if (!parse_int(text, k))
+  if (!parse_int(text, k)) {
+    refuse_if_huge(text, frame_count, option);
     throw io::InputError("", option, "expected a frame number (a whole number >= 0), got `" + text + "`");
+  }
   if (k >= frame_count)
     throw io::InputError("", option, "frame " + std::to_string(k) + " is out of range: " + scene_has(frame_count));
   return {static_cast<int>(k), static_cast<int>(k)};

@@ -238,7 +238,7 @@ int run_bench_skin(const SkinBenchOptions& o) {
   check_options(o);
   const std::filesystem::path head = o.head.empty() ? bench::find_head_scan("--head") : std::filesystem::path(o.head);
   // As in pelt render, no output replaces an input: --json naming the scan would destroy it.
-  if (!o.json.empty()) io::OutputNames({head}).add(o.json, "--json");
+  if (!o.json.empty()) io::OutputNames({head}, "benchmark").add(o.json, "--json");
   const std::vector<bench::SkinBenchMesh> meshes = bench::make_skin_bench_meshes(head);
   if (!o.json.empty()) io::prepare_output(o.json, "--json");  // before minutes of frames, not after
   std::vector<Measurement> ms;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <utility>
 
 #include <unistd.h>
 
@@ -65,7 +66,7 @@ void remove_temp_files_in_signal_handler() {
     if (slot.live.load(std::memory_order_acquire)) ::unlink(slot.path);
 }
 
-OutputNames::OutputNames(const std::vector<std::filesystem::path>& inputs) {
+OutputNames::OutputNames(const std::vector<std::filesystem::path>& inputs, std::string run) : run_(std::move(run)) {
   for (const std::filesystem::path& in : inputs) inputs_.push_back({entry(in), in, ""});
 }
 
@@ -85,7 +86,7 @@ void OutputNames::check(const std::filesystem::path& at, const std::filesystem::
   for (const Named& in : inputs_)
     if (in.entry == at)
       throw InputError(path.string(), option,
-                       "is an input of this render (" + in.path.string() +
+                       "is an input of this " + run_ + " (" + in.path.string() +
                            "): writing there would destroy it; choose another output name");
   for (const Named& out : kept_)
     if (out.entry == at)

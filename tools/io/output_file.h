@@ -43,7 +43,8 @@ void remove_temp_files_in_signal_handler();
 // through. Throws InputError(output, option, reason naming the other file).
 class OutputNames {
  public:
-  explicit OutputNames(const std::vector<std::filesystem::path>& inputs);
+  // `run` names the command in the message ("an input of this render").
+  explicit OutputNames(const std::vector<std::filesystem::path>& inputs, std::string run = "render");
   // An output the later ones are also checked against (`--stats`, a GIF).
   void add(const std::filesystem::path& path, const std::string& option);
   // One frame of a sequence, distinct from the other frames by its number: checked against
@@ -58,6 +59,7 @@ class OutputNames {
   std::filesystem::path entry(const std::filesystem::path& path);
   void check(const std::filesystem::path& entry, const std::filesystem::path& path, const std::string& option) const;
   std::vector<Named> inputs_, kept_;
+  std::string run_;
   std::filesystem::path folder_, canonical_folder_;  // the last folder resolved: a sequence's frames share one
 };
 

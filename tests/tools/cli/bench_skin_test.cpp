@@ -20,7 +20,7 @@ TEST(BenchSkin, AJsonPathThatIsTheHeadScanIsRefused) {
                              "--width", "16", "--height", "16", "--frames", "1", "--warmup", "0"},
                             dir.path());
   EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find("--json: is an input of this render (" + head.string() + ")"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--json: is an input of this benchmark (" + head.string() + ")"), std::string::npos) << r.err;
   EXPECT_EQ(read_text(head), before);
 }
 

@@ -21,8 +21,9 @@
 // model's answer, with one reading of "input": the renderer's workers run with flush-to-zero and
 // denormals-are-zero (raster/parallel.h), so there a denormal component is read as 0 (a normal
 // (1e-40, 0, 1e-40) is N = 0, a tangent of denormals is T = 0 and passes N through), where the
-// double reference, run without DAZ, sees a direction. Texels are clamped because a map encodes unit directions in [0, 1]^3 (a float
-// map may hold anything finite): the clamp keeps every output finite.
+// double reference, run without DAZ, sees a direction. Texels are clamped because a map encodes
+// unit directions in [0, 1]^3 (a float map may hold anything finite): the clamp keeps every
+// output finite.
 //
 // Output bounds: out = N exactly (bit for bit) where T vanishes; elsewhere |out| <= |m| (1 + 2^-20)
 // <= sqrt(3) (1 + 2^-20): the frame (Tu, B, Nu) is orthonormal to within a few roundings, and

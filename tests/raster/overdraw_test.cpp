@@ -242,26 +242,24 @@ TEST(Overdraw, BlendedColourMatchesAPerPixelCompositorOnEveryTarget) {
     std::vector<glm::vec4> want(size_t(kW) * kH);
     for (size_t i = 0; i < want.size(); ++i) want[i] = composite(i, sort);
     for_each_target([&](const std::string& target) {
-      {
-        const int threads = 2;  // the tiles in any order
-        RenderOptions opt;
-        opt.background = bg;
-        opt.sort = sort;
-        const Image img = render(draws, kW, kH, threads, opt);
-        size_t wrong = 0;
-        for (size_t i = 0; i < want.size(); ++i)
-          for (int k = 0; k < 4; ++k) {
-            const float got = img.color[i * 4 + k], w = want[i][k];
-            // The blends are the compositor's float operations in its order (no fused
-            // multiply-add): only a rounding's worth of slack.
-            if (std::abs(got - w) <= 1e-6f * std::max(1.0f, std::abs(w))) continue;
-            if (wrong++ < 5)
-              ADD_FAILURE() << target << " sort " << int(sort) << " threads " << threads << " pixel (" << i % kW
-                            << ", " << i / kW << ") channel " << k << ": " << got << " against " << w << " ("
-                            << ref.fragments[i].size() << " fragments)";
-          }
-        EXPECT_EQ(wrong, 0u) << target << " sort " << int(sort) << " threads " << threads;
-      }
+      const int threads = 2;  // the tiles in any order
+      RenderOptions opt;
+      opt.background = bg;
+      opt.sort = sort;
+      const Image img = render(draws, kW, kH, threads, opt);
+      size_t wrong = 0;
+      for (size_t i = 0; i < want.size(); ++i)
+        for (int k = 0; k < 4; ++k) {
+          const float got = img.color[i * 4 + k], w = want[i][k];
+          // The blends are the compositor's float operations in its order (no fused
+          // multiply-add): only a rounding's worth of slack.
+          if (std::abs(got - w) <= 1e-6f * std::max(1.0f, std::abs(w))) continue;
+          if (wrong++ < 5)
+            ADD_FAILURE() << target << " sort " << int(sort) << " threads " << threads << " pixel (" << i % kW
+                          << ", " << i / kW << ") channel " << k << ": " << got << " against " << w << " ("
+                          << ref.fragments[i].size() << " fragments)";
+        }
+      EXPECT_EQ(wrong, 0u) << target << " sort " << int(sort) << " threads " << threads;
     });
   }
 }

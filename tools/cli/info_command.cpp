@@ -106,11 +106,14 @@ int run_info(const InfoOptions& o) {
     // one over it ended the set-up with the refusal, as every budget ends info.
     if (const std::optional<uint64_t> pairs = r.blur_pair_estimate(i)) {
       const float* radius = o.material.skin.normal_blur_radius;
-      std::printf("       normal blur: radius %g, %g, %g reaches about %llu (source, neighbour) vertex pairs, %.3g %% of "
-                  "the budget of %llu (%s)\n",
-                  double(radius[0]), double(radius[1]), double(radius[2]), static_cast<unsigned long long>(*pairs),
-                  100.0 * double(*pairs) / double(rs.budget.max_blur_pairs),
-                  static_cast<unsigned long long>(rs.budget.max_blur_pairs), io::kMaxBlurPairsFlag);
+      if (radius[0] == 0.0f && radius[1] == 0.0f && radius[2] == 0.0f)
+        std::printf("       normal blur: radius 0, 0, 0, no search: the normals as they are\n");
+      else
+        std::printf("       normal blur: radius %g, %g, %g reaches about %llu (source, neighbour) vertex pairs, "
+                    "%.3g %% of the budget of %llu (%s)\n",
+                    double(radius[0]), double(radius[1]), double(radius[2]), static_cast<unsigned long long>(*pairs),
+                    100.0 * double(*pairs) / double(rs.budget.max_blur_pairs),
+                    static_cast<unsigned long long>(rs.budget.max_blur_pairs), io::kMaxBlurPairsFlag);
     }
     if (const fur::FurGeometry* g = r.fur_geometry(i)) {
       const fur::FurCounts* c = &g->counts;

@@ -344,6 +344,15 @@ TEST_F(RenderCommand, InfoPrintsTheBlurPairsTheBudgetChecks) {
                            "budget of " + std::to_string(2 * pairs) + " (--max-blur-pairs)\n"),
             std::string::npos)
       << under.out;
+  // Radius 0 everywhere searches nothing: said so, not "about 0 pairs".
+  const fs::path zero = dir.write("zero.json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
+      "objects": [{"mesh": "sphere:64", "material": {"type": "skin", "skin": {"multiple_scattering": "normal_blur",
+                   "normal_blur_radius": [0, 0, 0]}}}]})");
+  const Result none_searched = run_pelt({"info", zero.string()}, dir.path());
+  ASSERT_EQ(none_searched.code, 0) << none_searched.err;
+  EXPECT_NE(none_searched.out.find("       normal blur: radius 0, 0, 0, no search: the normals as they are\n"),
+            std::string::npos)
+      << none_searched.out;
   // Without a blur there is no line.
   const fs::path lambert = dir.write("lambert.json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
       "objects": [{"mesh": "sphere:64", "material": {"type": "lambert"}}]})");

@@ -279,7 +279,11 @@ uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::Scene
   const MemoryEstimate e = estimate_memory(scene, meshes, width, height, threads, spp);
   if (e.total <= budget.max_memory_bytes) return e.total;
   const MemoryPart& big = e.largest();
-  refuse(scene, big.field,
+  // As check_scene_budget: image buffers that one sample per pixel would fit in the budget are
+  // refused for their samples, so a flag or a sweep that set them is named, not the image size.
+  const bool spp_made_it = big.field == "image.width" && spp > 1 &&
+                           estimate_memory(scene, meshes, width, height, threads, 1).total <= budget.max_memory_bytes;
+  refuse(scene, spp_made_it ? "quality.spp" : big.field,
          "this render needs an estimated " + describe_bytes(e.total) + ", " +
              io::over_budget(describe_bytes(budget.max_memory_bytes), io::kMaxMemoryFlag) +
              "; the largest part is the " + big.what + ": " + describe_bytes(big.bytes));

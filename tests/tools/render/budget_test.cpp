@@ -324,6 +324,27 @@ TEST(MemoryBudget, EstimateAtTheLimitAcceptedOneLessRefusedNamingTheLargestPart)
                           "fur strand textures, 17 layers of 256^2"});
 }
 
+// Image buffers that one sample per pixel would fit in the budget are refused for their samples
+// (quality.spp, which the CLI names by --spp, --quality or a tradeoff sweep's row), as
+// check_scene_budget refuses them; otherwise for the image's size.
+TEST(MemoryBudget, ImageBuffersOverOnlyForTheirSamplesNameTheSamples) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(two_objects(16, 64));
+  const auto meshes = io::load_scene_meshes(s);
+  const uint64_t one = estimate_memory(s, meshes, 1000, 800, 1, 1).total;
+  const MemoryEstimate four = estimate_memory(s, meshes, 1000, 800, 1, 4);
+  ASSERT_EQ(four.largest().field, "image.width");
+  ASSERT_LT(one, four.total - 1);
+  io::Budget b;
+  b.max_memory_bytes = four.total - 1;
+  io::InputError err = refusal([&] { check_memory_budget(s, meshes, 1000, 800, 1, 4, b); });
+  EXPECT_EQ(err.field, "quality.spp");
+  expect_reason_has(err, {"the largest part is the image buffers, 1000 x 800 at 4 samples per pixel"});
+  b.max_memory_bytes = one - 1;
+  EXPECT_EQ(refusal([&] { check_memory_budget(s, meshes, 1000, 800, 1, 4, b); }).field, "image.width");
+  EXPECT_EQ(refusal([&] { check_memory_budget(s, meshes, 1000, 800, 1, 1, b); }).field, "image.width");
+}
+
 // 96 shells of 4096^2 strand textures are over 11 GiB: refused by the default budget from
 // counts alone (building them would allocate it all first).
 TEST(MemoryBudget, HeavyFurRefusedByTheDefaultBudget) {

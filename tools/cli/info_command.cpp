@@ -69,13 +69,8 @@ int run_info(const InfoOptions& o) {
   rs.quality = resolve_quality(file_scene, o.quality);
   rs.budget = o.budget;
   rs.describe_only = true;
-  const std::unique_ptr<render::SceneRenderer> owned = [&] {
-    try {
-      return std::make_unique<render::SceneRenderer>(file_scene, rs);
-    } catch (const io::InputError& e) {
-      throw name_flag_origin(e, file_scene, o.quality, 0, 0);
-    }
-  }();
+  const std::unique_ptr<render::SceneRenderer> owned = naming_flag_origin(
+      file_scene, o.quality, 0, 0, [&] { return std::make_unique<render::SceneRenderer>(file_scene, rs); });
   const render::SceneRenderer& r = *owned;
   for (const std::string& w : r.warnings()) std::fprintf(stderr, "pelt: warning: %s\n", w.c_str());
   // Shells, fins and skin models as the quality draws them.

@@ -38,4 +38,15 @@ io::Quality resolve_quality(const io::Scene& scene, const QualityFlags& flags);
 io::InputError name_flag_origin(const io::InputError& e, const io::Scene& scene, const QualityFlags& flags,
                                 int width, int height);
 
+// Returns make()'s result (the SceneRenderer a command builds), its refusal rethrown named by
+// name_flag_origin. A template, so this library need not link the renderer.
+template <class Make>
+auto naming_flag_origin(const io::Scene& scene, const QualityFlags& flags, int width, int height, Make&& make) {
+  try {
+    return make();
+  } catch (const io::InputError& e) {
+    throw name_flag_origin(e, scene, flags, width, height);
+  }
+}
+
 }  // namespace pelt::cli

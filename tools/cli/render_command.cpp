@@ -193,13 +193,8 @@ int run_render(const RenderOptions& o) {
   rs.quality = quality;
   rs.budget = o.budget;
   rs.aov = aov;
-  const std::unique_ptr<render::SceneRenderer> owned = [&] {
-    try {
-      return std::make_unique<render::SceneRenderer>(scene, rs);
-    } catch (const io::InputError& e) {
-      throw name_flag_origin(e, scene, o.quality, o.width, o.height);
-    }
-  }();
+  const std::unique_ptr<render::SceneRenderer> owned = naming_flag_origin(
+      scene, o.quality, o.width, o.height, [&] { return std::make_unique<render::SceneRenderer>(scene, rs); });
   render::SceneRenderer& renderer = *owned;
   for (const std::string& w : renderer.warnings()) std::fprintf(stderr, "pelt: warning: %s\n", w.c_str());
   // The destinations are proven writable before the first frame, so a bad path fails now

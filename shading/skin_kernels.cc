@@ -240,9 +240,10 @@ void ShadeSkinBatch(const SkinParams& p, const detail::KernelLight* lights, size
   // Colour factors of each layer, Opacity included: the light loop sums colour x weight per
   // channel and the per-lane factors (albedo, Kt_out, Rd) multiply the sums once afterwards.
   const double op = p.Opacity, ms = p.MultipleScatteringCoeff;
-  // pi for the `correct` dermis (a BRDF per steradian in pelt's no-1/pi light units), 1 for the
-  // paper's listing, which is kept in its own units; see shade_skin_pixel.
-  const double dermis_units = ss_correct ? std::numbers::pi : 1.0;
+  // pi / eta^2 for the `correct` dermis (a BRDF per steradian in pelt's no-1/pi light units, and
+  // the radiance leaving the layer divided by eta^2), 1 for the paper's listing, which is kept in
+  // its own units; see shade_skin_pixel.
+  const double dermis_units = ss_correct ? std::numbers::pi / (double(eta) * eta) : 1.0;
   float amb_k[3], epi_k[3], derm_k[3], blur_w[3], blur_1mw[3];
   for (int c = 0; c < 3; ++c) {
     amb_k[c] = float(op * p.AmbientCoeff * sums.ambient[c] * p.SkinColor[c]);

@@ -180,10 +180,14 @@ Shaded shade_skin_pixel(const SkinParams& p, const Light* lights, size_t light_c
   for (int c = 0; c < 3; ++c) rd[c] = dipole_total_rd(cd[c], eta);
   // Hanrahan-Krueger's BRDF is per steradian; in pelt's light units (no 1/pi: a white Lambert
   // surface returns 1, pi times its BRDF) the `correct` dermis is pi x BRDF x irradiance, like the
-  // dipole epidermis, which drops Jensen's 1/pi. DEVIATION (paper mode): the listing's arithmetic
-  // is kept as it stands, in its own units (RenderMan's, also without 1/pi, with a phase function
-  // that lacks 1/(4 pi)), so it takes no factor: the paper variant looks as the paper's code does.
-  const double dermis_units = p.single_scattering == SingleScattering::correct ? kPi : 1.0;
+  // dipole epidermis, which drops Jensen's 1/pi. The layer's single scattering is radiance inside
+  // the medium; leaving it, radiance is divided by eta^2 (the refracted solid angle widens by
+  // eta^2 cos_t / cos_o), which the usual statement of the formula (and Pharr's shader) leaves
+  // out: without it the dermis is eta^2 (1.96) times too bright. DEVIATION (paper mode): the
+  // listing's arithmetic is kept as it stands, in its own units (RenderMan's, also without 1/pi,
+  // with a phase function that lacks 1/(4 pi)), so it takes no factor: the paper variant looks as
+  // the paper's code does.
+  const double dermis_units = p.single_scattering == SingleScattering::correct ? kPi / (eta * eta) : 1.0;
 
   double ambient[3] = {0, 0, 0};
   for (size_t li = 0; li < light_count; ++li) {

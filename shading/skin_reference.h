@@ -93,8 +93,9 @@ struct Shaded {
 //   sebum     <= Op Specularity SheenColor sum(Cl)
 //   epidermis <= Op DiffusionColor A I_ms sum(Cl) / kClampFloor  (paper fake)
 //             <= Op DiffusionColor A I_ms sum(Cl)                (normal_blur, reference)
-//   dermis    <= pi Op SSC SkinColor A sum(Cl) p_max 2 (eta + 1/eta) (correct: pi for the light
-//                units, and cos_i Kt_in / ci_t is at most 2 (eta + 1/eta)); <= Op SSC SkinColor A
+//   dermis    <= pi Op SSC SkinColor A sum(Cl) p_max 2 (eta + 1/eta) / eta^2 (correct: pi for the
+//                light units, 1/eta^2 for the radiance leaving the layer, and cos_i Kt_in / ci_t is
+//                at most 2 (eta + 1/eta)); <= Op SSC SkinColor A
 //                sum(Cl) p_max eta for the paper's Kt = 1 with eta >= 1 (the listing's units: no
 //                pi); for eta < 1 the paper's term is only finite.
 //   rgb = Op AmbientCoeff SkinColor A sum(ambient Cl) + sebum + epidermis + dermis; alpha = Op.

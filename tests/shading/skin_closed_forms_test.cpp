@@ -126,9 +126,10 @@ TEST(SkinClosedForms, EfresnelIsASmoothstepUpToOneHalf) {
 
 // Hanrahan-Krueger single scattering at Eta = 1.4 with an isotropic phase (g = 0: 1/(4 pi)),
 // where the refracted cosines differ from the outside ones:
-//   dermis = pi SSC Cl cos_i Kt_i Kt_o a (1/(4 pi)) (1 - exp(-d (1/ct_i + 1/ct_o))) / (ct_i + ct_o)
+//   dermis = (pi / eta^2) SSC Cl cos_i Kt_i Kt_o a (1/(4 pi)) (1 - exp(-d (1/ct_i + 1/ct_o))) / (ct_i + ct_o)
 // with ct = sqrt(1 - sin^2 / eta^2) (Snell) and Kt = 1 - F, or 1 - smoothstep(0, 0.5, F) for
-// efresnel. Every earlier closed-form dermis test ran at Eta = 1.
+// efresnel; 1/eta^2 for the radiance leaving the layer. Every earlier closed-form dermis test ran
+// at Eta = 1.
 TEST(SkinClosedForms, DermisUsesTheRefractedCosinesAndBothTransmissions) {
   const double eta = double(1.4f), d = 0.5;
   for (Fresnel fr : {Fresnel::exact, Fresnel::efresnel})
@@ -146,7 +147,7 @@ TEST(SkinClosedForms, DermisUsesTheRefractedCosinesAndBothTransmissions) {
       const double Fi = fresnel_angles(ti, eta), Fo = fresnel_angles(to, eta);
       const double kti = fr == Fresnel::exact ? 1.0 - Fi : 1.0 - smoothstep_to_half(Fi);
       const double kto = fr == Fresnel::exact ? 1.0 - Fo : 1.0 - smoothstep_to_half(Fo);
-      const double want = kPi * std::cos(ti) * kti * kto * (1.0 / (4.0 * kPi)) *
+      const double want = kPi / (eta * eta) * std::cos(ti) * kti * kto * (1.0 / (4.0 * kPi)) *
                           -std::expm1(-d * (1.0 / cti + 1.0 / cto)) / (cti + cto);
       Point pt;
       pt.view = tilted(vi);
@@ -190,7 +191,7 @@ TEST(SkinClosedForms, PositiveGScattersForwardSoItsBackscatterIsDim) {
     p.g = float(g);
     p.Thickness = float(d);
     const double back = (1 - g * g) / (4 * kPi * std::pow(1 + g * g + 2 * g, 1.5));
-    const double want = kPi * kt * kt * back * -std::expm1(-2.0 * d) / 2.0;
+    const double want = kPi / (eta * eta) * kt * kt * back * -std::expm1(-2.0 * d) / 2.0;
     expect_layer(p, {directional({0, 0, 1})}, Point{}, 10, want, 2e-5);
   }
   EXPECT_NEAR(ref::hg_phase(-1.0, 0.5) / ref::hg_phase(-1.0, -0.5), 1.0 / 27.0, 1e-12);

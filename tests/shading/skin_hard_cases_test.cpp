@@ -59,7 +59,8 @@ std::vector<SkinParams> all_modes(const SkinParams& base) {
 // Upper bounds of each layer per channel, from the terms' stated bounds (skin_reference.h):
 // sebum <= Op Specularity Sheen sum(Cl); epidermis <= Op C_d I_ms sum(Cl) / kClampFloor (paper),
 // Op C_d I_ms sum(Cl) (normal_blur, reference); dermis <= pi Op SSC a sum(Cl) p_max 2 (eta + 1/eta)
-// with exact or efresnel transmission (pi: the light units), and Op SSC a sum(Cl) p_max eta for the
+// / eta^2 with exact or efresnel transmission (pi: the light units; 1/eta^2: the radiance leaving
+// the layer), and Op SSC a sum(Cl) p_max eta for the
 // paper's Kt = 1 when eta >= 1 (the listing's units, no pi; for eta < 1 the paper's term grows
 // without bound at the critical angle: finite only).
 struct Bounds {
@@ -75,7 +76,7 @@ Bounds bounds(const SkinParams& p, const std::vector<Light>& lights, const float
     }
   const double pmax = p.phase == Phase::correct ? ref::hg_bound(p.g) : ref::hg_paper_bound(p.g);
   const double eta = p.Eta;
-  double geom = ref::kPi * 2.0 * (eta + 1.0 / eta);
+  double geom = ref::kPi * 2.0 * (eta + 1.0 / eta) / (eta * eta);
   if (p.single_scattering == SingleScattering::paper) geom = eta >= 1.0 ? eta : INFINITY;
   Bounds b{};
   for (int c = 0; c < 3; ++c) {

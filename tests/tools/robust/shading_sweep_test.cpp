@@ -146,7 +146,9 @@ SkinBounds skin_bounds(const SkinParams& p, const LightSums& s, const double alb
     const double ss = op * p.SingleScatteringCoeff * p.SkinColor[c] * a * s.direct[c] * pmax;
     switch (p.single_scattering) {
       case SingleScattering::off: b.dermis[c] = 0; break;
-      case SingleScattering::correct: b.dermis[c] = ref::kPi * ss * 2 * (eta + 1 / eta); break;  // pi: light units
+      case SingleScattering::correct:  // pi: light units; 1/eta^2: the radiance leaving the layer
+        b.dermis[c] = ref::kPi * ss * 2 * (eta + 1 / eta) / (eta * eta);
+        break;
       case SingleScattering::paper: b.dermis[c] = eta >= 1 ? ss * eta : -1; break;
     }
     b.ambient[c] = op * p.AmbientCoeff * p.SkinColor[c] * a * s.ambient[c];

@@ -82,6 +82,21 @@ TEST(SkinReference, PhaseFunctionsStayWithinTheirBounds) {
   EXPECT_EQ(clamp_g(-1.0), -double(kMaxAbsG));
 }
 
+// The `paper` phase is the listing's (1 - g^2) / (1 - g^2 - 2 g cos)^1.5 until that base falls to
+// the floor (1 - |g|)^2: for g = 0.8 from cos = 0.2, not only where the base turns negative
+// (cos > 0.225, a NaN in the listing). Between the two the listing is finite but above the bound
+// (96.8 at cos = 0.21), and the variant gives the bound, 45.
+TEST(SkinReference, PaperPhaseIsTheListingUntilItsBaseReachesTheFloor) {
+  const double g = 0.8;
+  for (double c : {-1.0, -0.3, 0.1, 0.19}) {
+    const double listing = (1 - g * g) / std::pow(1 - g * g - 2 * g * c, 1.5);
+    EXPECT_NEAR(hg_phase_paper(c, g), listing, 1e-12 * listing) << c;
+  }
+  EXPECT_NEAR(hg_phase_paper(0.21, g), 45.0, 1e-9);
+  EXPECT_NEAR((1 - g * g) / std::pow(1 - g * g - 2 * g * 0.21, 1.5), 96.82, 0.01) << "the listing, finite there";
+  EXPECT_NEAR(hg_paper_bound(g), 45.0, 1e-9);
+}
+
 TEST(SkinReference, SingleScatteringBoundAndLimits) {
   for (double ci : {1e-9, 0.01, 0.3, 1.0})
     for (double co : {0.0, 1e-9, 0.2, 1.0})

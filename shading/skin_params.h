@@ -49,12 +49,12 @@ struct SkinParams {
   float Thickness = 0.5f;
   // Relative index of refraction skin / outside, in [0.25, 4]; < 1 gives total internal reflection.
   float Eta = 1.4f;
-  // Scale of the dermis term, in [0, 100]. Chosen: 6.27, because the correctly normalised
+  // Scale of the dermis term, in [0, 100]. Chosen: 6.272, because the correctly normalised
   // Henyey-Greenstein lobe (1/(4 pi)) backscatters little at g = 0.8 and would be faint at 1. It
   // was 10 while the `correct` dermis lacked the factor pi of the light units, then 3.2 (about
-  // 10 / pi) while it lacked the 1/Eta^2 of the radiance leaving the layer; 6.27 = 3.2 x 1.4^2
+  // 10 / pi) while it lacked the 1/Eta^2 of the radiance leaving the layer; 6.272 = 3.2 x 1.4^2
   // keeps the head scan's look at the default Eta.
-  float SingleScatteringCoeff = 6.27f;
+  float SingleScatteringCoeff = 6.272f;
   // Epidermis colour C_d, in [0, 1]. Chosen: a warmer, redder tone than SkinColor.
   float DiffusionColor[3] = {0.9f, 0.45f, 0.35f};
   // Epidermis strength I_ms, in [0, 100]. Chosen: 0.25.

@@ -21,13 +21,22 @@ ScopedFlushToZero::ScopedFlushToZero() : saved_(_mm_getcsr()) {
 }
 ScopedFlushToZero::~ScopedFlushToZero() { _mm_setcsr(saved_); }
 
+namespace {
+
+// The threads of `threads` that can run at once: TBB runs no more than the process may use (its
+// default concurrency, which follows the affinity mask), and an arena asked for more prints a
+// warning on stderr. Images do not depend on the count, so arenas take what can run.
+int runnable_threads(int threads) { return std::min(threads, std::max(1, tbb::info::default_concurrency())); }
+
+}  // namespace
+
 void start_worker_threads(int threads) {
   if (threads <= 1) return;
   // An arena kept for the process holds TBB's workers; a job of `threads` items that each wait
   // (briefly, bounded) for the others makes TBB start them now rather than at first use.
   // More threads than cores get no more workers from TBB; one deadline for the whole job
   // bounds the wait however the items are scheduled.
-  const int n = std::min(threads, std::max(1, tbb::info::default_concurrency()));
+  const int n = runnable_threads(threads);
   static tbb::task_arena keep(n);
   std::atomic<int> started{0};
   const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(50);
@@ -45,10 +54,7 @@ struct ThreadPool::Arena {
 };
 
 ThreadPool::ThreadPool(int threads) : threads_(threads < 0 ? 0 : threads) {
-  // TBB runs no more threads at once than the process may use (its default concurrency, which
-  // follows the affinity mask), and an arena asked for more prints a warning on stderr; the
-  // image does not depend on the count, so the arena takes what can run.
-  if (threads_ > 0) arena_ = std::make_unique<Arena>(std::min(threads_, tbb::info::default_concurrency()));
+  if (threads_ > 0) arena_ = std::make_unique<Arena>(runnable_threads(threads_));
 }
 
 ThreadPool::~ThreadPool() = default;

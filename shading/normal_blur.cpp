@@ -4,7 +4,6 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <memory>
@@ -208,13 +207,6 @@ void for_items(const ParallelFor& parallel, size_t count, const std::function<vo
   }
 }
 
-// A scene-unit length as a message shows it: 6 significant digits, as %g writes them.
-std::string number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", x);
-  return buf;
-}
-
 // "more than the budget of N pairs (raise it with FLAG)", the tail of every budget refusal.
 std::string over_pair_budget(const NormalBlurBudget& budget) {
   std::string s = "more than the budget of " + std::to_string(budget.max_pairs) + " pairs";
@@ -257,7 +249,7 @@ std::optional<ParamError> check_pair_estimate(const Graph& g, size_t W, double c
   const std::string about = capped ? "at least " : "about ";
   return ParamError{"normal_blur_radius",
                     "reaches " + about + std::to_string(pairs) + " (source, neighbour) vertex pairs, " +
-                        over_pair_budget(budget) + ": a search out to 3 x " + number(cutoff / 3.0) +
+                        over_pair_budget(budget) + ": a search out to 3 x " + format_number(cutoff / 3.0) +
                         " along the mesh's edges settles " + about + std::to_string(each) + " of its " +
                         std::to_string(W) + " welded vertices (the mean of " + std::to_string(samples) +
                         " evenly spaced ones); a smaller radius reaches fewer"};
@@ -420,9 +412,10 @@ std::optional<ParamError> blur_normals(const NormalBlurInput& m, const float sig
     for_items(parallel, (W + kItemVertices - 1) / kItemVertices, item);
     if (settled.load() > max_pairs)
       return ParamError{"normal_blur_radius",
-                        "the searches out to 3 x " + number(smax) + " along the mesh's edges settle more (source, "
-                        "neighbour) vertex pairs among its " + std::to_string(W) + " welded vertices than the " +
-                            "estimate from sampled vertices said (the mesh is denser where they missed), " +
+                        "the searches out to 3 x " + format_number(smax) +
+                            " along the mesh's edges settle more (source, neighbour) vertex pairs among its " +
+                            std::to_string(W) + " welded vertices than the estimate from sampled vertices said " +
+                            "(the mesh is denser where they missed), " +
                             over_pair_budget(budget) + "; a smaller radius reaches fewer"};
   }
   if (budget.estimate_only) return std::nullopt;

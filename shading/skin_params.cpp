@@ -6,19 +6,20 @@
 #include <utility>
 
 namespace pelt::shading {
-namespace {
 
-std::string fmt(double v) {
+std::string format_number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
 }
 
+namespace {
+
 std::optional<ParamError> check(std::string_view field, float v, double lo, double hi) {
-  if (!std::isfinite(v)) return ParamError{std::string(field), "must be a finite number, got " + fmt(v)};
+  if (!std::isfinite(v)) return ParamError{std::string(field), "must be a finite number, got " + format_number(v)};
   if (v < lo || v > hi)
     return ParamError{std::string(field),
-                      "must be in [" + fmt(lo) + ", " + fmt(hi) + "], got " + fmt(v)};
+                      "must be in [" + format_number(lo) + ", " + format_number(hi) + "], got " + format_number(v)};
   return std::nullopt;
 }
 

@@ -93,6 +93,9 @@ struct ParamError {
   std::string message() const { return field + ": " + reason; }
 };
 
+// A number as a ParamError's reason shows it: 6 significant digits, as printf's %g writes them.
+std::string format_number(double v);
+
 // First out-of-range or non-finite field, or nullopt when every field is valid.
 std::optional<ParamError> validate(const SkinParams& p);
 

@@ -281,8 +281,11 @@ uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::Scene
   const MemoryPart& big = e.largest();
   // As check_scene_budget: image buffers that one sample per pixel would fit in the budget are
   // refused for their samples, so a flag or a sweep that set them is named, not the image size.
-  const bool spp_made_it = big.field == "image.width" && spp > 1 &&
-                           estimate_memory(scene, meshes, width, height, threads, 1).total <= budget.max_memory_bytes;
+  // Only the image part depends on spp: the total at one sample swaps that part alone.
+  const bool spp_made_it =
+      big.field == "image.width" && spp > 1 &&
+      e.total - big.bytes + image_bytes(effective_side(width, scene.image.width),
+                                        effective_side(height, scene.image.height), 1) <= budget.max_memory_bytes;
   refuse(scene, spp_made_it ? "quality.spp" : big.field,
          "this render needs an estimated " + describe_bytes(e.total) + ", " +
              io::over_budget(describe_bytes(budget.max_memory_bytes), io::kMaxMemoryFlag) +

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <climits>
+#include <optional>
+#include <string_view>
 #include <system_error>
 
 #include "tools/io/input_error.h"
@@ -21,52 +24,50 @@ bool parse_int(std::string_view text, long long& out) {
   return r.ec == std::errc() && r.ptr == text.data() + text.size();
 }
 
-std::string scene_has(int frame_count) {
-  return "the scene has " + std::to_string(frame_count) + " frame(s), 0.." + std::to_string(frame_count - 1);
+// A frame number as written: digits only (no sign, no spaces), else nullopt. Digits past long
+// long's range read as kPastEveryScene, a frame no scene has, so that the range checks refuse
+// them as out of range rather than as no number.
+constexpr long long kPastEveryScene = LLONG_MAX;
+std::optional<long long> frame_number(std::string_view text) {
+  long long v = 0;
+  if (parse_int(text, v)) return v;
+  if (is_digits(text)) return kPastEveryScene;
+  return std::nullopt;
 }
 
-// Digits that parse_int refused are a frame past long long's range: told it is out of range,
-// not that it is no whole number.
-void refuse_if_huge(std::string_view text, int frame_count, const std::string& option) {
-  if (is_digits(text))
-    throw io::InputError("", option, "frame " + std::string(text) + " is out of range: " + scene_has(frame_count));
+// `written` is the frame as the option gave it, shown when it was past long long's range.
+[[noreturn]] void refuse_out_of_range(long long frame, std::string_view written, int frame_count,
+                                      const std::string& option) {
+  const std::string shown = frame == kPastEveryScene ? std::string(written) : std::to_string(frame);
+  throw io::InputError("", option, "frame " + shown + " is out of range: the scene has " +
+                                       std::to_string(frame_count) + " frame(s), 0.." +
+                                       std::to_string(frame_count - 1));
 }
 
 }  // namespace
 
 FrameRange parse_frame_range(const std::string& text, int frame_count, const std::string& option) {
-  const size_t colon = text.find(':');
-  long long a = 0, b = 0;
-  const bool ok = colon == std::string::npos
-                      ? parse_int(text, a) && (b = a, true)
-                      : parse_int(std::string_view(text).substr(0, colon), a) &&
-                            parse_int(std::string_view(text).substr(colon + 1), b);
-  if (!ok) {
-    const std::string_view t(text);
-    const std::string_view first = colon == std::string::npos ? t : t.substr(0, colon);
-    const std::string_view last = colon == std::string::npos ? t : t.substr(colon + 1);
-    if (is_digits(first) && is_digits(last)) refuse_if_huge(parse_int(first, a) ? last : first, frame_count, option);
+  const std::string_view t(text);
+  const size_t colon = t.find(':');
+  const std::string_view first = t.substr(0, colon), last = colon == std::string_view::npos ? t : t.substr(colon + 1);
+  const std::optional<long long> a = frame_number(first), b = frame_number(last);
+  if (!a || !b)
     throw io::InputError("", option, "expected FIRST:LAST or FRAME (whole numbers >= 0), got `" + text + "`");
-  }
-  if (a > b)
-    throw io::InputError("", option, "first frame " + std::to_string(a) + " is after last frame " +
-                                         std::to_string(b));
-  if (b >= frame_count)
-    throw io::InputError("", option, "frame " + std::to_string(b) + " is out of range: " + scene_has(frame_count));
-  return {static_cast<int>(a), static_cast<int>(b)};
+  if (*a == kPastEveryScene) refuse_out_of_range(*a, first, frame_count, option);
+  if (*a > *b)
+    throw io::InputError("", option, "first frame " + std::to_string(*a) + " is after last frame " +
+                                         std::to_string(*b));
+  if (*b >= frame_count) refuse_out_of_range(*b, last, frame_count, option);
+  return {static_cast<int>(*a), static_cast<int>(*b)};
 }
 
 FrameRange parse_frame(const std::string& text, int frame_count, const std::string& option) {
   if (text.find(':') != std::string::npos)
     throw io::InputError("", option, "takes one frame number, got `" + text + "`; use --frames A:B for a range");
-  long long k = 0;
-  if (!parse_int(text, k)) {
-    refuse_if_huge(text, frame_count, option);
-    throw io::InputError("", option, "expected a frame number (a whole number >= 0), got `" + text + "`");
-  }
-  if (k >= frame_count)
-    throw io::InputError("", option, "frame " + std::to_string(k) + " is out of range: " + scene_has(frame_count));
-  return {static_cast<int>(k), static_cast<int>(k)};
+  const std::optional<long long> k = frame_number(text);
+  if (!k) throw io::InputError("", option, "expected a frame number (a whole number >= 0), got `" + text + "`");
+  if (*k >= frame_count) refuse_out_of_range(*k, text, frame_count, option);
+  return {static_cast<int>(*k), static_cast<int>(*k)};
 }
 
 Shard parse_shard(const std::string& text) {

@@ -534,6 +534,12 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   out.fur_length = params.length * out.bounds.radius;
   out.layer_distance = out.fur_length / float(S - 1);
 
+  if (params.use_color_map) {
+    if (base.uvs.size() != N)
+      return ParamError{"use_color_map", "the colour map is read at the mesh's texture coordinates, and this mesh has none"};
+    out.mesh_uvs = base.uvs;
+  }
+
   out.growth.resize(N);
   if (params.comb && params.comb->field == CombField::uv) {
     if (base.uvs.size() != N)
@@ -600,8 +606,13 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   // shared blocks and takes one level of detail across them, as on the mesh welded; named by two,
   // the fur was drawn as if cut along them.
   const std::vector<uint32_t> same_as = same_strand_vertices(base.positions, out.base_normals, out.growth);
-  const std::vector<uint32_t> same_shell = first_with_equal_bits<3>(N, [&](uint32_t i) {
-    return std::array<uint32_t, 3>{same_as[i], key_bits(base_uv[i].x), key_bits(base_uv[i].y)};
+  // With a colour map, copies split at a uv seam of the mesh stay apart even where the strand
+  // uvs agree (the box mapping's): joined, a triangle would read the map across the whole atlas.
+  const bool by_mesh_uv = !out.mesh_uvs.empty();
+  const std::vector<uint32_t> same_shell = first_with_equal_bits<5>(N, [&](uint32_t i) {
+    const glm::vec2 m = by_mesh_uv ? out.mesh_uvs[i] : glm::vec2(0.0f);
+    return std::array<uint32_t, 5>{same_as[i], key_bits(base_uv[i].x), key_bits(base_uv[i].y), key_bits(m.x),
+                                   key_bits(m.y)};
   });
   out.shell_indices.resize(size_t(S) * F * 3);
   for (uint32_t s = 0; s < S; ++s) {

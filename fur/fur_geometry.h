@@ -94,6 +94,9 @@ struct FurGeometry {
   // to (1,2,3)); v = s / (S-1), 0 at the root, 1 at the tip.
   std::vector<glm::vec2> fin_uvs;
   std::vector<uint16_t> layer;  // s
+  // Per base vertex (size N), only with params.use_color_map: the mesh's own texture coordinate,
+  // where the colour map is read (the shell uvs are the strand texture's, scaled or projected).
+  std::vector<glm::vec2> mesh_uvs;
 
   // Shell triangles: layer s's copy of base triangle f is triangle s*F + f (S*F*3 indices).
   std::vector<uint32_t> shell_indices;

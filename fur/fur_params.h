@@ -127,6 +127,11 @@ struct FurParams {
   // runs from root to tip.
   glm::vec3 root_color{0.36f, 0.261f, 0.162f};
   glm::vec3 tip_color{0.80f, 0.58f, 0.36f};
+  // "use_color_map": the strands also take the colour of the object's colour map under them
+  // (a pelt addition; the seed's fur has one colour): colour = the root-to-tip colour x the map
+  // at the base mesh's texture coordinate, per fragment (tools/render/fur_shader.h). Needs a
+  // mesh with uvs (FurGeometry::mesh_uvs); which map is the renderer's business.
+  bool use_color_map = false;
   std::optional<GravityParams> gravity;  // "gravity": {direction, strength, stability}
   std::optional<WindParams> wind;        // "wind": {direction, strength, gust_frequency, gust_scale}
   std::optional<CombParams> comb;        // "comb": {direction, weight}

@@ -336,6 +336,37 @@ TEST(FurGeometry, ShellsNameOneVertexForCopiesEqualInAllTheyAreDrawnFrom) {
   }
 }
 
+// use_color_map reads the mesh's own uvs, kept per base vertex; copies that the strands would join
+// (same position and strand uv, as the box mapping lays them) stay apart where those uvs differ, or
+// a shell triangle would read the colour map across the seam.
+TEST(FurGeometry, AColourMapKeepsTheMeshUvsAndTheirSeams) {
+  Mesh cube = hard_edged_cube();
+  FurParams p = shells(3);
+  p.texture_coordinates = StrandCoordinates::box;
+  const FurGeometry plain = build(cube, p);
+  EXPECT_TRUE(plain.mesh_uvs.empty());
+  p.use_color_map = true;
+  const FurGeometry g = build(cube, p);
+  const uint32_t N = g.base_vertex_count, F = uint32_t(cube.triangle_count());
+  ASSERT_EQ(N, cube.positions.size());
+  ASSERT_EQ(g.mesh_uvs, cube.uvs);
+  std::set<uint32_t> named, named_plain;
+  for (uint32_t k = 0; k < 3 * F; ++k) {
+    const uint32_t v = g.shell_indices[k];
+    EXPECT_EQ(g.mesh_uvs[v], cube.uvs[cube.indices[k]]) << "corner " << k;
+    EXPECT_EQ(g.shell_uvs[v], g.shell_uvs[cube.indices[k]]) << "corner " << k;
+    named.insert(v);
+    named_plain.insert(plain.shell_indices[k]);
+  }
+  // Without the map the cube's copies that differ only in mesh uv are one vertex to the shells.
+  EXPECT_GT(named.size(), named_plain.size());
+  cube.uvs.clear();
+  FurGeometry none;
+  const auto e = build_fur_geometry(cube, p, none);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field, "use_color_map");
+}
+
 // The strand texture lies at one scale whatever the UV layout: the mesh's uvs are scaled to cover
 // as much texture as the projection along the body diagonal lays on the same mesh, so a mesh whose
 // uvs span a tenth of the texture grows the same strands as one whose uvs span it all (before, its

@@ -118,6 +118,8 @@ int run_info(const InfoOptions& o) {
                   std::string(fur::to_string(f.fins)).c_str(),
                   force_frames(f.gravity.has_value(), forces.gravity, forces.frames).c_str(),
                   force_frames(f.wind.has_value(), forces.wind, forces.frames).c_str());
+      if (f.use_color_map)
+        std::printf("       colour   root_color to tip_color x the object's colour map at the mesh's uvs\n");
       std::printf("       vertices base %zu, shell %zu, fin %zu (shared), sum %zu\n", c->base_vertices,
                   c->shell_vertices, c->fin_vertices, c->total_vertices);
       std::printf("       faces    base %zu, shell %zu, fin %zu, sum %zu\n", c->base_faces, c->shell_faces,

@@ -40,7 +40,7 @@ void switch_value(const JsonFields& js, const json& obj, const std::string& path
 fur::FurParams parse_fur_block(const JsonFields& js, const json& j, const std::string& path) {
   js.expect_object(j, path,
                    {"shells", "length", "density", "texture_size", "texture_coordinates", "texture_repeat",
-                    "seed", "fins", "root_color", "tip_color", "gravity", "wind", "comb"});
+                    "seed", "fins", "root_color", "tip_color", "use_color_map", "gravity", "wind", "comb"});
   fur::FurParams p;
   // Counts are read over int's whole range, so that a value out of theirs gets
   // FurParams::validate's message (its range and why), not a generic bound.
@@ -69,6 +69,8 @@ fur::FurParams parse_fur_block(const JsonFields& js, const json& j, const std::s
   }
   p.root_color = vec(js, j, path, "root_color", p.root_color);
   p.tip_color = vec(js, j, path, "tip_color", p.tip_color);
+  if (const json* v = JsonFields::find(j, "use_color_map"))
+    p.use_color_map = js.boolean(*v, json_child(path, "use_color_map"));
   if (const json* v = JsonFields::find(j, "gravity")) {
     const std::string g = json_child(path, "gravity");
     js.expect_object(*v, g, {"direction", "strength", "stability"});

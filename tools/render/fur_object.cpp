@@ -80,6 +80,13 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
       grey_allowed_(options.grey_varyings),
       fins_(params.fins != fur::FinMode::off),
       merge_fins_(options.merge_fins && !options.match_llvmpipe && fins_) {
+  if (params.use_color_map) {
+    if (!options.color_map)
+      throw_fur_error(origin, "use_color_map",
+                      "true needs a colour map on the object (material.color_map, or a map its mesh names: glTF "
+                      "baseColorTexture, MTL map_Kd), and it has none");
+    color_map_ = options.color_map;
+  }
   {
     StageTimer t(setup, "fur_geometry");
     if (auto e = fur::build_fur_geometry(base, params, geo_)) throw_fur_error(origin, e->field, e->reason);
@@ -116,7 +123,8 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
   gravity_pose_ = geo_.positions;
   tangents_.resize(v);
   wind_forces_.resize(geo_.base_vertex_count);
-  const int vc = lighting_ == FurLighting::pixel ? FurPixelVaryings::kCount : FurVaryings::kCount;
+  const int vc = (lighting_ == FurLighting::pixel ? FurPixelVaryings::kCount : FurVaryings::kCount) +
+                 (color_map_ ? FurMapUv::kCount : 0);
   shell_varyings_.resize(v * vc);
   if (fins_) {
     fin_varyings_.resize(v * vc);
@@ -140,6 +148,20 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
       fin_varyings_[i * vc + uv] = geo_.fin_uvs[i].x;
       fin_varyings_[i * vc + uv + 1] = geo_.fin_uvs[i].y;
     }
+  if (lighting_ == FurLighting::pixel && color_map_) write_mesh_uvs(vc);
+}
+
+void FurObject::write_mesh_uvs(int stride) {
+  const int at = stride - FurMapUv::kCount;
+  const size_t n = geo_.base_vertex_count;
+  for (size_t i = 0; i < pose_.size(); ++i) {
+    const glm::vec2 uv = geo_.mesh_uvs[i % n];
+    for (std::vector<float>* dst : {&shell_varyings_, fins_ ? &fin_varyings_ : nullptr}) {
+      if (!dst) continue;
+      (*dst)[i * stride + at] = uv.x;
+      (*dst)[i * stride + at + 1] = uv.y;
+    }
+  }
 }
 
 uint64_t FurObject::triangles() const {
@@ -152,7 +174,7 @@ size_t FurObject::memory_bytes() const {
              bytes(geo_.shell_indices) + bytes(geo_.fin_indices) + bytes(geo_.edges) +
              bytes(gravity_pose_) + bytes(wind_pose_) + bytes(pose_) + bytes(tangents_) +
              bytes(shell_varyings_) + bytes(fin_varyings_) + bytes(fin_list_) + bytes(light_soa_.storage) +
-             bytes(pose_clip_) + bytes(shell_keys_);
+             bytes(pose_clip_) + bytes(shell_keys_) + bytes(geo_.mesh_uvs);
   for (const raster::Texture& t : shell_tex_.layers) n += t.bytes();
   return n + fin_tex_.bytes();
 }
@@ -206,11 +228,13 @@ void FurObject::light_vertices(const std::vector<shading::Light>& lights, const 
   }
 }
 
-int FurObject::varying_count() const {
+int FurObject::lighting_varying_count() const {
   return lighting_ == FurLighting::pixel ? FurPixelVaryings::kCount
          : grey_                         ? FurGreyVaryings::kCount
                                          : FurVaryings::kCount;
 }
+
+int FurObject::varying_count() const { return lighting_varying_count() + (color_map_ ? FurMapUv::kCount : 0); }
 
 void FurObject::rebuild_varyings() {
   const size_t count = pose_.size();
@@ -225,12 +249,13 @@ void FurObject::rebuild_varyings() {
     // Either layout packs the vertices' records from the array's start, so the (static) uvs
     // are rewritten only when the layout changes: the first frame, or a light turning grey
     // or coloured.
-    const int stride = grey_ ? FurGreyVaryings::kCount : FurVaryings::kCount;
+    const int stride = varying_count();
     const int channels = grey_ ? 1 : 3;
     const int spec = grey_ ? FurGreyVaryings::kSpecular : FurVaryings::kSpecular;
     static_assert(FurGreyVaryings::kUv == FurVaryings::kUv && FurGreyVaryings::kDiffuse == FurVaryings::kDiffuse);
     const bool write_uvs = stride != uv_stride_;
     uv_stride_ = stride;
+    if (write_uvs && color_map_) write_mesh_uvs(stride);
     for (size_t i = 0; i < count; ++i) {
       float* sv = shell_varyings_.data() + i * stride;
       if (write_uvs) {
@@ -262,7 +287,8 @@ void FurObject::rebuild_varyings() {
     const glm::vec3& t = tangents_[i];
     const glm::vec3& nrm = geo_.base_normals[i % n];
     const float h = float(geo_.layer[i]) * inv_top;
-    for (float* dst : {shell_varyings_.data() + i * P::kCount, fins_ ? fin_varyings_.data() + i * P::kCount : nullptr}) {
+    const size_t at = i * size_t(varying_count());
+    for (float* dst : {shell_varyings_.data() + at, fins_ ? fin_varyings_.data() + at : nullptr}) {
       if (!dst) continue;
       dst[P::kPos] = p.x, dst[P::kPos + 1] = p.y, dst[P::kPos + 2] = p.z;
       dst[P::kTangent] = t.x, dst[P::kTangent + 1] = t.y, dst[P::kTangent + 2] = t.z;
@@ -460,6 +486,8 @@ void FurObject::prepare_shaders(const std::vector<shading::Light>& lights, const
       su.per_pixel_lighting = lighting_ == FurLighting::pixel;
       su.match_llvmpipe = match_llvmpipe_;
       su.llvmpipe_light = glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f));
+      su.color_map = color_map_;
+      su.map_sampler.filter = filter_;  // repeat, as the base surface reads it (MaterialShader)
       shaders_.push_back(std::make_unique<FurShader>(su));
     }
   }
@@ -471,6 +499,7 @@ void FurObject::prepare_shaders(const std::vector<shading::Light>& lights, const
     sh.set_view(lights, eye);
     sh.set_fins(weight && sort == FurSort::layer && k % 2 == 1 ? weight + fin_segment_[k / 2] : weight);
     sh.set_grey_lighting(grey_);
+    sh.set_map_uv_slot(lighting_varying_count());
   }
 }
 

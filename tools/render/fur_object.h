@@ -55,6 +55,9 @@ struct FurDrawOptions {
   // layers where its chains run straight (fur/fin_spans.h). Off: one quad per pair of layers,
   // as eq. 1 lists them. Never with match_llvmpipe, whose fins are the harness's.
   bool merge_fins = false;
+  // The object's colour map (its material's, or the one its mesh names), read by fur whose
+  // params ask for it (FurParams::use_color_map); such fur without one is refused.
+  const raster::Texture* color_map = nullptr;
   // Builds the strand textures' layers as its items (the render's threads); none: in order.
   raster::ParallelFor parallel;
 };
@@ -102,6 +105,8 @@ class FurObject {
   const fur::FurGeometry& geometry() const { return geo_; }
   // Floats per vertex of the fur draws' varyings as of the last update().
   int varying_count() const;
+  // The lighting layout's own floats per vertex, before the mesh uv that a colour map adds.
+  int lighting_varying_count() const;
   uint64_t triangles() const;
   // Bytes held by this object's arrays and textures (for `pelt info`).
   size_t memory_bytes() const;
@@ -113,6 +118,8 @@ class FurObject {
   // inputs: lights, eye, fin weights.
   void prepare_shaders(const std::vector<shading::Light>& lights, const glm::vec3& eye);
   void rebuild_varyings();
+  // The mesh uvs into both varying arrays' records of `stride` floats, as their last two.
+  void write_mesh_uvs(int stride);
   void rebuild_fin_list();
   // How far a merged fin may stray from the per-layer one (fur/fin_spans.h), scene units.
   float fin_tolerance() const { return fur::kFinSpanTolerance * geo_.layer_distance; }
@@ -125,6 +132,7 @@ class FurObject {
   bool grey_allowed_;
   bool fins_;  // params_.fins is not off: the fin texture, varyings and list exist
   bool grey_ = false;  // this frame's varyings are FurGreyVaryings
+  const raster::Texture* color_map_ = nullptr;  // read at the mesh uvs (FurMapUv) when set
   int uv_stride_ = 0;  // the record stride the uvs in the varying arrays were written for (0: none yet)
   shading::FurLightParams light_params_;
   fur::FurGeometry geo_;

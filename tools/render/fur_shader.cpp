@@ -14,6 +14,7 @@ constexpr size_t kLanes = raster::kMaxBatchLanes;
 
 struct alignas(64) Scratch {
   alignas(64) float texel[4][kLanes];
+  alignas(64) float map[4][kLanes];  // the colour map's texels (use_color_map)
   alignas(64) float tint[3][raster::kMaxBatchBlocks];  // per block: its layer's tint (shells)
 };
 thread_local Scratch tls_scratch;
@@ -36,7 +37,7 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   // With per-vertex lighting the alpha is sampled straight into the output, and the three
   // colour channels of the luminance shells and fin (La8: all equal) into texel[0] alone.
   const bool vertex_lit = !s_.per_pixel_lighting;
-  const bool one_channel = vertex_lit;
+  const bool one_channel = vertex_lit && !s_.color_map;
   float* const alpha = vertex_lit ? b.out[3] : s.texel[3];
   float* const texel_out[4] = {s.texel[0], one_channel ? s.texel[0] : s.texel[1],
                                one_channel ? s.texel[0] : s.texel[2], alpha};
@@ -75,6 +76,14 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
         for (int c = 0; c < 3; ++c) s.tint[c][k] = s_.shell_tint[layer][c];
       i = j;
     }
+  }
+  if (s_.color_map) {
+    // Every channel of the strand texel (La8: all equal) times the map's colour under it.
+    float* const map_out[4] = {s.map[0], s.map[1], s.map[2], s.map[3]};
+    sample_texture(*s_.color_map, s_.map_sampler, b.varying[map_uv_slot_], b.varying[map_uv_slot_ + 1], n, map_out,
+                   s_.double_precision, b.mask);
+    for (int c = 0; c < 3; ++c)
+      for (size_t i = 0; i < n; ++i) texel_out[c][i] *= s.map[c][i];
   }
   if (s_.fins && quad_weight_) {
     // Per lane: a block may hold the quads of several fins. (Looked up through the quad's edge,

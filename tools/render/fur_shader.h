@@ -29,6 +29,10 @@ struct FurShaderSetup {
   raster::SamplerState sampler;
   uint32_t base_faces = 0;                   // shells: triangles per layer
   uint32_t primitive_offset = 0;             // first triangle of this draw in the object's list
+  // The object's colour map (fur's use_color_map), read at the mesh uv (FurMapUv, the slot
+  // set_map_uv_slot names): the strand colour is multiplied by it, before the tint's clamp to 1.
+  const raster::Texture* color_map = nullptr;
+  raster::SamplerState map_sampler;
   bool per_pixel_lighting = false;           // FurPixelVaryings and Kajiya-Kay per fragment
   bool double_precision = false;             // texture sampling and lighting by the double references
   bool match_llvmpipe = false;               // per-pixel: the harness's fixed light term
@@ -49,6 +53,8 @@ class FurShader final : public raster::Shader {
   void set_fins(const float* quad_weight) { quad_weight_ = quad_weight; }
   // Per-vertex lighting arrives as FurGreyVaryings (else FurVaryings); per frame, as above.
   void set_grey_lighting(bool grey) { grey_ = grey; }
+  // The varying slot of the mesh uv (with a colour map): after the frame's lighting layout.
+  void set_map_uv_slot(int slot) { map_uv_slot_ = slot; }
   void shade(const raster::FragmentBatch& batch) const override;
 
  private:
@@ -57,6 +63,7 @@ class FurShader final : public raster::Shader {
   float eye_[3] = {0, 0, 0};
   const float* quad_weight_ = nullptr;
   bool grey_ = false;
+  int map_uv_slot_ = 0;
 };
 
 }  // namespace pelt::render

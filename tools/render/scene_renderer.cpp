@@ -367,6 +367,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       fo.grey_varyings = settings.fur_grey_varyings;
       fo.merge_fins = quality_.fin_quads == io::FinQuads::merged;
       fo.parallel = parallel;
+      if (!obj->color_map.empty()) fo.color_map = &obj->color_map;
       obj->fur = std::make_unique<FurObject>(obj->mesh, *so.fur, fo,
                                              FurOrigin{scene.file.string(), io::json_index("objects", i)}, setup_stats_);
       if (obj->fur->geometry().uvs_cover_no_area)

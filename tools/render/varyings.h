@@ -36,6 +36,12 @@ struct FurGreyVaryings {
   static constexpr int kCount = 4;
 };
 
+// With the fur's use_color_map, every fur layout above and below gains the mesh's own texture
+// coordinate (2 floats, where the colour map is read) after its kCount.
+struct FurMapUv {
+  static constexpr int kCount = 2;
+};
+
 // Fur lit per pixel (Kajiya-Kay evaluated per fragment).
 struct FurPixelVaryings {
   static constexpr int kPos = 0;      // world position of the deformed fur vertex, 3

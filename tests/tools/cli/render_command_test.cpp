@@ -468,6 +468,32 @@ TEST_F(RenderCommand, InfoCountsTheFurEdgesAndTheJoinedCopies) {
   EXPECT_NE(welded.out.find("edges    882 (a fin quad each per pair of layers)\n"), std::string::npos) << welded.out;
 }
 
+// Fur coloured by the object's colour map, from the command line: info says so, the render draws;
+// without a map the render is refused naming the field, exit 2, no image.
+TEST_F(RenderCommand, FurTakesTheColourMapOnlyWhereThereIsOne) {
+  ASSERT_EQ(pelt({"-o", (dir.path() / "map.png").string(), "--frame", "0", "-q"}).code, 0);
+  const std::string fur = R"("fur": {"shells": 4, "texture_size": 32, "use_color_map": true})";
+  const fs::path with = dir.write("with_map.json", R"({"pelt": 1, "image": {"width": 32, "height": 24},
+    "camera": {"eye": [3, 2, 4], "target": [0, 0, 0]}, "lights": [{"type": "ambient", "intensity": 0.5}],
+    "objects": [{"mesh": "box:3", "material": {"type": "lambert", "color_map": "map.png"}, )" + fur + "}]}");
+  const Result info = run_pelt({"info", with.string()}, dir.path());
+  ASSERT_EQ(info.code, 0) << info.err;
+  EXPECT_NE(info.out.find("colour   root_color to tip_color x the object's colour map"), std::string::npos)
+      << info.out;
+  Result r = run_pelt({"render", with.string(), "-o", (dir.path() / "with.png").string(), "-q"}, dir.path());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir.path() / "with.png"));
+  const fs::path without = dir.write("without_map.json", R"({"pelt": 1, "image": {"width": 32, "height": 24},
+    "camera": {"eye": [3, 2, 4], "target": [0, 0, 0]}, "lights": [{"type": "ambient", "intensity": 0.5}],
+    "objects": [{"mesh": "box:3", "material": {"type": "lambert"}, )" + fur + "}]}");
+  r = run_pelt({"render", without.string(), "-o", (dir.path() / "without.png").string(), "-q"}, dir.path());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(without.string() + ": objects[0].fur.use_color_map: true needs a colour map"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "without.png"));
+}
+
 // Where the strands lie and at what scale: on a uv-mapped mesh the factor its uvs were scaled by
 // (the sphere's uvs span its whole surface once), on a mesh without uvs the projection's.
 TEST_F(RenderCommand, InfoShowsWhereTheStrandsLie) {

@@ -83,10 +83,12 @@ class SceneDir : public io::TempDir {
 };
 
 // Frame 0 of `scene` at quality `q`.
-inline FrameImage render_at(const io::Scene& scene, const io::Quality& q, int threads = 2) {
+inline FrameImage render_at(const io::Scene& scene, const io::Quality& q, int threads = 2,
+                            FurLighting lighting = FurLighting::vertex) {
   RenderSettings rs;
   rs.threads = threads;
   rs.quality = q;
+  rs.fur_lighting = lighting;
   SceneRenderer r(scene, rs);
   FrameImage img;
   FrameStats st;

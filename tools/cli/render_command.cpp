@@ -197,6 +197,12 @@ int run_render(const RenderOptions& o) {
       scene, o.quality, o.width, o.height, [&] { return std::make_unique<render::SceneRenderer>(scene, rs); });
   render::SceneRenderer& renderer = *owned;
   for (const std::string& w : renderer.warnings()) std::fprintf(stderr, "pelt: warning: %s\n", w.c_str());
+  // Installed before any temporary is created (the writability probes below, the GIF's): a
+  // signal that found a temporary but not yet the handler would end the process by the default
+  // action and leave the temporary behind. (Installed after the probes, a second Ctrl-C in the
+  // moment of a probe did that: the suite's two-signal test caught it on a loaded machine.)
+  render::InterruptGuard interrupt;
+
   // The destinations are proven writable before the first frame, so a bad path fails now
   // instead of after a whole sequence has rendered.
   io::OutputNames outputs(renderer.input_files());
@@ -211,9 +217,6 @@ int run_render(const RenderOptions& o) {
                                                            : pattern.path_for(plan.frames.front()),
                      "-o");
 
-  // Installed before the GIF's temporary is created: a signal that found the temporary but not
-  // yet the handler would end the process by the default action and leave the temporary behind.
-  render::InterruptGuard interrupt;
   std::unique_ptr<io::AnimatedGifWriter> gif;
   if (plan.kind == render::OutputKind::gif) {
     gif = std::make_unique<io::AnimatedGifWriter>(o.output, renderer.width(), renderer.height(),

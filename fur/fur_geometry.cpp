@@ -622,6 +622,20 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   }
 
   out.edges = mesh_edges(base, same_as);
+  // The fins read the colour map at their ends' mesh uvs too: an edge names the first copy of
+  // each end, which may lie on another island of the map (a seam's other side) and would spread
+  // the map across the atlas over the fin. Its face0's own copies grow the same strand (the
+  // same pose, light and fin), so the fin takes those.
+  if (by_mesh_uv)
+    for (FurEdge& e : out.edges) {
+      const uint32_t* t = &base.indices[3 * size_t{e.face0}];
+      uint32_t a = e.a, b = e.b;
+      for (int k = 0; k < 3; ++k) {
+        if (same_as[t[k]] == e.a) a = same_shell[t[k]];
+        if (same_as[t[k]] == e.b) b = same_shell[t[k]];
+      }
+      e.a = a, e.b = b;
+    }
   const size_t E = out.edges.size();
   if (fins) {
     out.fin_indices.resize(size_t(S - 1) * E * 6);

@@ -38,7 +38,9 @@ inline constexpr double kMaxFurReach = 1e18;
 // 0.087 h off the surface, and still reads as fur lying flat.
 inline constexpr double kMinFurElevation = 5.0 * std::numbers::pi / 180.0;
 
-// An undirected mesh edge, a < b, with the (up to) two base triangles that share it.
+// An undirected mesh edge, a < b, with the (up to) two base triangles that share it. With a
+// colour map (FurParams::use_color_map) a and b are instead face0's own copies of those
+// vertices (the same strands), in either order.
 // face1 = kNoFace on a boundary edge. On a non-manifold edge (3+ triangles) the first
 // two triangles in index order are kept; the fin is still drawn once.
 struct FurEdge {
@@ -103,7 +105,7 @@ struct FurGeometry {
   // Fin triangles: quad q = s*E + e (s = 0..S-2, e = index into `edges`) is triangles
   // 2q, 2q+1 = (a_s, b_s, b_{s+1}), (a_s, b_{s+1}, a_{s+1}) ((S-1)*E*6 indices; none with fins off).
   std::vector<uint32_t> fin_indices;
-  std::vector<FurEdge> edges;             // sorted by (a, b), deduplicated
+  std::vector<FurEdge> edges;             // sorted by (a, b) (the first copies), deduplicated
   std::vector<glm::vec3> face_normals;    // unit normal per base triangle ((0,1,0) if degenerate)
 
   FurCounts counts;

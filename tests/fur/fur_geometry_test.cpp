@@ -367,6 +367,44 @@ TEST(FurGeometry, AColourMapKeepsTheMeshUvsAndTheirSeams) {
   EXPECT_EQ(e->field, "use_color_map");
 }
 
+// The fins read the map at their ends' mesh uvs: with the map an edge names its face0's own copies
+// of its ends (at positions equal to the first copies'), so a fin along a seam of the sphere's
+// uvs reads one side of it, not the map across the atlas between its ends' first copies.
+TEST(FurGeometry, AColourMapPutsEachFinOnItsFaceOwnCopies) {
+  const Mesh sphere = io::make_builtin_mesh("sphere:16");
+  FurParams p = shells(3);
+  const FurGeometry plain = build(sphere, p);
+  p.use_color_map = true;
+  const FurGeometry g = build(sphere, p);
+  ASSERT_EQ(plain.edges.size(), g.edges.size());
+  auto corner_of_face0 = [&](const FurEdge& e, uint32_t v) {
+    for (int k = 0; k < 3; ++k)
+      if (sphere.indices[3 * size_t{e.face0} + k] == v) return true;
+    return false;
+  };
+  size_t first_copy_elsewhere = 0;
+  for (size_t i = 0; i < g.edges.size(); ++i) {
+    const FurEdge &e = g.edges[i], &before = plain.edges[i];
+    EXPECT_EQ(e.face0, before.face0);
+    EXPECT_EQ(g.positions[e.a], plain.positions[before.a]) << "edge " << i;
+    EXPECT_EQ(g.positions[e.b], plain.positions[before.b]) << "edge " << i;
+    bool uv_a = false, uv_b = false;
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec2 uv = sphere.uvs[sphere.indices[3 * size_t{e.face0} + k]];
+      uv_a = uv_a || g.mesh_uvs[e.a] == uv;
+      uv_b = uv_b || g.mesh_uvs[e.b] == uv;
+    }
+    EXPECT_TRUE(uv_a && uv_b) << "edge " << i;
+    first_copy_elsewhere += !corner_of_face0(before, before.a) || !corner_of_face0(before, before.b);
+  }
+  // The seam's and the poles' edges, whose first copies belong to other faces.
+  EXPECT_GT(first_copy_elsewhere, 0u);
+  for (size_t k = 0; k < g.fin_indices.size(); k += 6) {
+    const FurEdge& e = g.edges[(k / 6) % g.edges.size()];
+    EXPECT_EQ(g.fin_indices[k] % g.base_vertex_count, e.a);
+  }
+}
+
 // The strand texture lies at one scale whatever the UV layout: the mesh's uvs are scaled to cover
 // as much texture as the projection along the body diagonal lays on the same mesh, so a mesh whose
 // uvs span a tenth of the texture grows the same strands as one whose uvs span it all (before, its

@@ -502,7 +502,7 @@ size_t fur_base_vertex_count(const Mesh& mesh, const FurParams& params) {
 }
 
 std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams& params,
-                                             FurGeometry& out) {
+                                             FurGeometry& out, std::span<const float> length_scale) {
   std::vector<glm::vec3> normals;
   StrandLayout layout;
   if (auto e = prepare(input, params, normals, out.bounds, layout)) return e;
@@ -534,6 +534,9 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   out.fur_length = params.length * out.bounds.radius;
   out.layer_distance = out.fur_length / float(S - 1);
 
+  out.mesh_uvs.clear();
+  out.length_scale.clear();
+  out.bald_faces = 0;
   if (params.use_color_map) {
     if (base.uvs.size() != N)
       return ParamError{"use_color_map", "the colour map is read at the mesh's texture coordinates, and this mesh has none"};
@@ -571,6 +574,28 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
     fin_u[i] = float(k * glm::dot(q, ef));
   }
 
+  // Copies of one strand (same position, normal and growth) grow it at one length: the mean of
+  // their scales, which a map read at two sides of a uv seam gives slightly apart. Apart, the
+  // copies would be two strands, cracking the shells and doubling the fins along every seam.
+  const std::vector<uint32_t> same_as = same_strand_vertices(base.positions, out.base_normals, out.growth);
+  if (!length_scale.empty()) {
+    if (length_scale.size() != input.positions.size())
+      return ParamError{"length_map", std::to_string(length_scale.size()) + " lengths for " +
+                                          std::to_string(input.positions.size()) + " vertices"};
+    for (size_t i = 0; i < length_scale.size(); ++i)
+      if (!(length_scale[i] >= 0.0f && length_scale[i] <= 1.0f))
+        return ParamError{"length_map", "vertex " + std::to_string(i) + "'s length must be in [0, 1], got " +
+                                            std::to_string(length_scale[i])};
+    const std::vector<float> own = box ? gathered(std::vector<float>(length_scale.begin(), length_scale.end()),
+                                                  layout.split.source)
+                                       : std::vector<float>(length_scale.begin(), length_scale.end());
+    std::vector<double> sum(N, 0.0);
+    std::vector<uint32_t> copies(N, 0);
+    for (size_t i = 0; i < N; ++i) sum[same_as[i]] += own[i], ++copies[same_as[i]];
+    out.length_scale.resize(N);
+    for (size_t i = 0; i < N; ++i) out.length_scale[i] = float(sum[same_as[i]] / double(copies[same_as[i]]));
+  }
+
   // Eq. 1: one array for shells and fins.
   const size_t V = N * S;
   out.positions.resize(V);
@@ -584,7 +609,7 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
     const float fv = float(s) / float(S - 1);
     for (size_t i = 0; i < N; ++i) {
       const size_t I = i + size_t(s) * N;
-      out.positions[I] = base.positions[i] + out.growth[i] * offset;
+      out.positions[I] = base.positions[i] + out.growth[i] * (out.length_scale.empty() ? offset : offset * out.length_scale[i]);
       out.shell_uvs[I] = base_uv[i];
       if (fins) out.fin_uvs[I] = {fin_u[i], fv};
       out.layer[I] = uint16_t(s);
@@ -605,7 +630,6 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   // the triangles on either side share an edge for the rasterizer, which packs their lanes into
   // shared blocks and takes one level of detail across them, as on the mesh welded; named by two,
   // the fur was drawn as if cut along them.
-  const std::vector<uint32_t> same_as = same_strand_vertices(base.positions, out.base_normals, out.growth);
   // With a colour map, copies split at a uv seam of the mesh stay apart even where the strand
   // uvs agree (the box mapping's): joined, a triangle would read the map across the whole atlas.
   const bool by_mesh_uv = !out.mesh_uvs.empty();
@@ -620,6 +644,20 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
     uint32_t* dst = out.shell_indices.data() + size_t(s) * F * 3;
     for (size_t k3 = 0; k3 < 3 * F; ++k3) dst[k3] = same_shell[base.indices[k3]] + shift;
   }
+  // A face whose three corners grow no fur has no shells: each layer's copy becomes one point
+  // (set-up culls it), or its layers would lie on the base and blend its strands over bare skin.
+  // The triangle keeps its place, so layer s is still triangles s F .. s F + F - 1.
+  if (!out.length_scale.empty())
+    for (size_t f = 0; f < F; ++f) {
+      const uint32_t* t = &base.indices[3 * f];
+      if (out.length_scale[t[0]] != 0.0f || out.length_scale[t[1]] != 0.0f || out.length_scale[t[2]] != 0.0f)
+        continue;
+      for (uint32_t s = 0; s < S; ++s) {
+        uint32_t* tri = out.shell_indices.data() + (size_t(s) * F + f) * 3;
+        tri[1] = tri[2] = tri[0];
+      }
+      ++out.bald_faces;
+    }
 
   out.edges = mesh_edges(base, same_as);
   // The fins read the colour map at their ends' mesh uvs too: an edge names the first copy of

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -99,6 +100,10 @@ struct FurGeometry {
   // Per base vertex (size N), only with params.use_color_map: the mesh's own texture coordinate,
   // where the colour map is read (the shell uvs are the strand texture's, scaled or projected).
   std::vector<glm::vec2> mesh_uvs;
+  // Per base vertex (size N), only with a length map: the scale of eq. 1's offsets (see
+  // build_fur_geometry), and how many base faces grow no fur for it.
+  std::vector<float> length_scale;
+  size_t bald_faces = 0;
 
   // Shell triangles: layer s's copy of base triangle f is triangle s*F + f (S*F*3 indices).
   std::vector<uint32_t> shell_indices;
@@ -163,8 +168,12 @@ std::vector<glm::vec3> uv_comb_directions(const Mesh& base, const std::vector<gl
 // (base_vertex_count counts them, counts.joined_vertices too). Returns the first problem (a
 // params field, or "mesh.indices", "mesh.normals", "mesh.uvs", "mesh.positions" with the reason)
 // and leaves `out` unspecified on error.
+// `length_scale` (optional, one per mesh vertex, each in [0, 1]; a length map read by the caller)
+// scales eq. 1's offsets per base vertex: vertex I = i + s N sits at base_v[i] + g[i] SL_D s
+// scale[i], the copies of one strand taking their mean scale. A face whose corners all have 0 grows
+// no shells (its shell triangles are points); a fin between two bare vertices has no height.
 std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& params,
-                                             FurGeometry& out);
+                                             FurGeometry& out, std::span<const float> length_scale = {});
 
 // The base vertex count build_fur_geometry would give (the mesh's own, or more under the box
 // mapping), for estimating memory before building; the mesh's own count when it would fail.

@@ -405,6 +405,64 @@ TEST(FurGeometry, AColourMapPutsEachFinOnItsFaceOwnCopies) {
   }
 }
 
+// A length map scales eq. 1's offsets per base vertex; the copies of one strand take their mean
+// scale (a map read on two sides of a uv seam gives them slightly apart, and apart they would crack
+// the shells and double the fins); a face bare at all three corners has no shells (its shell
+// triangles are points, in their places).
+TEST(FurGeometry, ALengthMapScalesEachStrandAndBareFacesGrowNoShells) {
+  const Mesh sphere = io::make_builtin_mesh("sphere:16");
+  const FurParams p = shells(4);
+  const FurGeometry full = build(sphere, p);
+  const uint32_t N = full.base_vertex_count, F = uint32_t(sphere.triangle_count());
+  // All ones: the fur without a map, bit for bit.
+  FurGeometry ones;
+  ASSERT_FALSE(build_fur_geometry(sphere, p, ones, std::vector<float>(sphere.vertex_count(), 1.0f)).has_value());
+  EXPECT_EQ(ones.positions, full.positions);
+  EXPECT_EQ(ones.shell_indices, full.shell_indices);
+  EXPECT_EQ(ones.bald_faces, 0u);
+  // Bare where x < 0, and a copy of a seam vertex told another length than its first copy.
+  std::vector<float> scale(sphere.vertex_count());
+  for (size_t i = 0; i < scale.size(); ++i) scale[i] = sphere.positions[i].x < 0.0f ? 0.0f : 0.5f;
+  const std::vector<uint32_t> same = same_strand_vertices(sphere.positions, full.base_normals, full.growth);
+  size_t copy = 0;
+  while (copy < same.size() && (same[copy] == copy || sphere.positions[copy].x < 0.0f)) ++copy;
+  ASSERT_LT(copy, same.size()) << "the sphere has a seam copy with x >= 0";
+  scale[copy] = 0.25f;
+  FurGeometry g;
+  ASSERT_FALSE(build_fur_geometry(sphere, p, g, scale).has_value());
+  ASSERT_EQ(g.length_scale.size(), N);
+  uint32_t copies = 0;
+  for (uint32_t i = 0; i < N; ++i) copies += same[i] == same[copy];
+  const float mean = float((0.5 * (copies - 1) + 0.25) / copies);
+  for (uint32_t i = 0; i < N; ++i) {
+    const float want = same[i] == same[copy] ? mean : scale[i];
+    ASSERT_EQ(g.length_scale[i], want) << "vertex " << i;
+    for (uint32_t s = 0; s < g.layers; ++s)
+      ASSERT_EQ(g.positions[i + s * N], sphere.positions[i] + g.growth[i] * (g.layer_distance * float(s) * want))
+          << "vertex " << i << " layer " << s;
+  }
+  size_t bare = 0;
+  for (uint32_t f = 0; f < F; ++f) {
+    const uint32_t* t = &sphere.indices[3 * f];
+    const bool all_bare = scale[t[0]] == 0.0f && scale[t[1]] == 0.0f && scale[t[2]] == 0.0f;
+    bare += all_bare;
+    for (uint32_t s = 0; s < g.layers; ++s) {
+      const uint32_t* tri = &g.shell_indices[(size_t(s) * F + f) * 3];
+      EXPECT_EQ(all_bare, tri[0] == tri[1] && tri[1] == tri[2]) << "face " << f << " layer " << s;
+    }
+  }
+  EXPECT_EQ(g.bald_faces, bare);
+  EXPECT_GT(bare, F / 4);
+  // Bad scales are refused by field.
+  for (const std::vector<float>& bad : {std::vector<float>(3, 0.5f), std::vector<float>(sphere.vertex_count(), 1.5f),
+                                        std::vector<float>(sphere.vertex_count(), std::nanf(""))}) {
+    FurGeometry b;
+    const auto e = build_fur_geometry(sphere, p, b, bad);
+    ASSERT_TRUE(e.has_value());
+    EXPECT_EQ(e->field, "length_map");
+  }
+}
+
 // The strand texture lies at one scale whatever the UV layout: the mesh's uvs are scaled to cover
 // as much texture as the projection along the body diagonal lays on the same mesh, so a mesh whose
 // uvs span a tenth of the texture grows the same strands as one whose uvs span it all (before, its

@@ -118,6 +118,9 @@ int run_info(const InfoOptions& o) {
                   std::string(fur::to_string(f.fins)).c_str(),
                   force_frames(f.gravity.has_value(), forces.gravity, forces.frames).c_str(),
                   force_frames(f.wind.has_value(), forces.wind, forces.frames).c_str());
+      if (!o.fur_length_map.empty())
+        std::printf("       length   x the first channel of %s at the mesh's uvs; %zu of %zu base faces grow none\n",
+                    o.fur_length_map.filename().string().c_str(), g->bald_faces, c->base_faces);
       if (f.use_color_map)
         std::printf("       colour   root_color to tip_color x the object's colour map at the mesh's uvs\n");
       std::printf("       vertices base %zu, shell %zu, fin %zu (shared), sum %zu\n", c->base_vertices,

@@ -217,7 +217,16 @@ SceneObject parse_object(const JsonFields& js, const json& j, const std::string&
   if (const json* v = JsonFields::find(j, "transform")) o.transform = parse_transform(js, *v, json_child(path, "transform"));
   o.material = parse_material(js, js.require(j, path, "material"), json_child(path, "material"), scene_file);
   // Extension point: per-object effect blocks (fur today) are parsed by their owners' rules.
-  if (const json* v = JsonFields::find(j, "fur")) o.fur = detail::parse_fur_block(js, *v, json_child(path, "fur"));
+  if (const json* v = JsonFields::find(j, "fur")) {
+    const std::string fur_path = json_child(path, "fur");
+    o.fur = detail::parse_fur_block(js, *v, fur_path);
+    // A file, so read here with the scene's other paths; fur/ knows no files.
+    if (const json* m = JsonFields::find(*v, "length_map")) {
+      const std::string field = json_child(fur_path, "length_map");
+      o.fur_length_map = resolve(scene_file, js.string(*m, field));
+      check_readable(js, o.fur_length_map, field, "length map");
+    }
+  }
   return o;
 }
 

@@ -89,6 +89,10 @@ struct SceneObject {
   Transform transform;                   // "transform"
   Material material;                     // "material" (required)
   std::optional<fur::FurParams> fur;     // "fur": present only for furry objects
+  // "fur.length_map": resolved against the scene folder and readable; empty without one. An
+  // image whose first channel (linear, in [0, 1]) scales the fur's length at each base vertex's
+  // texture coordinate: 0 grows no fur there.
+  std::filesystem::path fur_length_map;
 };
 
 // `animation.camera.orbit`: the eye circles `target` about the world +y axis,

@@ -40,7 +40,8 @@ void switch_value(const JsonFields& js, const json& obj, const std::string& path
 fur::FurParams parse_fur_block(const JsonFields& js, const json& j, const std::string& path) {
   js.expect_object(j, path,
                    {"shells", "length", "density", "texture_size", "texture_coordinates", "texture_repeat",
-                    "seed", "fins", "root_color", "tip_color", "use_color_map", "gravity", "wind", "comb"});
+                    "seed", "fins", "root_color", "tip_color", "use_color_map", "length_map", "gravity", "wind",
+                    "comb"});  // length_map: a path, read by parse_scene
   fur::FurParams p;
   // Counts are read over int's whole range, so that a value out of theirs gets
   // FurParams::validate's message (its range and why), not a generic bound.

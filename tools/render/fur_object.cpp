@@ -89,7 +89,8 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
   }
   {
     StageTimer t(setup, "fur_geometry");
-    if (auto e = fur::build_fur_geometry(base, params, geo_)) throw_fur_error(origin, e->field, e->reason);
+    if (auto e = fur::build_fur_geometry(base, params, geo_, options.length_scale))
+      throw_fur_error(origin, e->field, e->reason);
   }
   {
     StageTimer t(setup, "fur_textures");
@@ -174,7 +175,7 @@ size_t FurObject::memory_bytes() const {
              bytes(geo_.shell_indices) + bytes(geo_.fin_indices) + bytes(geo_.edges) +
              bytes(gravity_pose_) + bytes(wind_pose_) + bytes(pose_) + bytes(tangents_) +
              bytes(shell_varyings_) + bytes(fin_varyings_) + bytes(fin_list_) + bytes(light_soa_.storage) +
-             bytes(pose_clip_) + bytes(shell_keys_) + bytes(geo_.mesh_uvs);
+             bytes(pose_clip_) + bytes(shell_keys_) + bytes(geo_.mesh_uvs) + bytes(geo_.length_scale);
   for (const raster::Texture& t : shell_tex_.layers) n += t.bytes();
   return n + fin_tex_.bytes();
 }

@@ -58,6 +58,9 @@ struct FurDrawOptions {
   // The object's colour map (its material's, or the one its mesh names), read by fur whose
   // params ask for it (FurParams::use_color_map); such fur without one is refused.
   const raster::Texture* color_map = nullptr;
+  // One per mesh vertex, in [0, 1] (fur.length_map, read by the caller): the fur's length there
+  // as a fraction of params.length (fur::build_fur_geometry). Empty: the full length everywhere.
+  std::vector<float> length_scale;
   // Builds the strand textures' layers as its items (the render's threads); none: in order.
   raster::ParallelFor parallel;
 };

@@ -15,6 +15,7 @@
 #include "tools/io/input_error.h"
 #include "tools/io/json_fields.h"
 #include "tools/render/animation.h"
+#include "tools/render/length_map.h"
 #include "tools/render/varyings.h"
 
 namespace pelt::render {
@@ -368,6 +369,14 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       fo.merge_fins = quality_.fin_quads == io::FinQuads::merged;
       fo.parallel = parallel;
       if (!obj->color_map.empty()) fo.color_map = &obj->color_map;
+      if (!so.fur_length_map.empty()) {
+        StageTimer t(setup_stats_, "textures");
+        input_files_.push_back(so.fur_length_map);
+        fo.length_scale = read_length_map(so.fur_length_map, obj->mesh, so.mesh, scene.file.string(),
+                                          io::json_child(io::json_child(io::json_index("objects", i), "fur"),
+                                                         "length_map"),
+                                          settings.budget);
+      }
       obj->fur = std::make_unique<FurObject>(obj->mesh, *so.fur, fo,
                                              FurOrigin{scene.file.string(), io::json_index("objects", i)}, setup_stats_);
       if (obj->fur->geometry().uvs_cover_no_area)

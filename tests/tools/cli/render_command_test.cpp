@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/tools/cli/run_pelt.h"
+#include "tools/io/image_io.h"
 #include "tools/render/overdraw_heatmap.h"
 
 namespace pelt::cli_test {
@@ -492,6 +493,28 @@ TEST_F(RenderCommand, FurTakesTheColourMapOnlyWhereThereIsOne) {
             std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(dir.path() / "without.png"));
+}
+
+// A length map from the command line: info names it and counts the faces it leaves bare; a map
+// with a value out of range ends the render with exit 2 and no image.
+TEST_F(RenderCommand, InfoCountsTheFacesALengthMapLeavesBare) {
+  ASSERT_EQ(pelt({"-o", (dir.path() / "map.png").string(), "--frame", "0", "-q"}).code, 0);
+  const std::string head = R"({"pelt": 1, "image": {"width": 32, "height": 24},
+    "camera": {"eye": [3, 2, 4], "target": [0, 0, 0]}, "lights": [{"type": "ambient", "intensity": 0.5}],
+    "objects": [{"mesh": "box:3", "material": {"type": "lambert"}, "fur": {"shells": 4, "texture_size": 32, )";
+  const fs::path scene_file = dir.write("length.json", head + R"("length_map": "map.png"}}]})");
+  const Result info = run_pelt({"info", scene_file.string()}, dir.path());
+  ASSERT_EQ(info.code, 0) << info.err;
+  EXPECT_NE(info.out.find("length   x the first channel of map.png at the mesh's uvs; "), std::string::npos)
+      << info.out;
+  EXPECT_NE(info.out.find(" of 108 base faces grow none\n"), std::string::npos) << info.out;
+  const float over[4] = {0.5f, 1.5f, 0.5f, 0.5f};
+  io::write_image_atomic(dir.path() / "over.exr", 2, 2, 1, io::PixelType::f32, over);
+  const fs::path bad = dir.write("over.json", head + R"("length_map": "over.exr"}}]})");
+  const Result r = run_pelt({"render", bad.string(), "-o", (dir.path() / "over.png").string(), "-q"}, dir.path());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("over.exr: texel (1, 0) of the first channel is 1.5"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "over.png"));
 }
 
 // Where the strands lie and at what scale: on a uv-mapped mesh the factor its uvs were scaled by

@@ -261,7 +261,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
         !nm.field.empty())
       e.parts.push_back(std::move(nm));
     if (so.fur) add_fur_parts(scene, meshes[i], i, threads, e.parts);
-    if (!so.fur_length_map.empty()) {  // read, made a texture and sampled once, then freed
+    if (!so.fur_length_map.empty()) {  // read as floats and sampled once, then freed
       const std::string field = object_field(i) + ".fur.length_map";
       const io::ImageHeader h = asked_by("in " + field + " of " + scene.file.string(),
                                          [&] { return io::read_image_header(so.fur_length_map); });
@@ -269,8 +269,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
       e.parts.push_back({field,
                          "length map " + so.fur_length_map.filename().string() + ", " + std::to_string(h.width) +
                              " x " + std::to_string(h.height) + " texels",
-                         sat_add(image_texture_bytes(texels, uint64_t(std::min(h.channels, 4)) * h.bytes_per_channel),
-                                 sat_mul(texels, 4 * sizeof(float)))});
+                         sat_mul(texels, 4 * sizeof(float) + uint64_t(std::min(h.channels, 4)) * h.bytes_per_channel)});
     }
   }
   const int w = effective_side(width, scene.image.width), h = effective_side(height, scene.image.height);

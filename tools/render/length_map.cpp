@@ -3,7 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "raster/texture.h"
+#include <glm/vec2.hpp>
+
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/render/budget_check.h"
@@ -18,41 +19,57 @@ std::vector<float> read_length_map(const std::filesystem::path& image, const Mes
     throw io::InputError(scene_file, field,
                          "a length map is read at the mesh's texture coordinates, and mesh `" + mesh_name +
                              "` has none");
+  // A mesh whose uvs cover no area (all at a point, or on a line) reads one texel or one line of
+  // texels everywhere: a length the map does not hold, so it is refused as having none.
+  double uv_area = 0.0;
+  for (size_t k = 0; k + 2 < mesh.indices.size(); k += 3) {
+    const glm::dvec2 a(mesh.uvs[mesh.indices[k]]), b(mesh.uvs[mesh.indices[k + 1]]), c(mesh.uvs[mesh.indices[k + 2]]);
+    const double cross = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    if (std::isfinite(cross)) uv_area += std::fabs(cross);
+  }
+  if (!(uv_area > 0.0))
+    throw io::InputError(scene_file, field,
+                         "a length map is read at the mesh's texture coordinates, and those of mesh `" + mesh_name +
+                             "` cover no area");
   const std::string who = "in " + field + " of " + scene_file;
   const io::ImageRGBA img =
       asked_by(who, [&] { return io::read_image_rgba(image, io::ColorEncoding::linear, budget); });
+  const size_t w = size_t(img.width), h = size_t(img.height);
   // Only the first channel counts: the others (an EXR's alpha, say) may hold anything.
-  std::vector<float> rgba(img.rgba.size());
-  for (size_t t = 0; t < rgba.size() / 4; ++t) {
+  for (size_t t = 0; t < w * h; ++t) {
     const float v = img.rgba[4 * t];
     if (!(v >= 0.0f && v <= 1.0f)) {
       char value[32];
       std::snprintf(value, sizeof value, "%g", double(v));
       throw io::InputError(image.string(), "",
-                           "texel (" + std::to_string(t % size_t(img.width)) + ", " +
-                               std::to_string(t / size_t(img.width)) + ") of the first channel is " + value +
-                               ": a length map's values must be in [0, 1] (" + who + ")");
+                           "texel (" + std::to_string(t % w) + ", " + std::to_string(t / w) +
+                               ") of the first channel is " + value + ": a length map's values must be in [0, 1] (" +
+                               who + ")");
     }
-    rgba[4 * t] = rgba[4 * t + 1] = rgba[4 * t + 2] = v;
-    rgba[4 * t + 3] = 1.0f;
   }
-  raster::Texture tex;
-  if (auto e = raster::Texture::from_linear_float(img.width, img.height, rgba.data(), raster::TexelEncoding::Linear, tex))
-    throw io::InputError(image.string(), "", e->reason + " (" + who + ")");
-  raster::SamplerState state;
-  state.filter = raster::Filter::Bilinear;  // the full-size level: one point per vertex has no footprint
-  // The sampler takes whole 4x4 blocks: the vertices in order, padded.
-  const size_t lanes = (n + 15) / 16 * 16;
-  std::vector<float> u(lanes, 0.0f), v(lanes, 0.0f);
-  for (size_t i = 0; i < n; ++i) u[i] = mesh.uvs[i].x, v[i] = mesh.uvs[i].y;
-  std::vector<double> out[4];
-  for (auto& o : out) o.assign(lanes, 0.0);
-  double* const outs[4] = {out[0].data(), out[1].data(), out[2].data(), out[3].data()};
-  raster::sample_reference(tex, state, u.data(), v.data(), lanes, outs);
+  // Bilinear on the file's own values, in double (the raster's textures hold 8 bits a channel, which
+  // would turn a value below 1/510 into bare skin and flatten 16-bit and float maps): texel centres
+  // at half-integers, repeat wrapping, v = 0 the top row, as the sampler reads colour maps.
+  auto texel = [&](long long x, long long y) {
+    const long long W = (long long)w, H = (long long)h;
+    x = ((x % W) + W) % W;
+    y = ((y % H) + H) % H;
+    return double(img.rgba[4 * (size_t(y) * w + size_t(x))]);
+  };
   std::vector<float> scale(n);
-  // Non-finite uvs read inside the texture (the sampler's clamp); a sum of weights may round a
-  // hair past 1.
-  for (size_t i = 0; i < n; ++i) scale[i] = float(std::fmin(1.0, std::fmax(0.0, out[0][i])));
+  for (size_t i = 0; i < n; ++i) {
+    const glm::vec2 uv = mesh.uvs[i];
+    // A non-finite uv reads the first texel (the sampler keeps such coordinates inside the texture).
+    const double x = std::isfinite(uv.x) ? double(uv.x) * double(w) - 0.5 : 0.0;
+    const double y = std::isfinite(uv.y) ? double(uv.y) * double(h) - 0.5 : 0.0;
+    const double fx = std::floor(x), fy = std::floor(y);
+    // Beyond 2^52 texels a coordinate has no fraction left; the wrap below stays exact.
+    const long long x0 = (long long)std::fmod(fx, double(w)), y0 = (long long)std::fmod(fy, double(h));
+    const double tx = x - fx, ty = y - fy;
+    const double top = texel(x0, y0) * (1.0 - tx) + texel(x0 + 1, y0) * tx;
+    const double bottom = texel(x0, y0 + 1) * (1.0 - tx) + texel(x0 + 1, y0 + 1) * tx;
+    scale[i] = float(std::fmin(1.0, std::fmax(0.0, top * (1.0 - ty) + bottom * ty)));
+  }
   return scale;
 }
 

@@ -10,6 +10,7 @@
 #include "tests/tools/render/render_test_scenes.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
+#include "tools/render/length_map.h"
 
 namespace pelt::render::test {
 namespace {
@@ -81,6 +82,37 @@ TEST(FurLengthMap, HalfABlackMapGrowsFurOnTheOtherHalfOnly) {
   EXPECT_NEAR((fa + fb) / ff, 1.0, 0.2) << fa << " + " << fb << " of " << ff;
   EXPECT_TRUE(same_pixels(a.image, render(half, 1).image));
   EXPECT_TRUE(same_pixels(a.image, render(half, 3).image));
+}
+
+// The map is read at the file's own precision: a float map's 0.001 is short fur, not bare skin (8
+// bits would have made it 0), and a vertex at a texel centre reads that texel exactly.
+TEST(FurLengthMap, ValuesKeepTheFilesPrecision) {
+  SceneDir dir;
+  const float texels[4] = {0.001f, 0.3333f, 0.5f, 0.999f};
+  io::write_image_atomic(dir.path() / "fine.exr", 2, 2, 1, io::PixelType::f32, texels);
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  m.uvs = {{0.25f, 0.25f}, {0.75f, 0.25f}, {0.25f, 0.75f}, {0.75f, 0.75f}};  // the texel centres
+  m.indices = {0, 1, 2, 1, 3, 2};
+  const std::vector<float> scale = read_length_map(dir.path() / "fine.exr", m, "quad", "s.json", "f", io::Budget{});
+  ASSERT_EQ(scale.size(), 4u);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(scale[i], texels[i]) << "vertex " << i;
+  // Half-way between two texels, and wrapped round the edge (u = 0 lies between the last and first).
+  m.uvs = {{0.5f, 0.25f}, {0.0f, 0.25f}, {0.25f, 0.5f}, {1.0f, 0.75f}};
+  const std::vector<float> mid = read_length_map(dir.path() / "fine.exr", m, "quad", "s.json", "f", io::Budget{});
+  EXPECT_FLOAT_EQ(mid[0], (0.001f + 0.3333f) / 2);
+  EXPECT_FLOAT_EQ(mid[1], (0.001f + 0.3333f) / 2);
+  EXPECT_FLOAT_EQ(mid[2], (0.001f + 0.5f) / 2);
+  EXPECT_FLOAT_EQ(mid[3], (0.5f + 0.999f) / 2);
+  // Uvs that cover no area read one line of the map everywhere: refused by field.
+  m.uvs = {{0.1f, 0.5f}, {0.2f, 0.5f}, {0.3f, 0.5f}, {0.4f, 0.5f}};
+  try {
+    read_length_map(dir.path() / "fine.exr", m, "quad", "s.json", "objects[0].fur.length_map", io::Budget{});
+    FAIL() << "read";
+  } catch (const io::InputError& e) {
+    EXPECT_EQ(e.field, "objects[0].fur.length_map");
+    EXPECT_NE(e.reason.find("cover no area"), std::string::npos) << e.reason;
+  }
 }
 
 TEST(FurLengthMap, BadMapsAreRefusedNamingTheFieldOrTheFile) {

@@ -22,6 +22,7 @@
 #include "tools/io/output_file.h"
 #include "tools/render/frame_timing.h"
 #include "tools/render/scene_renderer.h"
+#include "tools/render/interrupt.h"
 
 namespace pelt::cli {
 namespace {
@@ -360,6 +361,10 @@ int run_fps(const Options& o) {
   for (auto th = o.threads.begin(); th != o.threads.end(); ++th)
     if (std::find(o.threads.begin(), th, *th) != th)
       throw io::InputError("", "--threads", "thread count " + std::to_string(*th) + " is listed twice");
+  // Before the first temporary (the probe below): a Ctrl-C or SIGTERM ends the run at once and
+  // removes the temporaries of writes in flight (render/interrupt.h), where the default action
+  // left a probe's temporary behind.
+  const render::InterruptGuard interrupt(render::InterruptGuard::Stop::now);
   if (!o.json.empty()) io::prepare_output(o.json, "--json");  // before minutes of frames, not after
   std::vector<Result> results;
   std::printf("pelt bench fps: %dx%d %s, %d frames after %d warm-up, %s, %d shells, fins %s (%s quads), sort %s, "

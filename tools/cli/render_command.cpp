@@ -172,6 +172,9 @@ int run_render(const RenderOptions& o) {
   };
 
   if (plan.frames.empty()) {
+    // Nothing to finish: a signal while the stats are written ends the run at once, their
+    // temporary removed (installed before the probe's temporary, as below).
+    const render::InterruptGuard interrupt(render::InterruptGuard::Stop::now);
     if (!o.quiet)
       std::fprintf(stderr, "pelt: nothing to render: %s\n",
                    plan.planned == 0 ? ("shard " + o.shard + " has no frames in this range").c_str()
@@ -200,7 +203,8 @@ int run_render(const RenderOptions& o) {
   // Installed before any temporary is created (the writability probes below, the GIF's): a
   // signal that found a temporary but not yet the handler would end the process by the default
   // action and leave the temporary behind. (Installed after the probes, a second Ctrl-C in the
-  // moment of a probe did that: the suite's two-signal test caught it on a loaded machine.)
+  // moment of a probe did that: the suite's two-signal test caught it on a loaded machine.) Not
+  // before the set-up, which writes nothing: a Ctrl-C there ends pelt at once, as it should.
   render::InterruptGuard interrupt;
 
   // The destinations are proven writable before the first frame, so a bad path fails now
@@ -303,8 +307,9 @@ int run_render(const RenderOptions& o) {
   const int total = static_cast<int>(plan.frames.size());
   if (done < total) {
     write_stats();
-    std::fprintf(stderr, "pelt: interrupted after frame %d: %d of %d frame(s) rendered%s\n", last_done, done,
-                 total,
+    const std::string after = last_done < 0 ? std::string("before any frame was written")
+                                            : "after frame " + std::to_string(last_done);
+    std::fprintf(stderr, "pelt: interrupted %s: %d of %d frame(s) rendered%s\n", after.c_str(), done, total,
                  gif ? "; the GIF was not written"
                      : (done > 0 ? "; run again with --resume to render the rest" : ""));
     return 128 + render::InterruptGuard::signal_number();  // as shells report a signal's end

@@ -27,6 +27,7 @@
 #include "tools/tradeoff/plot.h"
 #include "tools/tradeoff/report.h"
 #include "tools/tradeoff/sweep.h"
+#include "tools/render/interrupt.h"
 
 namespace pelt::cli {
 namespace {
@@ -127,6 +128,10 @@ int run_tradeoff(const TradeoffOptions& o) {
     throw io::InputError(dir.string(), "-o", "exists and is not a folder");
   const int threads = worker_threads(o.threads);
   const std::vector<tradeoff::Setting> plan = tradeoff::plan_sweep(scene.quality, knobs);
+  // Before the first temporary (the probe below): a Ctrl-C or SIGTERM ends the run at once and
+  // removes the temporaries of writes in flight (render/interrupt.h), where the default action
+  // left a probe's temporary behind.
+  const render::InterruptGuard interrupt(render::InterruptGuard::Stop::now);
   io::prepare_output(dir / "tradeoff.csv", "-o");  // before the reference, which can take minutes
   if (o.images) io::prepare_output(dir / "images" / "reference.png", "--images");
 

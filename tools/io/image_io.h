@@ -29,7 +29,7 @@ enum class PixelType {
 //   .exr          f32 as 32-bit float channels (1 = "Y", 3 = RGB, 4 = RGBA).
 // Colour is written as given, with straight (unassociated) alpha: a caller holding
 // premultiplied colour divides by alpha first.
-// The data go first to `.NAME.tmp-PID` in the target's folder, which is renamed over
+// The data go first to `.NAME.tmp-PID-TOKEN-N` (io::temp_beside) in the target's folder, which is renamed over
 // `path` only after the whole write succeeded; on any failure the temporary is removed
 // and InputError(path, "", reason) is thrown, leaving no partial output. An unknown
 // extension or an unsupported (type, channels) for the extension is an InputError too.

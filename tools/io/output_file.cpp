@@ -6,7 +6,11 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <random>
 #include <utility>
+
+#include <csignal>
+#include <sys/wait.h>
 
 #include <unistd.h>
 
@@ -30,6 +34,8 @@ struct TempSlot {
   char path[kTempPathBytes];
 };
 std::array<TempSlot, kTempSlots> g_temp_slots;
+std::atomic<pid_t> g_temp_writer_child{0};
+static_assert(std::atomic<pid_t>::is_always_lock_free, "read in a signal handler");
 
 int claim_temp_slot(const std::filesystem::path& p) {
   const std::string& s = p.native();
@@ -61,7 +67,14 @@ void TempFile::release() {
   slot_ = -1;
 }
 
+void set_temp_writer_child(pid_t pid) { g_temp_writer_child.store(pid, std::memory_order_release); }
+
 void remove_temp_files_in_signal_handler() {
+  // Killed and reaped first: alive, it could create its temporary again after the unlink.
+  if (const pid_t child = g_temp_writer_child.load(std::memory_order_acquire); child > 0) {
+    ::kill(child, SIGKILL);
+    ::waitpid(child, nullptr, 0);
+  }
   for (TempSlot& slot : g_temp_slots)
     if (slot.live.load(std::memory_order_acquire)) ::unlink(slot.path);
 }
@@ -104,20 +117,38 @@ void OutputNames::add_frame(const std::filesystem::path& path, const std::string
   check(entry(path), path, option);
 }
 
+std::string temp_suffix() {
+  // The pid alone is not unique: processes in separate pid namespaces (containers, or nodes
+  // writing one shared folder) share pids, and two such renders of one output truncated and
+  // removed each other's temporaries. A random token per process and a count within it make
+  // every temporary's name its own.
+  static const uint64_t token = [] {
+    std::random_device rd;
+    return (uint64_t(rd()) << 32) ^ uint64_t(rd());
+  }();
+  static std::atomic<uint64_t> count{0};
+  char tail[64];
+  std::snprintf(tail, sizeof tail, "%ld-%016llx-%llu", long(::getpid()), static_cast<unsigned long long>(token),
+                static_cast<unsigned long long>(count.fetch_add(1, std::memory_order_relaxed)));
+  return tail;
+}
+
 std::filesystem::path temp_beside(const std::filesystem::path& path) {
   // Appended piece by piece: `"." + string` trips GCC 12's -Wrestrict false positive.
   std::string name = ".";
   name += path.filename().string();
   name += ".tmp-";
-  name += std::to_string(::getpid());
+  name += temp_suffix();
   return folder_of(path) / name;
 }
 
 TempFile::~TempFile() {
   if (released_) return;
-  free_temp_slot(slot_);
+  // Removed before its slot is freed: a signal in between finds it still listed (unlinking a
+  // file already gone is harmless), where the other order let it escape the handler.
   std::error_code ec;
   std::filesystem::remove(path_, ec);
+  free_temp_slot(slot_);
 }
 
 void prepare_output(const std::filesystem::path& path, const std::string& field) {

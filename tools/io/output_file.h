@@ -4,15 +4,21 @@
 // before the work that fills it (prepare_output), not after minutes of rendering.
 #pragma once
 
+#include <sys/types.h>
+
 #include <filesystem>
 #include <string>
 #include <vector>
 
 namespace pelt::io {
 
-// The temporary an atomic writer fills before renaming it over `path`: `.NAME.tmp-PID` in
-// path's folder (the same file system, so the rename is atomic).
+// The temporary an atomic writer fills before renaming it over `path`: `.NAME.tmp-PID-TOKEN-N`
+// in path's folder (the same file system, so the rename is atomic), TOKEN random per process
+// and N counting this process's temporaries, so no two temporaries share a name.
 std::filesystem::path temp_beside(const std::filesystem::path& path);
+// The `PID-TOKEN-N` part of the next such name (also for temporaries that must keep their
+// extension, as the plot's .png).
+std::string temp_suffix();
 
 // Removes its file at scope exit unless released: every early exit leaves no file behind.
 // While it lives, its path is also listed for remove_temp_files_in_signal_handler, so a
@@ -32,9 +38,12 @@ class TempFile {
   int slot_ = -1;  // in the signal handler's list; -1 when the list was full or after release
 };
 
-// Removes every live TempFile's file. Async-signal-safe (unlink only, no allocation, no
-// locks): for a handler about to end the process.
+// Removes every live TempFile's file, after killing and reaping the child set by
+// set_temp_writer_child, which may be writing one. Async-signal-safe (kill, waitpid and unlink
+// only, no allocation, no locks): for a handler about to end the process.
 void remove_temp_files_in_signal_handler();
+// A child process writing into a TempFile (the tradeoff's plot script), while it runs; 0: none.
+void set_temp_writer_child(pid_t pid);
 
 // The outputs of a run, checked before any work: none may be one of the run's inputs (the
 // scene, a mesh, a map) or another output. A file is compared as the directory entry a write

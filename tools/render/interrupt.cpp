@@ -11,24 +11,27 @@ namespace pelt::render {
 namespace {
 
 volatile std::sig_atomic_t g_signal = 0;
+volatile std::sig_atomic_t g_stop_now = 0;
 constexpr int kSignals[] = {SIGINT, SIGTERM};
 struct sigaction g_previous[std::size(kSignals)] {};
 
 void on_signal(int sig) {
-  if (g_signal == 0) {
+  if (g_signal == 0 && !g_stop_now) {
     g_signal = sig;
     return;
   }
-  // The second signal: the user or the scheduler will not wait for the frame in flight. Its
-  // temporaries go first, or they would stay behind under a name no later run removes.
+  // The user or the scheduler will not wait (a second signal, or a command with nothing to
+  // finish). The temporaries go first (and a child writing one, io::set_temp_writer_child), or
+  // they would stay behind under a name no later run removes.
   io::remove_temp_files_in_signal_handler();
   ::_exit(128 + sig);
 }
 
 }  // namespace
 
-InterruptGuard::InterruptGuard() {
+InterruptGuard::InterruptGuard(Stop stop) {
   g_signal = 0;
+  g_stop_now = stop == Stop::now;
   struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
@@ -39,6 +42,7 @@ InterruptGuard::InterruptGuard() {
 
 InterruptGuard::~InterruptGuard() {
   for (size_t i = 0; i < std::size(kSignals); ++i) sigaction(kSignals[i], &g_previous[i], nullptr);
+  g_stop_now = 0;
 }
 
 bool InterruptGuard::requested() { return g_signal != 0; }

@@ -1,5 +1,7 @@
 #include "tools/tradeoff/plot.h"
 
+#include "tools/io/output_file.h"
+
 #include <cerrno>
 #include <cstring>
 #include <system_error>
@@ -33,8 +35,11 @@ PlotOutcome make_plot(const std::filesystem::path& csv, const std::filesystem::p
   }
   // matplotlib picks the format from the name, so the temporary keeps the .png ending.
   std::string tmp_name = ".";
-  tmp_name.append(png.stem().string()).append(".tmp-").append(std::to_string(::getpid())).append(".png");
-  const fs::path tmp = png.parent_path() / tmp_name;
+  tmp_name.append(png.stem().string()).append(".tmp-").append(io::temp_suffix()).append(".png");
+  // Listed for the signal handler, with the script writing it (io::set_temp_writer_child): a
+  // Ctrl-C while it plots kills the script and removes the file.
+  io::TempFile tmp_file(png.parent_path() / tmp_name);
+  const fs::path& tmp = tmp_file.path();
   std::string script(io::embedded::plot_tradeoff_py());
   std::vector<std::string> args{python, "-c", script, csv.string(), tmp.string(), title, indices};
   std::vector<char*> argv;
@@ -42,10 +47,6 @@ PlotOutcome make_plot(const std::filesystem::path& csv, const std::filesystem::p
   argv.push_back(nullptr);
 
   PlotOutcome out;
-  const auto cleanup = [&] {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-  };
   pid_t pid = -1;
   // posix_spawnp reports an interpreter that cannot be executed as its return value.
   const int spawn_err = ::posix_spawnp(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ);
@@ -54,13 +55,16 @@ PlotOutcome make_plot(const std::filesystem::path& csv, const std::filesystem::p
                   " (install Debian's python3 and python3-matplotlib)";
     return out;
   }
+  io::set_temp_writer_child(pid);
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) {
-      out.problem = std::string("waiting for the plot script failed: ") + std::strerror(errno);
-      cleanup();
-      return out;
-    }
+  int waited;
+  while ((waited = ::waitpid(pid, &status, 0)) < 0 && errno == EINTR) {
+  }
+  io::set_temp_writer_child(0);
+  if (waited < 0) {
+    out.problem = std::string("waiting for the plot script failed: ") + std::strerror(errno);
+    return out;
+  }
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     out.problem = code == kNoMatplotlib
@@ -68,16 +72,15 @@ PlotOutcome make_plot(const std::filesystem::path& csv, const std::filesystem::p
                   : code == 127 ? "cannot run `" + python + "` (install Debian's python3 and python3-matplotlib)"
                   : WIFEXITED(status) ? "the plot script failed with exit code " + std::to_string(code)
                                       : "the plot script was killed by signal " + std::to_string(WTERMSIG(status));
-    cleanup();
     return out;
   }
   std::error_code ec;
   fs::rename(tmp, png, ec);
   if (ec) {
     out.problem = "cannot move the plot into place at " + png.string() + ": " + ec.message();
-    cleanup();
     return out;
   }
+  tmp_file.release();
   out.made = true;
   return out;
 }

@@ -2,6 +2,7 @@
 // file appears whole or not at all, no temporary is left behind, and every failure is an
 // InputError naming the file and the option.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <fstream>
@@ -105,6 +106,17 @@ TEST(OutputFile, TheTemporaryLiesBesideTheTarget) {
   EXPECT_EQ(temp_beside("out/x.json").parent_path(), fs::path("out"));
   EXPECT_EQ(temp_beside("x.json").parent_path(), fs::path("."));
   EXPECT_EQ(temp_beside("out/x.json").filename().string().rfind(".x.json.tmp-", 0), 0u);
+}
+
+// Every temporary's name is its own: the pid, a random token of the process (pids repeat across pid
+// namespaces, where two renders of one folder removed each other's temporaries) and a count.
+TEST(OutputFile, NoTwoTemporariesShareAName) {
+  const std::string a = temp_beside("x.png").filename().string(), b = temp_beside("x.png").filename().string();
+  EXPECT_NE(a, b);
+  const std::string pid = ".x.png.tmp-" + std::to_string(::getpid()) + "-";
+  EXPECT_EQ(a.rfind(pid, 0), 0u) << a;
+  EXPECT_EQ(b.rfind(pid, 0), 0u) << b;
+  EXPECT_EQ(a.size(), pid.size() + 16 + 1 + std::to_string(std::stoull(a.substr(a.rfind('-') + 1))).size()) << a;
 }
 
 }  // namespace

@@ -11,9 +11,13 @@
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "tests/tools/io/temp_dir.h"
+#include "tools/io/output_file.h"
 #include "tools/tradeoff/plot_script.h"
 #include "tools/tradeoff/report.h"
 
@@ -132,6 +136,52 @@ TEST(TradeoffPlot, ABadCsvFailsTheScriptWithoutAFile) {
   EXPECT_FALSE(r.made);
   EXPECT_NE(r.problem.find("exit code 4"), std::string::npos) << r.problem;
   EXPECT_FALSE(fs::exists(dir.path() / "tradeoff.png"));
+}
+
+// A signal while the script plots: the handler about to end the process (as render/interrupt.h's
+// does) kills and reaps the script, then removes the temporary it was writing, so nothing is left
+// and no script outlives pelt. Run in a forked child, whose handler ends it.
+TEST(TradeoffPlot, ASignalWhileThePlotIsDrawnLeavesNoFileAndNoScript) {
+  io::TempDir dir;
+  const fs::path csv = dir.write("tradeoff.csv", sample_csv());
+  // An "interpreter" that starts writing its output (argument 4) and then takes its time.
+  const fs::path fake = dir.write("python3", "#!/bin/sh\necho $$ > \"$(dirname \"$4\")/script.pid\"\n"
+                                             "echo partial > \"$4\"\nexec sleep 30\n");
+  ::chmod(fake.c_str(), 0755);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    struct sigaction sa {};
+    sa.sa_handler = [](int sig) {
+      io::remove_temp_files_in_signal_handler();
+      ::_exit(128 + sig);
+    };
+    ::sigaction(SIGTERM, &sa, nullptr);
+    make_plot(csv, dir.path() / "tradeoff.png", "t", {true}, fake.string());
+    ::_exit(0);
+  }
+  auto temporaries = [&] {
+    size_t n = 0;
+    for (const auto& e : fs::directory_iterator(dir.path()))
+      n += e.path().filename().string().find(".tmp-") != std::string::npos;
+    return n;
+  };
+  for (int waited = 0; waited < 20000 && (temporaries() == 0 || !fs::exists(dir.path() / "script.pid")); ++waited)
+    ::usleep(1000);
+  ASSERT_EQ(temporaries(), 1u) << "the script never began its plot";
+  ::usleep(20000);  // the pid file is written before the temporary; let both be complete
+  ::kill(child, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+  EXPECT_EQ(temporaries(), 0u);
+  EXPECT_FALSE(fs::exists(dir.path() / "tradeoff.png"));
+  std::ifstream pid_file(dir.path() / "script.pid");
+  pid_t script = 0;
+  pid_file >> script;
+  ASSERT_GT(script, 0);
+  EXPECT_NE(::kill(script, 0), 0) << "the plot script outlived pelt";
 }
 
 }  // namespace

@@ -38,7 +38,8 @@ std::string full_scene(const std::filesystem::path& data) {
      "material": {"type": "blinn", "color": [0.8, 0.6, 0.4], "specular": [0.5, 0.5, 0.5], "shininess": 64},
      "fur": {"shells": 12, "length": 0.05, "fins": "all", "gravity": {"strength": 0.5},
              "wind": {"direction": [1, 0, 1], "strength": 2}}},
-    {"mesh": "teapot:3", "material": {"type": "unlit", "color_map": "tex.png"}},
+    {"mesh": "teapot:3", "material": {"type": "unlit", "color_map": "tex.png"},
+     "fur": {"use_color_map": true, "length_map": "tex.png"}},
     {"name": "head", "mesh": "head.obj",
      "material": {"type": "skin", "skin": {"Eta": 1.3, "SkinColor": [0.9, 0.6, 0.5],
                                            "multiple_scattering": "normal_blur"}}}
@@ -133,6 +134,10 @@ TEST_F(SceneFixture, FullSceneRoundTrip) {
   EXPECT_FALSE(bunny.fur->comb.has_value());
   EXPECT_EQ(s.objects[2].name, "objects[2]");
   EXPECT_EQ(s.objects[2].material.color_map, dir.path() / "tex.png");
+  EXPECT_TRUE(s.objects[2].fur->use_color_map);
+  EXPECT_EQ(s.objects[2].fur_length_map, dir.path() / "tex.png");
+  EXPECT_FALSE(s.objects[1].fur->use_color_map);
+  EXPECT_TRUE(s.objects[1].fur_length_map.empty());
   EXPECT_EQ(s.objects[3].mesh_path, dir.path() / "head.obj");
   EXPECT_EQ(s.objects[3].material.type, MaterialType::skin);
   EXPECT_EQ(s.objects[3].material.skin.Eta, 1.3f);
@@ -356,6 +361,9 @@ TEST_F(SceneFixture, UnknownEnumValues) {
 TEST_F(SceneFixture, MissingFiles) {
   expect_error(edited("\"head.obj\"", "\"nothere.obj\""), "objects[3].mesh", "not found");
   expect_error(edited("\"tex.png\"", "\"nothere.png\""), "objects[2].material.color_map", "not found");
+  expect_error(edited("\"length_map\": \"tex.png\"", "\"length_map\": \"nothere.png\""), "objects[2].fur.length_map",
+               "length map `");
+  expect_error(edited("\"length_map\": \"tex.png\"", "\"length_map\": 3"), "objects[2].fur.length_map", "");
   expect_error(edited("\"color_map\": \"tex.png\"", "\"normal_map\": \"nothere.png\""),
                "objects[2].material.normal_map", "normal map `");
   dir.write("sub/file.txt", "");

@@ -141,6 +141,13 @@ void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, in
   uint64_t g = sat_mul(c.base_vertices, kFurBytesPerBaseVertex);
   g = sat_add(g, sat_mul(c.shell_vertices, kFurBytesPerVertex));
   if (fins) g = sat_add(g, sat_mul(c.shell_vertices, kFurBytesPerFinVertex));
+  // A colour map's mesh uv: two more varyings per fur vertex in the shell and fin arrays, and the
+  // mesh uvs per base vertex; a length map's scale per base vertex.
+  if (fp.use_color_map) {
+    g = sat_add(g, sat_mul(c.shell_vertices, (fins ? 2 : 1) * FurMapUv::kCount * sizeof(float)));
+    g = sat_add(g, sat_mul(c.base_vertices, sizeof(glm::vec2)));
+  }
+  if (!scene.objects[i].fur_length_map.empty()) g = sat_add(g, sat_mul(c.base_vertices, sizeof(float)));
   g = sat_add(g, sat_mul(c.base_faces, kFurBytesPerBaseFace));
   g = sat_add(g, sat_mul(sat_add(c.shell_faces, c.fin_faces), kFurBytesPerTriangle));
   g = sat_add(g, sat_mul(c.shell_faces, kFurBytesPerShellTriangle));

@@ -1,5 +1,6 @@
 #include "tools/render/interrupt.h"
 
+#include <atomic>
 #include <csignal>
 #include <iterator>
 
@@ -10,14 +11,18 @@
 namespace pelt::render {
 namespace {
 
-volatile std::sig_atomic_t g_signal = 0;
-volatile std::sig_atomic_t g_stop_now = 0;
+// Lock-free atomics rather than volatile sig_atomic_t: the handler may run on any thread (the
+// render's workers start before the guard), and these are written on the main thread.
+std::atomic<int> g_signal{0};
+std::atomic<bool> g_stop_now{false};
+static_assert(std::atomic<int>::is_always_lock_free && std::atomic<bool>::is_always_lock_free,
+              "read in a signal handler");
 constexpr int kSignals[] = {SIGINT, SIGTERM};
 struct sigaction g_previous[std::size(kSignals)] {};
 
 void on_signal(int sig) {
-  if (g_signal == 0 && !g_stop_now) {
-    g_signal = sig;
+  if (g_signal.load() == 0 && !g_stop_now.load()) {
+    g_signal.store(sig);
     return;
   }
   // The user or the scheduler will not wait (a second signal, or a command with nothing to
@@ -30,8 +35,8 @@ void on_signal(int sig) {
 }  // namespace
 
 InterruptGuard::InterruptGuard(Stop stop) {
-  g_signal = 0;
-  g_stop_now = stop == Stop::now;
+  g_signal.store(0);
+  g_stop_now.store(stop == Stop::now);
   struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
@@ -42,11 +47,11 @@ InterruptGuard::InterruptGuard(Stop stop) {
 
 InterruptGuard::~InterruptGuard() {
   for (size_t i = 0; i < std::size(kSignals); ++i) sigaction(kSignals[i], &g_previous[i], nullptr);
-  g_stop_now = 0;
+  g_stop_now.store(false);
 }
 
-bool InterruptGuard::requested() { return g_signal != 0; }
+bool InterruptGuard::requested() { return g_signal.load() != 0; }
 
-int InterruptGuard::signal_number() { return g_signal; }
+int InterruptGuard::signal_number() { return g_signal.load(); }
 
 }  // namespace pelt::render

@@ -56,11 +56,16 @@ PlotOutcome make_plot(const std::filesystem::path& csv, const std::filesystem::p
     return out;
   }
   io::set_temp_writer_child(pid);
-  int status = 0;
+  // Waited for without reaping, and unlisted before it is reaped: a reaped pid may be reused at
+  // once, and the signal handler must never kill another process under it.
+  siginfo_t info{};
   int waited;
-  while ((waited = ::waitpid(pid, &status, 0)) < 0 && errno == EINTR) {
+  while ((waited = ::waitid(P_PID, id_t(pid), &info, WEXITED | WNOWAIT)) < 0 && errno == EINTR) {
   }
   io::set_temp_writer_child(0);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
   if (waited < 0) {
     out.problem = std::string("waiting for the plot script failed: ") + std::strerror(errno);
     return out;

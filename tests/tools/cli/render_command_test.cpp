@@ -495,10 +495,13 @@ TEST_F(RenderCommand, FurTakesTheColourMapOnlyWhereThereIsOne) {
   EXPECT_FALSE(fs::exists(dir.path() / "without.png"));
 }
 
-// A length map from the command line: info names it and counts the faces it leaves bare; a map
-// with a value out of range ends the render with exit 2 and no image.
+// A length map from the command line: info names it and counts the faces it leaves bare (all of
+// them for a black map, none for a white one); a map with a value out of range ends the render
+// with exit 2 and no image.
 TEST_F(RenderCommand, InfoCountsTheFacesALengthMapLeavesBare) {
-  ASSERT_EQ(pelt({"-o", (dir.path() / "map.png").string(), "--frame", "0", "-q"}).code, 0);
+  const uint8_t black[4] = {0, 0, 0, 0}, white[4] = {255, 255, 255, 255};
+  io::write_image_atomic(dir.path() / "map.png", 2, 2, 1, io::PixelType::u8, black);
+  io::write_image_atomic(dir.path() / "white.png", 2, 2, 1, io::PixelType::u8, white);
   const std::string head = R"({"pelt": 1, "image": {"width": 32, "height": 24},
     "camera": {"eye": [3, 2, 4], "target": [0, 0, 0]}, "lights": [{"type": "ambient", "intensity": 0.5}],
     "objects": [{"mesh": "box:3", "material": {"type": "lambert"}, "fur": {"shells": 4, "texture_size": 32, )";
@@ -507,7 +510,12 @@ TEST_F(RenderCommand, InfoCountsTheFacesALengthMapLeavesBare) {
   ASSERT_EQ(info.code, 0) << info.err;
   EXPECT_NE(info.out.find("length   x the first channel of map.png at the mesh's uvs; "), std::string::npos)
       << info.out;
-  EXPECT_NE(info.out.find(" of 108 base faces grow none\n"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("map.png at the mesh's uvs; 108 of 108 base faces grow none\n"), std::string::npos)
+      << info.out;
+  const fs::path whole = dir.write("white.json", head + R"("length_map": "white.png"}}]})");
+  const Result white_info = run_pelt({"info", whole.string()}, dir.path());
+  ASSERT_EQ(white_info.code, 0) << white_info.err;
+  EXPECT_NE(white_info.out.find("; 0 of 108 base faces grow none\n"), std::string::npos) << white_info.out;
   const float over[4] = {0.5f, 1.5f, 0.5f, 0.5f};
   io::write_image_atomic(dir.path() / "over.exr", 2, 2, 1, io::PixelType::f32, over);
   const fs::path bad = dir.write("over.json", head + R"("length_map": "over.exr"}}]})");

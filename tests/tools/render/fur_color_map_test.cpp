@@ -36,11 +36,6 @@ FrameImage render(const io::Scene& scene, int threads = 2, io::Precision precisi
   return render_at(scene, q, threads, lighting);
 }
 
-bool same_pixels(const FrameImage& a, const FrameImage& b) {
-  return a.color.size() == b.color.size() &&
-         std::memcmp(a.color.data(), b.color.data(), a.color.size() * sizeof(float)) == 0;
-}
-
 // A white map multiplies the strands by 1: the image is the one without the option, up to the
 // sampler's weighted sum of equal texels, which may round a float step below 1 (measured: at
 // most 6e-8, in 797 of the 76,800 channels).

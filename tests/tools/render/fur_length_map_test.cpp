@@ -48,11 +48,6 @@ Frame render(const io::Scene& scene, int threads = 2) {
   return f;
 }
 
-bool same_pixels(const FrameImage& a, const FrameImage& b) {
-  return a.color.size() == b.color.size() &&
-         std::memcmp(a.color.data(), b.color.data(), a.color.size() * sizeof(float)) == 0;
-}
-
 // A map of 0 everywhere grows no fur at all: not a fragment blended, the image of the bare sphere.
 TEST(FurLengthMap, ABlackMapGrowsNoFur) {
   SceneDir dir;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -94,6 +95,12 @@ inline FrameImage render_at(const io::Scene& scene, const io::Quality& q, int th
   FrameStats st;
   r.render(0, img, st);
   return img;
+}
+
+// The same size and every float the same, bit for bit.
+inline bool same_pixels(const FrameImage& a, const FrameImage& b) {
+  return a.color.size() == b.color.size() &&
+         std::memcmp(a.color.data(), b.color.data(), a.color.size() * sizeof(float)) == 0;
 }
 
 // RMSE over the RGB channels of two RGBA float images of the same size.

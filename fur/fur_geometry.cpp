@@ -118,6 +118,10 @@ double triangle_area_2d(const std::vector<uint32_t>& indices, Uv uv) {
 
 }  // namespace
 
+double mesh_uv_area(const Mesh& mesh) {
+  return triangle_area_2d(mesh.indices, [&](uint32_t i) { return glm::dvec2(mesh.uvs[i]); });
+}
+
 BoundingSphere bounding_sphere(const Mesh& mesh) {
   BoundingSphere s;
   if (mesh.positions.empty()) return s;
@@ -385,7 +389,7 @@ AxisSplit split_by_facing_axis(const Mesh& m, const std::vector<glm::vec3>& norm
 
 // values[source[i]] for every i.
 template <class T>
-std::vector<T> gathered(const std::vector<T>& values, const std::vector<uint32_t>& source) {
+std::vector<T> gathered(std::span<const T> values, const std::vector<uint32_t>& source) {
   std::vector<T> out(source.size());
   for (size_t i = 0; i < source.size(); ++i) out[i] = values[source[i]];
   return out;
@@ -437,7 +441,7 @@ std::optional<ParamError> lay_strands(const Mesh& input, const std::vector<glm::
     if (input.uvs.empty())
       return ParamError{"texture_coordinates", "\"mesh\" lays the strands by the mesh's texture coordinates, and "
                                                "this mesh has none: use \"box\" or \"projected\""};
-    const double uv_area = triangle_area_2d(input.indices, [&](uint32_t i) { return glm::dvec2(input.uvs[i]); });
+    const double uv_area = mesh_uv_area(input);
     if (const std::optional<double> ratio = strand_ratio(uv_area, reference)) {
       out.scale = *ratio * repeat;
     } else if (params.texture_coordinates) {
@@ -513,12 +517,12 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   // The box's copies, as a mesh of their own: its normals are left out (the fur's are base_normals).
   Mesh split;
   if (box) {
-    split.positions = gathered(input.positions, layout.split.source);
-    if (!input.uvs.empty()) split.uvs = gathered(input.uvs, layout.split.source);
+    split.positions = gathered<glm::vec3>(input.positions, layout.split.source);
+    if (!input.uvs.empty()) split.uvs = gathered<glm::vec2>(input.uvs, layout.split.source);
     split.indices = std::move(layout.split.indices);
   }
   const Mesh& base = box ? split : input;
-  out.base_normals = box ? gathered(normals, layout.split.source) : std::move(normals);
+  out.base_normals = box ? gathered<glm::vec3>(normals, layout.split.source) : std::move(normals);
 
   const size_t N = base.positions.size();
   if (N * size_t(params.shells) > size_t(UINT32_MAX)) {
@@ -586,8 +590,7 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
       if (!(length_scale[i] >= 0.0f && length_scale[i] <= 1.0f))
         return ParamError{"length_map", "vertex " + std::to_string(i) + "'s length must be in [0, 1], got " +
                                             std::to_string(length_scale[i])};
-    const std::vector<float> own = box ? gathered(std::vector<float>(length_scale.begin(), length_scale.end()),
-                                                  layout.split.source)
+    const std::vector<float> own = box ? gathered(length_scale, layout.split.source)
                                        : std::vector<float>(length_scale.begin(), length_scale.end());
     std::vector<double> sum(N, 0.0);
     std::vector<uint32_t> copies(N, 0);

@@ -121,6 +121,11 @@ struct FurGeometry {
 
 BoundingSphere bounding_sphere(const Mesh& mesh);
 
+// The area the mesh's triangles cover in its texture coordinates (mesh.uvs, one per vertex;
+// either winding counts alike, overlapping islands once each), in double. 0 for uvs collapsed to a
+// point or a line, which lay no texture.
+double mesh_uv_area(const Mesh& mesh);
+
 // The six indices of the fin quad on `edge` between layers s0 < s1 of the shared array (N base
 // vertices): (a_s0, b_s0, b_s1), (a_s0, b_s1, a_s1). FurGeometry::fin_indices holds these for
 // s1 = s0 + 1; merged fins (fur/fin_spans.h) take them over several layers.

@@ -5,6 +5,8 @@
 #include <limits>
 #include <random>
 #include <set>
+#include <span>
+#include <string>
 #include <utility>
 
 #include <glm/geometric.hpp>
@@ -21,6 +23,13 @@ FurGeometry build(const Mesh& m, const FurParams& p) {
   auto e = build_fur_geometry(m, p, g);
   EXPECT_FALSE(e.has_value()) << e->field << ": " << e->reason;
   return g;
+}
+
+// The field build_fur_geometry refuses (m, p, scale) by, or "accepted".
+std::string refused_field(const Mesh& m, const FurParams& p, std::span<const float> scale = {}) {
+  FurGeometry g;
+  const auto e = build_fur_geometry(m, p, g, scale);
+  return e ? e->field : "accepted";
 }
 
 FurParams shells(int s) {
@@ -216,10 +225,7 @@ TEST(FurGeometry, CombingFollowsTheUvLayout) {
   // No uvs at all: an error naming the field.
   m.uvs.clear();
   p.comb = c;
-  FurGeometry g;
-  const auto e = build_fur_geometry(m, p, g);
-  ASSERT_TRUE(e.has_value());
-  EXPECT_EQ(e->field, "comb.field");
+  EXPECT_EQ(refused_field(m, p), "comb.field");
 }
 
 TEST(FurGeometry, UvCombOnACurvedMeshStaysInEachTangentPlane) {
@@ -361,10 +367,7 @@ TEST(FurGeometry, AColourMapKeepsTheMeshUvsAndTheirSeams) {
   // Without the map the cube's copies that differ only in mesh uv are one vertex to the shells.
   EXPECT_GT(named.size(), named_plain.size());
   cube.uvs.clear();
-  FurGeometry none;
-  const auto e = build_fur_geometry(cube, p, none);
-  ASSERT_TRUE(e.has_value());
-  EXPECT_EQ(e->field, "use_color_map");
+  EXPECT_EQ(refused_field(cube, p), "use_color_map");
 }
 
 // The fins read the map at their ends' mesh uvs: with the map an edge names its face0's own copies
@@ -455,12 +458,8 @@ TEST(FurGeometry, ALengthMapScalesEachStrandAndBareFacesGrowNoShells) {
   EXPECT_GT(bare, F / 4);
   // Bad scales are refused by field.
   for (const std::vector<float>& bad : {std::vector<float>(3, 0.5f), std::vector<float>(sphere.vertex_count(), 1.5f),
-                                        std::vector<float>(sphere.vertex_count(), std::nanf(""))}) {
-    FurGeometry b;
-    const auto e = build_fur_geometry(sphere, p, b, bad);
-    ASSERT_TRUE(e.has_value());
-    EXPECT_EQ(e->field, "length_map");
-  }
+                                        std::vector<float>(sphere.vertex_count(), std::nanf(""))})
+    EXPECT_EQ(refused_field(sphere, p, bad), "length_map");
 }
 
 // The strand texture lies at one scale whatever the UV layout: the mesh's uvs are scaled to cover

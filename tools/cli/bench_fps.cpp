@@ -361,9 +361,7 @@ int run_fps(const Options& o) {
   for (auto th = o.threads.begin(); th != o.threads.end(); ++th)
     if (std::find(o.threads.begin(), th, *th) != th)
       throw io::InputError("", "--threads", "thread count " + std::to_string(*th) + " is listed twice");
-  // Before the first temporary (the probe below): a Ctrl-C or SIGTERM ends the run at once and
-  // removes the temporaries of writes in flight (render/interrupt.h), where the default action
-  // left a probe's temporary behind.
+  // Before the probe's temporary: a signal ends the run at once, temporaries removed (render/interrupt.h).
   const render::InterruptGuard interrupt(render::InterruptGuard::Stop::now);
   if (!o.json.empty()) io::prepare_output(o.json, "--json");  // before minutes of frames, not after
   std::vector<Result> results;

@@ -241,9 +241,7 @@ int run_bench_skin(const SkinBenchOptions& o) {
   // As in pelt render, no output replaces an input: --json naming the scan would destroy it.
   if (!o.json.empty()) io::OutputNames({head}, "benchmark").add(o.json, "--json");
   const std::vector<bench::SkinBenchMesh> meshes = bench::make_skin_bench_meshes(head);
-  // Before the first temporary (the probe below): a Ctrl-C or SIGTERM ends the run at once and
-  // removes the temporaries of writes in flight (render/interrupt.h), where the default action
-  // left a probe's temporary behind.
+  // Before the probe's temporary: a signal ends the run at once, temporaries removed (render/interrupt.h).
   const render::InterruptGuard interrupt(render::InterruptGuard::Stop::now);
   if (!o.json.empty()) io::prepare_output(o.json, "--json");  // before minutes of frames, not after
   std::vector<Measurement> ms;

@@ -128,9 +128,7 @@ int run_tradeoff(const TradeoffOptions& o) {
     throw io::InputError(dir.string(), "-o", "exists and is not a folder");
   const int threads = worker_threads(o.threads);
   const std::vector<tradeoff::Setting> plan = tradeoff::plan_sweep(scene.quality, knobs);
-  // Before the first temporary (the probe below): a Ctrl-C or SIGTERM ends the run at once and
-  // removes the temporaries of writes in flight (render/interrupt.h), where the default action
-  // left a probe's temporary behind.
+  // Before the probe's temporary: a signal ends the run at once, temporaries removed (render/interrupt.h).
   const render::InterruptGuard interrupt(render::InterruptGuard::Stop::now);
   io::prepare_output(dir / "tradeoff.csv", "-o");  // before the reference, which can take minutes
   if (o.images) io::prepare_output(dir / "images" / "reference.png", "--images");

@@ -108,8 +108,6 @@ class FurObject {
   const fur::FurGeometry& geometry() const { return geo_; }
   // Floats per vertex of the fur draws' varyings as of the last update().
   int varying_count() const;
-  // The lighting layout's own floats per vertex, before the mesh uv that a colour map adds.
-  int lighting_varying_count() const;
   uint64_t triangles() const;
   // Bytes held by this object's arrays and textures (for `pelt info`).
   size_t memory_bytes() const;
@@ -120,6 +118,8 @@ class FurObject {
   // The draws' shaders for the frame's sort (built when the sort changes) and their per-frame
   // inputs: lights, eye, fin weights.
   void prepare_shaders(const std::vector<shading::Light>& lights, const glm::vec3& eye);
+  // The lighting layout's own floats per vertex, before the mesh uv that a colour map adds.
+  int lighting_varying_count() const;
   void rebuild_varyings();
   // The mesh uvs into both varying arrays' records of `stride` floats, as their last two.
   void write_mesh_uvs(int stride);

@@ -5,6 +5,7 @@
 
 #include <glm/vec2.hpp>
 
+#include "fur/fur_geometry.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/render/budget_check.h"
@@ -21,13 +22,7 @@ std::vector<float> read_length_map(const std::filesystem::path& image, const Mes
                              "` has none");
   // A mesh whose uvs cover no area (all at a point, or on a line) reads one texel or one line of
   // texels everywhere: a length the map does not hold, so it is refused as having none.
-  double uv_area = 0.0;
-  for (size_t k = 0; k + 2 < mesh.indices.size(); k += 3) {
-    const glm::dvec2 a(mesh.uvs[mesh.indices[k]]), b(mesh.uvs[mesh.indices[k + 1]]), c(mesh.uvs[mesh.indices[k + 2]]);
-    const double cross = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-    if (std::isfinite(cross)) uv_area += std::fabs(cross);
-  }
-  if (!(uv_area > 0.0))
+  if (!(fur::mesh_uv_area(mesh) > 0.0))
     throw io::InputError(scene_file, field,
                          "a length map is read at the mesh's texture coordinates, and those of mesh `" + mesh_name +
                              "` cover no area");

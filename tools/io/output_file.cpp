@@ -10,6 +10,9 @@
 #include <utility>
 
 #include <csignal>
+#include <ctime>
+#include <fcntl.h>
+#include <pthread.h>
 #include <sys/wait.h>
 
 #include <unistd.h>
@@ -37,6 +40,22 @@ std::array<TempSlot, kTempSlots> g_temp_slots;
 std::atomic<pid_t> g_temp_writer_child{0};
 static_assert(std::atomic<pid_t>::is_always_lock_free, "read in a signal handler");
 
+// TempCreation's gate. Sequentially consistent on both sides (a section counts itself in, then
+// reads g_ending; the handler sets g_ending, then reads the count): either the section sees the
+// handler has begun and creates nothing, or the handler sees the section and waits for it.
+std::atomic<int> g_creating{0};
+std::atomic<bool> g_ending{false};
+static_assert(std::atomic<int>::is_always_lock_free && std::atomic<bool>::is_always_lock_free,
+              "read in a signal handler");
+
+sigset_t ending_signals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  return set;
+}
+
 int claim_temp_slot(const std::filesystem::path& p) {
   const std::string& s = p.native();
   if (s.size() >= kTempPathBytes) return -1;
@@ -59,7 +78,34 @@ void free_temp_slot(int i) {
 
 }  // namespace
 
-TempFile::TempFile(std::filesystem::path p) : path_(std::move(p)), slot_(claim_temp_slot(path_)) {}
+// Sections nest (a TempFile made inside a section): only the outermost counts, or an inner one
+// would wait for a handler that waits for the outer one.
+thread_local int t_creation_depth = 0;
+
+TempCreation::TempCreation() {
+  const sigset_t block = ending_signals();
+  pthread_sigmask(SIG_BLOCK, &block, &previous_);
+  if (t_creation_depth++ > 0) return;
+  g_creating.fetch_add(1);
+  if (g_ending.load()) {
+    // The handler has begun and will end the process: nothing may be created now, and this
+    // thread has nothing left to do but wait for the exit, counted out so the handler does not
+    // wait for it.
+    g_creating.fetch_sub(1);
+    for (;;) ::pause();
+  }
+}
+
+TempCreation::~TempCreation() {
+  if (--t_creation_depth == 0) g_creating.fetch_sub(1);
+  pthread_sigmask(SIG_SETMASK, &previous_, nullptr);
+}
+
+TempFile::TempFile(std::filesystem::path p) : path_(std::move(p)) {
+  const TempCreation creating;
+  slot_ = claim_temp_slot(path_);
+  if (const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666); fd >= 0) ::close(fd);
+}
 
 void TempFile::release() {
   released_ = true;
@@ -70,6 +116,11 @@ void TempFile::release() {
 void set_temp_writer_child(pid_t pid) { g_temp_writer_child.store(pid, std::memory_order_release); }
 
 void remove_temp_files_in_signal_handler() {
+  g_ending.store(true);
+  // A section on another thread ends within a few system calls (the signals are blocked on its
+  // own thread, so it is never this one).
+  const timespec pause{0, 100000};
+  while (g_creating.load() != 0) ::clock_nanosleep(CLOCK_MONOTONIC, 0, &pause, nullptr);
   // Killed and reaped first: alive, it could create its temporary again after the unlink.
   if (const pid_t child = g_temp_writer_child.load(std::memory_order_acquire); child > 0) {
     ::kill(child, SIGKILL);

@@ -4,6 +4,7 @@
 // before the work that fills it (prepare_output), not after minutes of rendering.
 #pragma once
 
+#include <signal.h>
 #include <sys/types.h>
 
 #include <filesystem>
@@ -20,9 +21,30 @@ std::filesystem::path temp_beside(const std::filesystem::path& path);
 // extension, as the plot's .png).
 std::string temp_suffix();
 
+// Makes a file's creation atomic against the signal handler that ends the process: while a
+// section lives, remove_temp_files_in_signal_handler waits for it to end, and once the handler
+// has begun no section starts (its thread waits for the exit). Without it, a writer thread
+// could create a temporary after the handler's unlink loop and before its _exit, and the file
+// would stay. SIGINT and SIGTERM are blocked on the section's thread meanwhile, since a handler
+// run there would wait for itself; keep a section to a few system calls.
+class TempCreation {
+ public:
+  TempCreation();
+  ~TempCreation();
+  TempCreation(const TempCreation&) = delete;
+  TempCreation& operator=(const TempCreation&) = delete;
+  // The thread's signal mask before the section, for a child spawned inside it to start with.
+  const sigset_t& previous_mask() const { return previous_; }
+
+ private:
+  sigset_t previous_;
+};
+
 // Removes its file at scope exit unless released: every early exit leaves no file behind.
-// While it lives, its path is also listed for remove_temp_files_in_signal_handler, so a
-// process ended by a signal (a second Ctrl-C, SIGTERM) leaves none either.
+// The constructor creates the file (empty) and lists its path for
+// remove_temp_files_in_signal_handler in one TempCreation, so a process ended by a signal (a
+// second Ctrl-C, SIGTERM) leaves none either: the writer later truncates and fills the file,
+// never creates it. A file that cannot be created is left to the writer's own open to report.
 class TempFile {
  public:
   explicit TempFile(std::filesystem::path p);
@@ -39,10 +61,13 @@ class TempFile {
 };
 
 // Removes every live TempFile's file, after killing and reaping the child set by
-// set_temp_writer_child, which may be writing one. Async-signal-safe (kill, waitpid and unlink
-// only, no allocation, no locks): for a handler about to end the process.
+// set_temp_writer_child, which may be writing one; first it waits for every TempCreation in
+// flight on other threads, and bars new ones. Async-signal-safe (kill, waitpid, unlink and
+// clock_nanosleep only, no allocation, no locks): for a handler about to end the process,
+// which must not return after it.
 void remove_temp_files_in_signal_handler();
 // A child process writing into a TempFile (the tradeoff's plot script), while it runs; 0: none.
+// Spawn the child and set it inside one TempCreation, or a signal in between would miss it.
 void set_temp_writer_child(pid_t pid);
 
 // The outputs of a run, checked before any work: none may be one of the run's inputs (the

@@ -48,14 +48,24 @@ PlotOutcome make_plot(const std::filesystem::path& csv, const std::filesystem::p
 
   PlotOutcome out;
   pid_t pid = -1;
-  // posix_spawnp reports an interpreter that cannot be executed as its return value.
-  const int spawn_err = ::posix_spawnp(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ);
+  int spawn_err = 0;
+  {
+    // Spawned and listed in one section: a signal in between would leave the script running.
+    const io::TempCreation spawning;
+    posix_spawnattr_t attr;
+    posix_spawnattr_init(&attr);
+    posix_spawnattr_setsigmask(&attr, &spawning.previous_mask());  // not the section's blocked signals
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK);
+    // posix_spawnp reports an interpreter that cannot be executed as its return value.
+    spawn_err = ::posix_spawnp(&pid, python.c_str(), nullptr, &attr, argv.data(), environ);
+    posix_spawnattr_destroy(&attr);
+    if (spawn_err == 0) io::set_temp_writer_child(pid);
+  }
   if (spawn_err != 0) {
     out.problem = "cannot run `" + python + "`: " + std::strerror(spawn_err) +
                   " (install Debian's python3 and python3-matplotlib)";
     return out;
   }
-  io::set_temp_writer_child(pid);
   // Waited for without reaping, and unlisted before it is reaped: a reaped pid may be reused at
   // once, and the signal handler must never kill another process under it.
   siginfo_t info{};
@@ -80,6 +90,12 @@ PlotOutcome make_plot(const std::filesystem::path& csv, const std::filesystem::p
     return out;
   }
   std::error_code ec;
+  // The temporary exists from the start (io::TempFile creates it): a script that ended well
+  // without plotting leaves it empty.
+  if (fs::file_size(tmp, ec) == 0 || ec) {
+    out.problem = "the plot script wrote no image";
+    return out;
+  }
   fs::rename(tmp, png, ec);
   if (ec) {
     out.problem = "cannot move the plot into place at " + png.string() + ": " + ec.message();

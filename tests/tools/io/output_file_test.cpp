@@ -2,12 +2,16 @@
 // file appears whole or not at all, no temporary is left behind, and every failure is an
 // InputError naming the file and the option.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <csignal>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "tests/tools/io/temp_dir.h"
@@ -117,6 +121,100 @@ TEST(OutputFile, NoTwoTemporariesShareAName) {
   EXPECT_EQ(a.rfind(pid, 0), 0u) << a;
   EXPECT_EQ(b.rfind(pid, 0), 0u) << b;
   EXPECT_EQ(a.size(), pid.size() + 16 + 1 + std::to_string(std::stoull(a.substr(a.rfind('-') + 1))).size()) << a;
+}
+
+TEST(OutputFile, ATemporaryExistsFromItsConstructionUntilItsDestruction) {
+  TempDir dir;
+  const fs::path p = dir.path() / ".x.tmp";
+  {
+    const TempFile tmp(p);
+    EXPECT_TRUE(fs::exists(p));
+    EXPECT_EQ(fs::file_size(p), 0u);
+  }
+  EXPECT_FALSE(fs::exists(p));
+  TempFile kept(p);
+  kept.release();
+  EXPECT_TRUE(fs::exists(p));
+}
+
+// The exit status of a forked child running `body`, which ends by _exit (a test failure when
+// it does not end by itself within 10 s: a wait that never ends).
+template <class Body>
+int in_child(Body&& body) {
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::alarm(10);
+    body();
+    ::_exit(99);
+  }
+  int status = 0;
+  if (child < 0 || ::waitpid(child, &status, 0) != child) return -1;
+  if (WIFSIGNALED(status)) return 1000 + WTERMSIG(status);
+  return WEXITSTATUS(status);
+}
+
+// The handler about to end the process (render/interrupt.h's, here called directly) while a
+// writer thread is creating a temporary: it waits for the creation, then removes the file. Without
+// the wait it would find nothing to remove, and the writer would create its file just after.
+TEST(TempFileSignals, TheHandlerWaitsForATemporaryBeingCreated) {
+  TempDir dir;
+  const fs::path late = dir.path() / ".late.tmp";
+  const int status = in_child([&] {
+    std::atomic<bool> in_section{false};
+    std::thread([&] {
+      {
+        const TempCreation creating;  // as TempFile's constructor's, held long on purpose
+        in_section = true;
+        ::usleep(100000);
+        new TempFile(late);  // lives until the exit
+      }
+      for (;;) ::pause();
+    }).detach();
+    while (!in_section) ::usleep(1000);
+    remove_temp_files_in_signal_handler();
+    ::usleep(200000);  // time for a writer the handler did not wait for to create its file
+    ::_exit(fs::exists(late) ? 1 : 0);
+  });
+  EXPECT_EQ(status, 0) << "1: the temporary was created after the handler's clean-up";
+  EXPECT_FALSE(fs::exists(late));
+}
+
+// Once the handler has begun, no temporary is created: the writer waits for the exit.
+TEST(TempFileSignals, NoTemporaryIsCreatedOnceTheHandlerHasBegun) {
+  TempDir dir;
+  const fs::path late = dir.path() / ".late.tmp";
+  const int status = in_child([&] {
+    remove_temp_files_in_signal_handler();
+    std::thread([&] { new TempFile(late); }).detach();
+    ::usleep(100000);
+    ::_exit(fs::exists(late) ? 1 : 0);
+  });
+  EXPECT_EQ(status, 0);
+  EXPECT_FALSE(fs::exists(late));
+}
+
+// A signal that arrives on the thread creating a temporary waits for the creation to end (the
+// handler would otherwise wait for its own thread), then removes the file and ends the process.
+TEST(TempFileSignals, ASignalDuringACreationIsHandledAfterIt) {
+  TempDir dir;
+  const fs::path p = dir.path() / ".x.tmp";
+  const int status = in_child([&] {
+    struct sigaction sa {};
+    sa.sa_handler = [](int sig) {
+      remove_temp_files_in_signal_handler();
+      ::_exit(128 + sig);
+    };
+    ::sigaction(SIGTERM, &sa, nullptr);
+    {
+      const TempCreation creating;
+      ::raise(SIGTERM);
+      new TempFile(p);
+      if (!fs::exists(p)) ::_exit(2);
+    }
+    ::_exit(3);  // the handler did not run when the section ended
+  });
+  EXPECT_EQ(status, 128 + SIGTERM);
+  EXPECT_FALSE(fs::exists(p));
 }
 
 }  // namespace

@@ -116,6 +116,38 @@ TEST(TradeoffPlot, MissingInterpreterIsReportedAndLeavesNoFile) {
   EXPECT_EQ(files_in(dir.path()), 1u);
 }
 
+// The temporary exists before the script runs (io::TempFile creates it): a script that ends well
+// without plotting must not put an empty file in place.
+TEST(TradeoffPlot, AScriptThatWritesNothingIsReportedAndLeavesNoFile) {
+  io::TempDir dir;
+  const fs::path csv = dir.write("tradeoff.csv", sample_csv());
+  const fs::path fake = dir.write("python3", "#!/bin/sh\nexit 0\n");
+  ::chmod(fake.c_str(), 0755);
+  const PlotOutcome r = make_plot(csv, dir.path() / "tradeoff.png", "t", {true}, fake.string());
+  EXPECT_FALSE(r.made);
+  EXPECT_EQ(r.problem, "the plot script wrote no image");
+  EXPECT_EQ(files_in(dir.path()), 2u);  // the CSV and the script
+}
+
+// The script is spawned while SIGINT and SIGTERM are blocked on pelt's thread (so that a signal
+// cannot fall between its start and its listing for the handler); it must start with the
+// caller's mask, or a Ctrl-C would never reach it.
+TEST(TradeoffPlot, TheScriptStartsWithTheCallersSignalMask) {
+  io::TempDir dir;
+  const fs::path csv = dir.write("tradeoff.csv", sample_csv());
+  // Builtins only: a shell blocks its signals while it forks and waits for a command.
+  const fs::path fake = dir.write("python3",
+                                  "#!/bin/sh\nwhile read -r k v; do [ \"$k\" = SigBlk: ] && echo \"$v\" > \"${4%/*}/mask\"; "
+                                  "done < /proc/self/status\necho plot > \"$4\"\n");
+  ::chmod(fake.c_str(), 0755);
+  const PlotOutcome r = make_plot(csv, dir.path() / "tradeoff.png", "t", {true}, fake.string());
+  EXPECT_TRUE(r.made) << r.problem;
+  std::ifstream mask(dir.path() / "mask");
+  std::string line;
+  std::getline(mask, line);
+  EXPECT_EQ(line, "0000000000000000");
+}
+
 TEST(TradeoffPlot, MissingMatplotlibIsNamed) {
   io::TempDir dir;
   const fs::path csv = dir.write("tradeoff.csv", sample_csv());

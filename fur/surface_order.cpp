@@ -20,6 +20,17 @@ void key_below(float& key, float bound) {
   key = std::nextafter(bound, -std::numeric_limits<float>::infinity());
 }
 
+// Whether triangle t of a layer whose clip positions start at `layer` faces the viewer: wound
+// counter-clockwise on screen, as the shells' back-face culling keeps (CullMode::Back, OpenGL's
+// convention). A corner at or behind the eye gives no winding on screen: such a triangle holds
+// nothing back, as such an edge has no lean.
+bool faces_viewer(const glm::vec4* layer, const uint32_t* t) {
+  const glm::vec4 a = layer[t[0]], b = layer[t[1]], c = layer[t[2]];
+  if (!(a.w > 0.0f && b.w > 0.0f && c.w > 0.0f)) return false;
+  const glm::vec2 pa(a.x / a.w, a.y / a.w), pb(b.x / b.w, b.y / b.w), pc(c.x / c.w, c.y / c.w);
+  return (pb.x - pa.x) * (pc.y - pa.y) - (pc.x - pa.x) * (pb.y - pa.y) > 0.0f;
+}
+
 }  // namespace
 
 SurfaceOrder::SurfaceOrder(const FurGeometry& geo)
@@ -49,6 +60,7 @@ SurfaceOrder::SurfaceOrder(const FurGeometry& geo)
   }
   lean_.resize(edges_.size());
   raw_.resize(faces_);
+  drawn_below_.resize(faces_);
 }
 
 void SurfaceOrder::compute(std::span<const glm::vec4> clip, std::vector<float>& keys) {
@@ -85,10 +97,17 @@ void SurfaceOrder::compute(std::span<const glm::vec4> clip, std::vector<float>& 
     }
     if (s == 0) continue;
     const float* below = k - F;  // layer s - 1, final
-    for (uint32_t f = 0; f < F; ++f) key_below(k[f], below[f]);
+    // Only a triangle that is drawn holds another back. A culled one draws nothing to be
+    // covered, yet its key would pass the chain on: across a silhouette or a fold (the teapot's rim), from the hidden side to the
+    // visible one, pulling it in front of parts of the mesh that lie before it.
+    const size_t prev = size_t{s - 1} * n_;
+    for (uint32_t f = 0; f < F; ++f) drawn_below_[f] = faces_viewer(&clip[prev], &base_indices_[3 * size_t{f}]);
+    for (uint32_t f = 0; f < F; ++f)
+      if (drawn_below_[f]) key_below(k[f], below[f]);
     for (size_t i = 0; i < edges_.size(); ++i) {
-      if (lean_[i] > 0) key_below(k[edges_[i].face0], below[edges_[i].face1]);
-      if (lean_[i] < 0) key_below(k[edges_[i].face1], below[edges_[i].face0]);
+      const Edge& e = edges_[i];
+      if (lean_[i] > 0 && drawn_below_[e.face1]) key_below(k[e.face0], below[e.face1]);
+      if (lean_[i] < 0 && drawn_below_[e.face0]) key_below(k[e.face1], below[e.face0]);
     }
     // A quad keeps one key (its halves stay together in the sorted list and share blocks):
     // the lower, which keeps both halves' rules.

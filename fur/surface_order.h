@@ -52,6 +52,7 @@ class SurfaceOrder {
   std::vector<Edge> edges_;             // interior edges (two faces)
   std::vector<int8_t> lean_;            // per edge this frame: +1 face0 leans onto face1, -1 the reverse, 0 neither
   std::vector<float> raw_;              // one layer's mean depths
+  std::vector<uint8_t> drawn_below_;    // per face: its triangle in layer s - 1 is drawn (not culled)
 };
 
 }  // namespace pelt::fur

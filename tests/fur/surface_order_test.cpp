@@ -1,6 +1,7 @@
 // The `surface` order's keys: every shell layer after its own layer below and after the layer
 // below of each neighbour it leans over on screen; the plain mean depth where nothing leans
-// across; one key per quad; no NaN from a vertex behind the eye.
+// across or where the triangles below are culled; one key per quad; no NaN from a vertex behind
+// the eye.
 #include "fur/surface_order.h"
 
 #include <cmath>
@@ -66,6 +67,19 @@ float mean_w(const FurGeometry& geo, const std::vector<glm::vec4>& clip, size_t 
 
 glm::vec2 screen(const glm::vec4& c) { return {c.x / c.w, c.y / c.w}; }
 
+// Every key is its quad's mean depth (the `tile` order's key): no rule held anything back.
+void expect_quad_mean_depths(const FurGeometry& geo, const std::vector<glm::vec4>& clip, const std::vector<float>& keys) {
+  const uint32_t F = uint32_t(geo.counts.base_faces);
+  ASSERT_EQ(keys.size(), size_t{geo.layers} * F);
+  for (uint32_t s = 0; s < geo.layers; ++s)
+    for (uint32_t f = 0; f < F; f += 2) {
+      const size_t t = size_t{s} * F + f;
+      const float quad = (3.0f * mean_w(geo, clip, t) + 3.0f * mean_w(geo, clip, t + 1)) / 6.0f;
+      EXPECT_NEAR(keys[t], quad, 1e-5f * quad) << "layer " << s << " face " << f;
+      EXPECT_EQ(keys[t], keys[t + 1]);  // a quad's halves share one key
+    }
+}
+
 TEST(SurfaceOrder, EveryLayerIsDrawnAfterTheLayersBelowThatItLeansOver) {
   const int shells = 8;
   const FurGeometry geo = grid_fur(6, shells);
@@ -118,14 +132,27 @@ TEST(SurfaceOrder, WhereNothingLeansAcrossAnEdgeTheKeysAreTheQuadsMeanDepths) {
   SurfaceOrder order(geo);
   std::vector<float> keys;
   order.compute(clip, keys);
-  const uint32_t F = uint32_t(geo.counts.base_faces);
-  for (uint32_t s = 0; s < uint32_t(shells); ++s)
-    for (uint32_t f = 0; f < F; f += 2) {
-      const size_t t = size_t{s} * F + f;
-      const float quad = (3.0f * mean_w(geo, clip, t) + 3.0f * mean_w(geo, clip, t + 1)) / 6.0f;
-      EXPECT_NEAR(keys[t], quad, 1e-5f * quad) << "layer " << s << " face " << f;
-      EXPECT_EQ(keys[t], keys[t + 1]);  // a quad's halves share one key
-    }
+  expect_quad_mean_depths(geo, clip, keys);
+}
+
+// Only a drawn triangle holds another back. Seen from below, every shell faces away and is culled:
+// no rule applies, though the strands lean across every edge and each layer lies behind the one
+// below it. (Culled keys passed the chain on from the hidden side of a fold to the visible one.)
+TEST(SurfaceOrder, TrianglesFacingAwayHoldNothingBack) {
+  const int shells = 8;
+  const FurGeometry geo = grid_fur(6, shells);
+  const glm::mat4 m = camera({3.0f, -2.5f, 9.0f}, {3.0f, 0.0f, 3.0f});
+  const glm::vec3 step = 0.2f / float(shells - 1) * glm::normalize(glm::vec3(3.0f, 0.3f, 1.0f));
+  const std::vector<glm::vec4> clip = clip_of(geo, m, step);
+  SurfaceOrder order(geo);
+  std::vector<float> keys;
+  order.compute(clip, keys);
+  for (size_t t = 0; t < keys.size(); ++t) {
+    const glm::vec2 a = screen(clip[geo.shell_indices[3 * t]]), b = screen(clip[geo.shell_indices[3 * t + 1]]),
+                    c = screen(clip[geo.shell_indices[3 * t + 2]]);
+    ASSERT_LT((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y), 0.0f) << "faces the viewer: triangle " << t;
+  }
+  expect_quad_mean_depths(geo, clip, keys);
 }
 
 TEST(SurfaceOrder, VerticesBehindTheEyeOrNotFiniteLeaveTheOtherKeysFinite) {

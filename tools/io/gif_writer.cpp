@@ -49,8 +49,8 @@ void AnimatedGifWriter::add_frame(const float* rgba) {
   encode_srgb8_span(rgba, m.rgba.data(), m.rgba.size());
   for (size_t p = 0, n = static_cast<size_t>(m.width) * m.height; p < n; ++p)
     for (int c = 0; c < 3; ++c) m.bytes[p * 3 + c] = m.rgba[p * 4 + c];
-  if (const std::string error = m.out->append(m.tmp->path().string(), m.bytes.data()); !error.empty())
-    throw InputError(file, "", "cannot write GIF frame " + std::to_string(frames_) + ": " + error);
+  if (const std::string error = m.out->append(m.tmp->write_path(), m.bytes.data()); !error.empty())
+    throw InputError(file, "", "cannot write GIF frame " + std::to_string(frames_) + ": " + m.tmp->named(error));
   ++frames_;
 }
 

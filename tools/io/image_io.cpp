@@ -81,7 +81,7 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
   TempFile tmp(temp_beside(path));
   ImageWriteRequest request;
   request.target = file;
-  request.temp = tmp.path().string();
+  request.temp = tmp.write_path();
   request.width = width;
   request.height = height;
   request.channels = channels;
@@ -89,7 +89,7 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
   request.exr_grey_names = kind == FileKind::exr;
   if (kind == FileKind::png) request.png_compression = options.png_compression;
   request.pixels = data;
-  if (const std::string error = backend.write(request); !error.empty()) throw InputError(file, "", error);
+  if (const std::string error = backend.write(request); !error.empty()) throw InputError(file, "", tmp.named(error));
   std::error_code ec;
   std::filesystem::rename(tmp.path(), path, ec);
   if (ec) throw InputError(file, "", "cannot move the finished image into place: " + ec.message());

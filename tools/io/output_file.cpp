@@ -10,8 +10,8 @@
 #include <utility>
 
 #include <csignal>
-#include <ctime>
 #include <fcntl.h>
+#include <poll.h>
 #include <pthread.h>
 #include <sys/wait.h>
 
@@ -102,13 +102,27 @@ TempCreation::~TempCreation() {
 }
 
 TempFile::TempFile(std::filesystem::path p) : path_(std::move(p)) {
-  const TempCreation creating;
-  slot_ = claim_temp_slot(path_);
-  if (const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666); fd >= 0) ::close(fd);
+  {
+    const TempCreation creating;
+    slot_ = claim_temp_slot(path_);
+    fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (fd_ < 0) creation_error_ = errno;
+  }
+  static const bool proc_fds = ::access("/proc/self/fd", X_OK) == 0;
+  write_path_ = fd_ >= 0 && proc_fds ? "/proc/self/fd/" + std::to_string(fd_) : path_.string();
+}
+
+std::string TempFile::named(std::string message) const {
+  if (write_path_ == path_.native()) return message;
+  for (size_t at = 0; (at = message.find(write_path_, at)) != std::string::npos; at += path_.native().size())
+    message.replace(at, write_path_.size(), path_.native());
+  return message;
 }
 
 void TempFile::release() {
   released_ = true;
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
   free_temp_slot(slot_);
   slot_ = -1;
 }
@@ -119,8 +133,7 @@ void remove_temp_files_in_signal_handler() {
   g_ending.store(true);
   // A section on another thread ends within a few system calls (the signals are blocked on its
   // own thread, so it is never this one).
-  const timespec pause{0, 100000};
-  while (g_creating.load() != 0) ::clock_nanosleep(CLOCK_MONOTONIC, 0, &pause, nullptr);
+  while (g_creating.load() != 0) ::poll(nullptr, 0, 1);
   // Killed and reaped first: alive, it could create its temporary again after the unlink.
   if (const pid_t child = g_temp_writer_child.load(std::memory_order_acquire); child > 0) {
     ::kill(child, SIGKILL);
@@ -194,6 +207,7 @@ std::filesystem::path temp_beside(const std::filesystem::path& path) {
 }
 
 TempFile::~TempFile() {
+  if (fd_ >= 0) ::close(fd_);
   if (released_) return;
   // Removed before its slot is freed: a signal in between finds it still listed (unlinking a
   // file already gone is harmless), where the other order let it escape the handler.
@@ -210,19 +224,18 @@ void prepare_output(const std::filesystem::path& path, const std::string& field)
   const std::filesystem::path dir = folder_of(path);
   std::filesystem::create_directories(dir, ec);
   if (ec) throw InputError(file, field, "cannot create folder " + dir.string() + ": " + ec.message());
-  // Opening the temporary is the test that counts: permissions, a read-only file system and
+  // Creating the temporary is the test that counts: permissions, a read-only file system and
   // a full inode table all show here, as they would at the end of the run.
   const TempFile probe(temp_beside(path));
-  std::FILE* f = std::fopen(probe.path().c_str(), "wb");
-  if (!f) throw InputError(file, field, "cannot create a file in " + dir.string() + ": " + std::strerror(errno));
-  std::fclose(f);
+  if (const int error = probe.creation_error())
+    throw InputError(file, field, "cannot create a file in " + dir.string() + ": " + std::strerror(error));
 }
 
 void write_text_atomic(const std::filesystem::path& path, const std::string& text, const std::string& field) {
   const std::string file = path.string();
   TempFile tmp(temp_beside(path));
   {
-    std::ofstream f(tmp.path(), std::ios::binary);
+    std::ofstream f(tmp.write_path(), std::ios::binary);
     if (!f) throw InputError(file, field, "cannot create a file in " + folder_of(path).string());
     f << text;
     f.close();

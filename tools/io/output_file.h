@@ -41,10 +41,10 @@ class TempCreation {
 };
 
 // Removes its file at scope exit unless released: every early exit leaves no file behind.
-// The constructor creates the file (empty) and lists its path for
-// remove_temp_files_in_signal_handler in one TempCreation, so a process ended by a signal (a
-// second Ctrl-C, SIGTERM) leaves none either: the writer later truncates and fills the file,
-// never creates it. A file that cannot be created is left to the writer's own open to report.
+// The constructor creates the file (empty), keeps it open, and lists its path for
+// remove_temp_files_in_signal_handler, all in one TempCreation, so a process ended by a signal
+// (a second Ctrl-C, SIGTERM) leaves none either. Writers open write_path(), never path(): an
+// open by name after the handler's unlink would create the file again.
 class TempFile {
  public:
   explicit TempFile(std::filesystem::path p);
@@ -52,19 +52,31 @@ class TempFile {
   TempFile(const TempFile&) = delete;
   TempFile& operator=(const TempFile&) = delete;
   const std::filesystem::path& path() const { return path_; }
+  // The file to open for writing: /proc/self/fd/N, the descriptor kept since its creation,
+  // whose open reaches the same file and never makes a name (not even once unlinked). path()
+  // where /proc is not mounted, or the creation failed (the writer's open then reports why).
+  const std::string& write_path() const { return write_path_; }
+  // A library's message about write_path(), naming path() instead.
+  std::string named(std::string message) const;
+  // 0 when the constructor created the file, else its errno.
+  int creation_error() const { return creation_error_; }
+  // The file stays (it has been renamed into place); its descriptor is closed.
   void release();
 
  private:
   std::filesystem::path path_;
+  std::string write_path_;
   bool released_ = false;
   int slot_ = -1;  // in the signal handler's list; -1 when the list was full or after release
+  int fd_ = -1;
+  int creation_error_ = 0;
 };
 
 // Removes every live TempFile's file, after killing and reaping the child set by
 // set_temp_writer_child, which may be writing one; first it waits for every TempCreation in
 // flight on other threads, and bars new ones. Async-signal-safe (kill, waitpid, unlink and
-// clock_nanosleep only, no allocation, no locks): for a handler about to end the process,
-// which must not return after it.
+// poll only, no allocation, no locks): for a handler about to end the process, which must not
+// return after it.
 void remove_temp_files_in_signal_handler();
 // A child process writing into a TempFile (the tradeoff's plot script), while it runs; 0: none.
 // Spawn the child and set it inside one TempCreation, or a signal in between would miss it.

@@ -21,10 +21,9 @@ constexpr int kSignals[] = {SIGINT, SIGTERM};
 struct sigaction g_previous[std::size(kSignals)] {};
 
 void on_signal(int sig) {
-  if (g_signal.load() == 0 && !g_stop_now.load()) {
-    g_signal.store(sig);
-    return;
-  }
+  // One exchange, not a load and a store: SIGINT and SIGTERM handled on two threads at once
+  // must not both take the first signal's path.
+  if (int none = 0; !g_stop_now.load() && g_signal.compare_exchange_strong(none, sig)) return;
   // The user or the scheduler will not wait (a second signal, or a command with nothing to
   // finish). The temporaries go first (and a child writing one, io::set_temp_writer_child), or
   // they would stay behind under a name no later run removes.

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <fstream>
 #include <sstream>
@@ -137,6 +138,33 @@ TEST(OutputFile, ATemporaryExistsFromItsConstructionUntilItsDestruction) {
   EXPECT_TRUE(fs::exists(p));
 }
 
+// The handler may unlink a temporary while a writer thread is about to open it: the writer opens
+// write_path(), which reaches the same file and never makes its name again (an open by name
+// would create the file anew, to stay behind after the handler's exit).
+TEST(OutputFile, OpeningTheWritePathNeverMakesTheNameAgain) {
+  TempDir dir;
+  const fs::path p = dir.path() / ".x.tmp";
+  TempFile tmp(p);
+  ASSERT_EQ(tmp.creation_error(), 0);
+  EXPECT_NE(tmp.write_path(), p.string());
+  EXPECT_EQ(tmp.named("cannot open " + tmp.write_path() + "!"), "cannot open " + p.string() + "!");
+  std::ofstream(tmp.write_path(), std::ios::binary) << "pixels";
+  EXPECT_EQ(read(p), "pixels");
+  ASSERT_EQ(::unlink(p.c_str()), 0);  // what the handler does
+  std::ofstream after(tmp.write_path(), std::ios::binary);
+  after << "more";
+  after.close();
+  EXPECT_FALSE(fs::exists(p));
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+TEST(OutputFile, AFailedCreationIsReportedAndWritesGoToTheName) {
+  TempDir dir;
+  const TempFile tmp(dir.path() / "no-such-folder" / ".x.tmp");
+  EXPECT_EQ(tmp.creation_error(), ENOENT);
+  EXPECT_EQ(tmp.write_path(), (dir.path() / "no-such-folder" / ".x.tmp").string());
+}
+
 // The exit status of a forked child running `body`, which ends by _exit (a test failure when
 // it does not end by itself within 10 s: a wait that never ends).
 template <class Body>
@@ -185,8 +213,13 @@ TEST(TempFileSignals, NoTemporaryIsCreatedOnceTheHandlerHasBegun) {
   const fs::path late = dir.path() / ".late.tmp";
   const int status = in_child([&] {
     remove_temp_files_in_signal_handler();
-    std::thread([&] { new TempFile(late); }).detach();
-    ::usleep(100000);
+    std::atomic<bool> started{false};
+    std::thread([&] {
+      started = true;
+      new TempFile(late);
+    }).detach();
+    while (!started) ::usleep(1000);
+    ::usleep(100000);  // time for the constructor to create its file, were it not barred
     ::_exit(fs::exists(late) ? 1 : 0);
   });
   EXPECT_EQ(status, 0);

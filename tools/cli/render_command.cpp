@@ -101,7 +101,36 @@ struct Plan {
   render::OutputKind kind = render::OutputKind::png;
   std::vector<int> frames;  // in rendering order
   int planned = 0;          // frames in the range (or shard) before --resume
+  render::FrameRange range;  // the frames asked for, before the shard and --resume
 };
+
+// The statistics must not replace a frame of the range that this run does not render (one that
+// --resume skips, or another shard's), as they may not replace one it renders: the frames it
+// could name are the numbers in its name (checking every frame of a range of millions would
+// take seconds). A sequence's outputs only; a GIF is one file, checked as such.
+void check_stats_spare_frames(io::OutputNames& outputs, const std::string& stats, const render::OutputPattern& pattern,
+                              render::FrameRange range) {
+  if (!pattern.has_frame_field()) {
+    outputs.add_frame(pattern.path_for(range.first), "-o");
+    return;
+  }
+  const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  for (size_t i = 0; i < stats.size();) {
+    if (!digit(stats[i])) {
+      ++i;
+      continue;
+    }
+    size_t end = i;
+    while (end < stats.size() && digit(stats[end])) ++end;
+    size_t first = i;
+    while (first + 1 < end && stats[first] == '0') ++first;
+    if (end - first <= 9) {  // larger numbers are past any frame (an int)
+      const int frame = std::stoi(stats.substr(first, end - first));
+      if (frame >= range.first && frame <= range.last) outputs.add_frame(pattern.path_for(frame), "-o");
+    }
+    i = end;
+  }
+}
 
 Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov,
                  const render::OutputPattern& pattern) {
@@ -152,6 +181,7 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
                          std::to_string(range.count()) + " frames need a `#` run in the file name for the frame "
                          "number (e.g. out/frame_####.png), or pick one frame with --frame");
   }
+  plan.range = range;
   plan.frames = render::shard_frames(range, shard);
   plan.planned = static_cast<int>(plan.frames.size());
   if (o.resume) plan.frames = render::frames_without_output(plan.frames, pattern);
@@ -175,11 +205,29 @@ int run_render(const RenderOptions& o) {
     // Nothing to finish: a signal while the stats are written ends the run at once, their
     // temporary removed (installed before the probe's temporary, as below).
     const render::InterruptGuard interrupt(render::InterruptGuard::Stop::now);
+    if (!o.stats.empty()) {
+      // Checked as a render checks them: the statistics may replace no input (the scene, a mesh,
+      // a map a mesh names, found by a set-up that describes the scene without drawing it) and
+      // no frame of the range.
+      render::RenderSettings ds;
+      ds.width = o.width;
+      ds.height = o.height;
+      ds.threads = worker_threads(o.threads);
+      ds.quality = quality;
+      ds.budget = o.budget;
+      ds.aov = aov;
+      ds.describe_only = true;
+      const std::unique_ptr<render::SceneRenderer> described = naming_flag_origin(
+          scene, o.quality, o.width, o.height, [&] { return std::make_unique<render::SceneRenderer>(scene, ds); });
+      io::OutputNames outputs(described->input_files());
+      outputs.add(o.stats, "--stats");
+      if (plan.kind != render::OutputKind::gif) check_stats_spare_frames(outputs, o.stats, pattern, plan.range);
+      io::prepare_output(o.stats, "--stats");
+    }
     if (!o.quiet)
       std::fprintf(stderr, "pelt: nothing to render: %s\n",
                    plan.planned == 0 ? ("shard " + o.shard + " has no frames in this range").c_str()
                                      : "every frame's output already exists (--resume)");
-    if (!o.stats.empty()) io::prepare_output(o.stats, "--stats");
     write_stats();
     return 0;
   }
@@ -215,6 +263,7 @@ int run_render(const RenderOptions& o) {
     outputs.add(o.output, "-o");
   } else {
     for (int f : plan.frames) outputs.add_frame(pattern.path_for(f), "-o");
+    if (!o.stats.empty()) check_stats_spare_frames(outputs, o.stats, pattern, plan.range);
   }
   if (!o.stats.empty()) io::prepare_output(o.stats, "--stats");
   io::prepare_output(plan.kind == render::OutputKind::gif ? std::filesystem::path(o.output)
@@ -305,6 +354,15 @@ int run_render(const RenderOptions& o) {
 
   const int done = progress.done();
   const int total = static_cast<int>(plan.frames.size());
+  if (done == total && render::InterruptGuard::requested()) {
+    // The signal came during the last frame, which was finished as any frame in flight is: every
+    // output is complete, and the exit status still says the run was interrupted, so a script
+    // looping over renders (or a farm's scheduler) sees the signal.
+    if (gif) gif->commit();
+    write_stats();
+    std::fprintf(stderr, "pelt: interrupted during the last frame (%d): every frame was written\n", last_done);
+    return 128 + render::InterruptGuard::signal_number();
+  }
   if (done < total) {
     write_stats();
     const std::string after = last_done < 0 ? std::string("before any frame was written")

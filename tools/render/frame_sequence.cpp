@@ -127,8 +127,18 @@ OutputKind output_kind(const std::filesystem::path& path) {
 std::vector<int> frames_without_output(const std::vector<int>& frames, const OutputPattern& out) {
   std::vector<int> missing;
   for (int f : frames) {
+    const std::filesystem::path path = out.path_for(f);
     std::error_code ec;
-    if (!std::filesystem::exists(out.path_for(f), ec)) missing.push_back(f);
+    const std::filesystem::file_status st = std::filesystem::status(path, ec);
+    if (!std::filesystem::exists(st)) {
+      missing.push_back(f);
+    } else if (std::filesystem::is_directory(st)) {
+      // Not a finished frame, and no frame can be written there: refused as without --resume.
+      throw io::InputError(path.string(), "-o", "is a folder, not a file");
+    } else if (std::filesystem::is_regular_file(st) && std::filesystem::file_size(path, ec) == 0 && !ec) {
+      // pelt never leaves an empty frame (writes are atomic): another tool's, cut short.
+      missing.push_back(f);
+    }
   }
   return missing;
 }

@@ -55,7 +55,9 @@ enum class OutputKind { png, exr, tiff, gif };
 OutputKind output_kind(const std::filesystem::path& path);
 
 // Frames whose output file is missing (for --resume), in the given order. Writes are
-// atomic (a temporary renamed into place), so an existing file is a finished frame.
+// atomic (a temporary renamed into place), so an existing file is a finished frame; an empty
+// one (left by another tool, a copy cut short) counts as missing. Throws io::InputError("-o")
+// for a folder at a frame's name.
 std::vector<int> frames_without_output(const std::vector<int>& frames, const OutputPattern& out);
 
 }  // namespace pelt::render

@@ -165,6 +165,83 @@ TEST_F(RenderCommand, ResumeRendersOnlyMissingFramesAndMatches) {
   EXPECT_NE(again.err.find("nothing to render"), std::string::npos) << again.err;
 }
 
+// A folder at a frame's name is no finished frame: refused as without --resume, not skipped (a
+// farm's re-queued job reported success and never rendered it). An empty file is no frame pelt
+// wrote (its writes are atomic): another tool's, cut short, rendered again.
+TEST_F(RenderCommand, ResumeRefusesAFolderAndRendersAnEmptyFileAgain) {
+  const std::string out = (dir.path() / "run/f_###.png").string();
+  fs::create_directories(dir.path() / "run/f_002.png");
+  const Result folder = pelt({"-o", out, "--frames", "0:3", "--resume", "-q"});
+  EXPECT_EQ(folder.code, 2);
+  EXPECT_NE(folder.err.find("f_002.png: -o: is a folder, not a file"), std::string::npos) << folder.err;
+  EXPECT_EQ(files("run"), std::vector<std::string>{"f_002.png"});
+  fs::remove(dir.path() / "run/f_002.png");
+  std::ofstream(dir.path() / "run/f_001.png").close();
+  const Result empty = pelt({"-o", out, "--frames", "0:3", "--resume", "-q"});
+  ASSERT_EQ(empty.code, 0) << empty.err;
+  const Result alone = pelt({"-o", (dir.path() / "alone.png").string(), "--frame", "1", "-q"});
+  ASSERT_EQ(alone.code, 0) << alone.err;
+  EXPECT_EQ(frame_file("run", 1), read_text(dir.path() / "alone.png"));
+}
+
+// --stats may replace no input and no frame of the range, also where this run renders nothing
+// (a shard past the range, a finished sequence resumed) or skips the frame (--resume, another
+// shard's): each of these once wrote the statistics over the scene or a finished frame.
+TEST_F(RenderCommand, StatsNeverReplaceAnInputOrAFrameOfTheRange) {
+  const std::string scene_text = read_text(scene);
+  const std::string out = (dir.path() / "run/f_###.png").string();
+  const Result empty_shard = pelt({"-o", out, "--frames", "0:3", "--shard", "7/8", "--stats", scene.string(), "-q"});
+  EXPECT_EQ(empty_shard.code, 2);
+  EXPECT_NE(empty_shard.err.find("--stats: is an input of this render"), std::string::npos) << empty_shard.err;
+  EXPECT_EQ(read_text(scene), scene_text);
+  ASSERT_EQ(pelt({"-o", out, "--frames", "0:1", "-q"}).code, 0);
+  const std::string frame0 = frame_file("run", 0);
+  const std::string skipped = (dir.path() / "run/f_000.png").string();
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"--frames", "0:2", "--resume"}, std::vector<std::string>{"--frames", "0:1", "--resume"},
+        std::vector<std::string>{"--frames", "0:3", "--shard", "1/2"}}) {
+    std::vector<std::string> all{"-o", out, "--stats", skipped, "-q"};
+    all.insert(all.end(), args.begin(), args.end());
+    const Result r = pelt(all);
+    EXPECT_EQ(r.code, 2) << args[1];
+    EXPECT_NE(r.err.find("--stats: is also where -o writes"), std::string::npos) << r.err;
+    EXPECT_EQ(frame_file("run", 0), frame0) << args[1];
+  }
+  // A number in the name that is no frame of the range is no clash.
+  const Result apart = pelt({"-o", out, "--frames", "0:1", "--resume", "--stats",
+                             (dir.path() / "run/f_007.png").string(), "-q"});
+  EXPECT_EQ(apart.code, 0) << apart.err;
+}
+
+// A signal during the last frame: that frame is finished, as any frame in flight is, and the exit
+// status still reports the signal (it was 0, so a script looping over renders ran on after a
+// Ctrl-C, and a farm saw a pre-empted job succeed).
+TEST_F(RenderCommand, ASignalDuringTheLastFrameIsReported) {
+  const fs::path slow = dir.write("slow.json", R"({"pelt": 1, "image": {"width": 640, "height": 480},
+  "camera": {"eye": [2.5, 1.5, 3.5], "target": [0, 0, 0]},
+  "lights": [{"type": "directional", "direction": [0.3, 0.8, 0.5]}, {"type": "ambient", "intensity": 0.3}],
+  "objects": [{"mesh": "box:2", "material": {"type": "lambert"}, "fur": {"shells": 4, "texture_size": 32, "length": 0.3}}],
+  "animation": {"frames": 2, "fps": 12}})");
+  const fs::path out = dir.path() / "last";
+  // Frame 0 is written while frame 1, the last, renders (half a second or more): the signal
+  // comes once frame 0's file is in place.
+  Child c = start_pelt({"render", slow.string(), "-o", (out / "f_#.png").string(), "--spp", "16", "--sort", "exact",
+                        "--threads", "1"},
+                       dir.path());
+  int status = 0;
+  pid_t ended = 0;
+  while (!fs::exists(out / "f_0.png") && (ended = ::waitpid(c.pid, &status, WNOHANG)) == 0)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_EQ(ended, 0) << "pelt ended before its first frame was written: " << read_text(c.err);
+  ::kill(c.pid, SIGINT);
+  const Result r = wait_child(c);
+  EXPECT_EQ(r.code, 130) << r.err;
+  EXPECT_NE(r.err.find("interrupted during the last frame (1): every frame was written"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(out / "f_1.png"));
+  for (const auto& e : fs::directory_iterator(out))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "temporary left behind: " << e.path();
+}
+
 TEST_F(RenderCommand, CtrlCStopsAfterTheFrameInFlight) {
   const int frames = 20000;
   const fs::path out = dir.path() / "int";

@@ -18,6 +18,7 @@
 #include "tools/cli/commands.h"
 #include "tools/cli/quality_options.h"
 #include "tools/io/builtin_meshes.h"
+#include "tools/cli/budget_options.h"
 #include "tools/io/input_error.h"
 #include "tools/io/output_file.h"
 #include "tools/render/frame_timing.h"
@@ -344,6 +345,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
 }
 
 int run_fps(const Options& o) {
+  check_default_pixel_budget(o.width, o.height);
   const io::Quality quality = bench_quality(o);
   std::optional<io::Quality> versus;
   if (o.versus) versus = versus_quality(*o.versus, quality, o.match_llvmpipe);

@@ -15,6 +15,7 @@
 
 #include "tools/bench/skin_meshes.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/budget_options.h"
 #include "tools/io/input_error.h"
 #include "tools/io/output_file.h"
 #include "tools/io/scene.h"
@@ -237,6 +238,7 @@ void write_json_atomic(const std::string& path, const std::vector<Measurement>& 
 
 int run_bench_skin(const SkinBenchOptions& o) {
   check_options(o);
+  check_default_pixel_budget(o.width, o.height);
   const std::filesystem::path head = o.head.empty() ? bench::find_head_scan("--head") : std::filesystem::path(o.head);
   // As in pelt render, no output replaces an input: --json naming the scan would destroy it.
   if (!o.json.empty()) io::OutputNames({head}, "benchmark").add(o.json, "--json");

@@ -82,4 +82,14 @@ void add_budget_options(CLI::App& sub, io::Budget& b) {
            "Most vertex pairs the blurred normals of one normal_blur skin mesh may settle (their time)");
 }
 
+void check_default_pixel_budget(int width, int height) {
+  const uint64_t pixels = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0));
+  const uint64_t budget = io::Budget{}.max_pixels;
+  if (pixels > budget)
+    throw io::InputError("", "--width",
+                         "the image is " + std::to_string(width) + " x " + std::to_string(height) + " = " +
+                             std::to_string(pixels) + " pixels, more than the default budget of " +
+                             std::to_string(budget) + " pixels that the benchmarks run at (they take no --max-pixels)");
+}
+
 }  // namespace pelt::cli

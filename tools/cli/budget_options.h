@@ -23,4 +23,10 @@ void add_budget_options(CLI::App& sub, io::Budget& b);
 // exceed `max`. Throws io::InputError("", flag, reason) otherwise.
 uint64_t parse_budget_value(std::string_view text, const std::string& flag, uint64_t max, bool bytes);
 
+// The benchmarks take no budget flags: their renders run at the default budgets. A size past the
+// default pixel budget is refused naming the size flags that asked for it (the renderer's own
+// refusal would name a scene field of the built-in scene and a flag the benchmarks lack).
+// Throws io::InputError("", "--width", reason).
+void check_default_pixel_budget(int width, int height);
+
 }  // namespace pelt::cli

@@ -103,6 +103,11 @@ size_t image_hash(const tradeoff::DisplayImage& image) {
 
 std::string label(const tradeoff::Setting& s) { return s.knob + "=" + s.setting; }
 
+// Where --images writes a row's image.
+fs::path image_path(const fs::path& dir, const tradeoff::Setting& s) {
+  return dir / "images" / (s.knob + "_" + s.setting + ".png");
+}
+
 // SceneRenderer names the scene's fields in a budget refusal (`image.width`, `quality.shells`,
 // `quality.spp`), but a size from --width or --height, or shells and samples that the sweep
 // chose (the reference's 64), are not in the scene: the message names where they came from.
@@ -130,8 +135,28 @@ int run_tradeoff(const TradeoffOptions& o) {
   const std::vector<tradeoff::Setting> plan = tradeoff::plan_sweep(scene.quality, knobs);
   // Before the probe's temporary: a signal ends the run at once, temporaries removed (render/interrupt.h).
   const render::InterruptGuard interrupt(render::InterruptGuard::Stop::now);
-  io::prepare_output(dir / "tradeoff.csv", "-o");  // before the reference, which can take minutes
-  if (o.images) io::prepare_output(dir / "images" / "reference.png", "--images");
+  // Every file the sweep writes is checked before the reference, which can take minutes: none
+  // may be an input (the scene, a mesh, a map a mesh names: found by a set-up that describes the
+  // scene without drawing it) or another output, and each must be writable. (The CSV alone was
+  // probed: a plot or an image that could not be written failed after the whole sweep.)
+  {
+    std::vector<std::pair<fs::path, std::string>> outputs{{dir / "tradeoff.csv", "-o"}, {dir / "tradeoff.md", "-o"}};
+    if (!o.no_plot) outputs.push_back({dir / "tradeoff.png", "-o"});
+    if (o.images)
+      for (const tradeoff::Setting& s : plan) outputs.push_back({image_path(dir, s), "--images"});
+    render::RenderSettings described = settings(scene.quality, o.budget, threads, o.width, o.height);
+    described.describe_only = true;
+    const std::vector<fs::path> inputs = [&] {
+      try {
+        return render::SceneRenderer(scene, described).input_files();
+      } catch (const io::InputError& e) {
+        throw name_flag_origin(e, scene, QualityFlags{}, o.width, o.height);
+      }
+    }();
+    io::OutputNames names(inputs, "tradeoff");
+    for (const auto& [path, option] : outputs) names.add(path, option);
+    for (const auto& [path, option] : outputs) io::prepare_output(path, option);
+  }
 
   std::vector<tradeoff::Row> rows;
   std::vector<tradeoff::DisplayImage> images;  // per row, kept only with --images
@@ -231,7 +256,7 @@ int run_tradeoff(const TradeoffOptions& o) {
   io::write_text_atomic(dir / "tradeoff.md", markdown, "-o");
   if (o.images) {
     for (size_t i = 0; i < rows.size(); ++i)
-      io::write_image_atomic(dir / "images" / (rows[i].knob + "_" + rows[i].setting + ".png"), images[i].width,
+      io::write_image_atomic(image_path(dir, plan[i]), images[i].width,
                              images[i].height, 4, io::PixelType::u8, images[i].rgba.data());
   }
   std::fwrite(table.data(), 1, table.size(), stdout);

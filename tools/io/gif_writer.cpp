@@ -29,7 +29,8 @@ AnimatedGifWriter::AnimatedGifWriter(const std::filesystem::path& path, int widt
   if (!(fps > 0.0)) throw InputError(file, "", "frames per second must be positive");
   Impl& m = *impl_;
   m.path = path;
-  m.tmp = std::make_unique<TempFile>(temp_beside(path));
+  // A device or a pipe is written in place (no temporary to rename over it).
+  if (!writes_through(path)) m.tmp = std::make_unique<TempFile>(temp_beside(path));
   m.width = width;
   m.height = height;
   std::string error;
@@ -49,8 +50,10 @@ void AnimatedGifWriter::add_frame(const float* rgba) {
   encode_srgb8_span(rgba, m.rgba.data(), m.rgba.size());
   for (size_t p = 0, n = static_cast<size_t>(m.width) * m.height; p < n; ++p)
     for (int c = 0; c < 3; ++c) m.bytes[p * 3 + c] = m.rgba[p * 4 + c];
-  if (const std::string error = m.out->append(m.tmp->write_path(), m.bytes.data()); !error.empty())
-    throw InputError(file, "", "cannot write GIF frame " + std::to_string(frames_) + ": " + m.tmp->named(error));
+  const std::string target = m.tmp ? m.tmp->write_path() : file;
+  if (const std::string error = m.out->append(target, m.bytes.data()); !error.empty())
+    throw InputError(file, "", "cannot write GIF frame " + std::to_string(frames_) + ": " +
+                                   (m.tmp ? m.tmp->named(error) : error));
   ++frames_;
 }
 
@@ -60,10 +63,12 @@ void AnimatedGifWriter::commit() {
   if (frames_ == 0) throw InputError(file, "", "a GIF needs at least one frame");
   if (const std::string error = m.out->close(); !error.empty())
     throw InputError(file, "", "finishing the GIF failed: " + error);
-  std::error_code ec;
-  std::filesystem::rename(m.tmp->path(), m.path, ec);
-  if (ec) throw InputError(file, "", "cannot move the finished GIF into place: " + ec.message());
-  m.tmp->release();
+  if (m.tmp) {
+    std::error_code ec;
+    std::filesystem::rename(m.tmp->path(), m.path, ec);
+    if (ec) throw InputError(file, "", "cannot move the finished GIF into place: " + ec.message());
+    m.tmp->release();
+  }
   m.committed = true;
 }
 

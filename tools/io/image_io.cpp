@@ -78,10 +78,8 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
   }
 
   const ImageBackend& backend = image_backend_for(file);
-  TempFile tmp(temp_beside(path));
   ImageWriteRequest request;
   request.target = file;
-  request.temp = tmp.write_path();
   request.width = width;
   request.height = height;
   request.channels = channels;
@@ -89,6 +87,14 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
   request.exr_grey_names = kind == FileKind::exr;
   if (kind == FileKind::png) request.png_compression = options.png_compression;
   request.pixels = data;
+  if (writes_through(path)) {
+    // A device or a pipe (/dev/null, /dev/stdout): written in place, nothing to rename.
+    request.temp = file;
+    if (const std::string error = backend.write(request); !error.empty()) throw InputError(file, "", error);
+    return;
+  }
+  TempFile tmp(temp_beside(path));
+  request.temp = tmp.write_path();
   if (const std::string error = backend.write(request); !error.empty()) throw InputError(file, "", tmp.named(error));
   std::error_code ec;
   std::filesystem::rename(tmp.path(), path, ec);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <utility>
 
@@ -216,11 +217,27 @@ TempFile::~TempFile() {
   free_temp_slot(slot_);
 }
 
+bool writes_through(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st) || fs::is_directory(st)) return false;
+  if (!fs::is_regular_file(st)) return true;
+  const auto under_proc = [](const fs::path& p) { return p.is_absolute() && *std::next(p.begin()) == "proc"; };
+  if (fs::is_symlink(fs::symlink_status(path, ec)) && under_proc(fs::read_symlink(path, ec))) return true;
+  const fs::path folder = fs::weakly_canonical(fs::absolute(folder_of(path), ec), ec);
+  return !ec && under_proc(folder);
+}
+
 void prepare_output(const std::filesystem::path& path, const std::string& field) {
   const std::string file = path.string();
   if (path.empty() || !path.has_filename()) throw InputError(file, field, "names no file");
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError(file, field, "is a folder, not a file");
+  if (writes_through(path)) {
+    if (::access(path.c_str(), W_OK) != 0) throw InputError(file, field, std::string("cannot be written: ") + std::strerror(errno));
+    return;
+  }
   const std::filesystem::path dir = folder_of(path);
   std::filesystem::create_directories(dir, ec);
   if (ec) throw InputError(file, field, "cannot create folder " + dir.string() + ": " + ec.message());
@@ -233,6 +250,14 @@ void prepare_output(const std::filesystem::path& path, const std::string& field)
 
 void write_text_atomic(const std::filesystem::path& path, const std::string& text, const std::string& field) {
   const std::string file = path.string();
+  if (writes_through(path)) {
+    std::ofstream f(path, std::ios::binary);
+    if (!f) throw InputError(file, field, "cannot be written");
+    f << text;
+    f.close();
+    if (!f) throw InputError(file, field, "write failed");
+    return;
+  }
   TempFile tmp(temp_beside(path));
   {
     std::ofstream f(tmp.write_path(), std::ios::binary);

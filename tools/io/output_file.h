@@ -86,7 +86,7 @@ void set_temp_writer_child(pid_t pid);
 // scene, a mesh, a map) or another output. A file is compared as the directory entry a write
 // replaces, its canonical folder and its name (`textures/../map.png` is `map.png`): writes go
 // to a temporary renamed into place, so a link at the output is replaced, never written
-// through. Throws InputError(output, option, reason naming the other file).
+// through (but for a link to a device, a pipe or /proc: writes_through). Throws InputError(output, option, reason naming the other file).
 class OutputNames {
  public:
   // `run` names the command in the message ("an input of this render").
@@ -109,14 +109,21 @@ class OutputNames {
   std::filesystem::path folder_, canonical_folder_;  // the last folder resolved: a sequence's frames share one
 };
 
+// True for an output that exists and is written in place rather than replaced by a renamed
+// temporary: a device, FIFO or socket (/dev/null, a named pipe), or a file reached through
+// /proc (/dev/stdout, /dev/fd/N). A rename would put a regular file in the device's or the
+// link's place (as root, /dev/null itself) instead of writing to it.
+bool writes_through(const std::filesystem::path& path);
+
 // Creates path's folder (with its parents, as `pelt render -o` does) and proves that a file
-// can be made there by creating and removing the temporary an atomic write would use. The
-// target itself is not touched. Throws InputError(path, field, reason): e.g. a parent that
+// can be made there by creating and removing the temporary an atomic write would use (where
+// writes_through, that the output can be written). The target itself is not touched. Throws InputError(path, field, reason): e.g. a parent that
 // is a regular file, a read-only folder, or a path that names a folder.
 void prepare_output(const std::filesystem::path& path, const std::string& field);
 
-// Writes `text` to `path` atomically (through temp_beside). Throws InputError(path, field,
-// reason) and leaves neither the target nor the temporary when any step fails.
+// Writes `text` to `path` atomically (through temp_beside), or in place where writes_through.
+// Throws InputError(path, field, reason) and leaves neither the target nor the temporary when
+// any step fails.
 void write_text_atomic(const std::filesystem::path& path, const std::string& text, const std::string& field);
 
 }  // namespace pelt::io

@@ -176,6 +176,26 @@ TEST(BenchFps, AListedTwiceSceneOrThreadCountIsRefused) {
   expect_refused({"--threads", "2,1"}, "--threads: thread count 1 is listed twice");
 }
 
+// The benchmarks run at the default budgets and take no budget flags: a size past the pixel budget
+// is refused naming --width, not a field of the built-in scene and a --max-pixels the command
+// lacks; and before the header is printed.
+TEST(BenchFps, AnImageOverThePixelBudgetNamesTheSizeFlag) {
+  TempDir dir;
+  for (const std::string bench : {"fps", "skin"}) {
+    const Result r = run_pelt({"bench", bench, "--width", "16384", "--height", "4097", "--json",
+                               (dir.path() / "b.json").string()},
+                              dir.path());
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("--width: the image is 16384 x 4097 = 67125248 pixels, more than the default budget of "
+                         "67108864 pixels"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("image.width"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "") << bench;
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "b.json"));
+  }
+}
+
 // A --json path that cannot be written is refused before the first frame, not after the
 // whole benchmark: no table row is printed.
 TEST(BenchFps, AnUnwritableJsonPathFailsBeforeTheRun) {

@@ -2,6 +2,7 @@
 // file appears whole or not at all, no temporary is left behind, and every failure is an
 // InputError naming the file and the option.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -163,6 +164,41 @@ TEST(OutputFile, AFailedCreationIsReportedAndWritesGoToTheName) {
   const TempFile tmp(dir.path() / "no-such-folder" / ".x.tmp");
   EXPECT_EQ(tmp.creation_error(), ENOENT);
   EXPECT_EQ(tmp.write_path(), (dir.path() / "no-such-folder" / ".x.tmp").string());
+}
+
+// A device, a FIFO or a file reached through /proc is written in place: renaming a temporary over
+// it would put a regular file in its place (as root, /dev/null itself became one).
+TEST(OutputFile, DevicesPipesAndProcLinksAreWrittenInPlace) {
+  TempDir dir;
+  EXPECT_FALSE(writes_through(dir.path() / "missing.json"));
+  EXPECT_FALSE(writes_through(dir.path()));
+  write_text_atomic(dir.path() / "plain.json", "1\n", "--json");
+  EXPECT_FALSE(writes_through(dir.path() / "plain.json"));
+  EXPECT_TRUE(writes_through("/dev/null"));
+  if (fs::is_symlink("/dev/stdout")) {
+    EXPECT_TRUE(writes_through("/dev/stdout"));
+  }
+
+  const fs::path fifo = dir.path() / "pipe.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  ASSERT_TRUE(writes_through(fifo));  // else the write below would wait for a reader forever
+  prepare_output(fifo, "--json");
+  std::string received;
+  std::thread reader([&] { received = read(fifo); });
+  write_text_atomic(fifo, "[1, 2]\n", "--json");
+  reader.join();
+  EXPECT_EQ(received, "[1, 2]\n");
+  EXPECT_TRUE(fs::is_fifo(fifo));
+
+  const fs::path link = dir.path() / "null.json";
+  fs::create_symlink("/dev/null", link);
+  write_text_atomic(link, "gone\n", "--json");
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  std::vector<std::string> names;  // no temporary left beside them
+  for (const auto& e : fs::directory_iterator(dir.path())) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"null.json", "pipe.json", "plain.json"}));
 }
 
 // The exit status of a forked child running `body`, which ends by _exit (a test failure when

@@ -194,5 +194,31 @@ TEST(TradeoffCommand, AnOutputFolderThatCannotBeMadeIsRefusedBeforeRendering) {
   EXPECT_EQ(read_text(file), "not a folder");
 }
 
+// Every file the sweep writes is checked before the reference renders: an input at an output's
+// name (the scene named tradeoff.csv, a colour map named tradeoff.png) was overwritten, and a
+// plot or image that could not be written failed only after the whole sweep, leaving the CSV.
+TEST(TradeoffCommand, EveryOutputIsCheckedBeforeRendering) {
+  TempDir dir;
+  const fs::path out = dir.path() / "report";
+  const fs::path scene_as_csv = dir.write("report/tradeoff.csv", kTinyFurScene);
+  Result r = run_pelt({"tradeoff", scene_as_csv.string(), "-o", out.string(), "--knobs", "fins", "--no-plot"}, dir.path());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("tradeoff.csv: -o: is an input of this tradeoff"), std::string::npos) << r.err;
+  EXPECT_EQ(read_text(scene_as_csv), kTinyFurScene);
+  fs::remove(scene_as_csv);
+
+  const fs::path scene = dir.write("tiny.json", kTinyFurScene);
+  for (const auto& [blocker, option] : {std::pair<std::string, std::string>{"tradeoff.png", "-o"},
+                                        std::pair<std::string, std::string>{"images/fins_off.png", "--images"}}) {
+    fs::create_directories(out / blocker);
+    r = run_pelt({"tradeoff", scene.string(), "-o", out.string(), "--knobs", "fins", "--images"}, dir.path());
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(blocker + ": " + option + ": is a folder, not a file"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("[1/"), std::string::npos) << "rendered before refusing: " << r.err;
+    EXPECT_FALSE(fs::exists(out / "tradeoff.csv"));
+    fs::remove_all(out);
+  }
+}
+
 }  // namespace
 }  // namespace pelt::cli_test

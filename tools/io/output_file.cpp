@@ -223,7 +223,10 @@ bool writes_through(const std::filesystem::path& path) {
   const fs::file_status st = fs::status(path, ec);
   if (ec || !fs::exists(st) || fs::is_directory(st)) return false;
   if (!fs::is_regular_file(st)) return true;
-  const auto under_proc = [](const fs::path& p) { return p.is_absolute() && *std::next(p.begin()) == "proc"; };
+  const auto under_proc = [](const fs::path& p) {
+    auto part = p.begin();
+    return p.is_absolute() && part != p.end() && ++part != p.end() && *part == "proc";
+  };
   if (fs::is_symlink(fs::symlink_status(path, ec)) && under_proc(fs::read_symlink(path, ec))) return true;
   const fs::path folder = fs::weakly_canonical(fs::absolute(folder_of(path), ec), ec);
   return !ec && under_proc(folder);

@@ -207,6 +207,8 @@ io::Quality bench_quality(const Options& o) {
 io::Quality versus_quality(const std::string& spec, const io::Quality& base, bool match_llvmpipe) {
   io::Quality q = base;
   std::vector<std::string> seen;
+  // getline finds no item after a last comma: an empty one, refused as the others are.
+  if (!spec.empty() && spec.back() == ',') throw io::InputError("", "--versus", "`" + spec + "` has an empty item");
   std::stringstream pairs(spec);
   std::string pair;
   while (std::getline(pairs, pair, ',')) {

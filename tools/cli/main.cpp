@@ -3,6 +3,7 @@
 // field and the reason.
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <map>
 #include <string>
 
@@ -24,6 +25,36 @@ void refuse_empty_values(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands({})) refuse_empty_values(*sub);
 }
 
+// CLI11 drops the empty items of a delimited list (`--scenes box,,teapot` read as box, teapot;
+// `--threads 1,` as 1): refused instead, as an empty value is, since the list is usually
+// built by a script whose variable came out empty. Returns the message, or "" when none.
+std::string empty_list_item(CLI::App& app, int argc, char** argv) {
+  std::map<std::string, char> delimited;  // "--scenes" -> ','
+  const std::function<void(CLI::App&)> gather = [&](CLI::App& a) {
+    for (CLI::Option* opt : a.get_options())
+      if (const char d = opt->get_delimiter(); d != '\0')
+        for (const std::string& name : opt->get_lnames()) delimited["--" + name] = d;
+    for (CLI::App* sub : a.get_subcommands({})) gather(*sub);
+  };
+  gather(app);
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i], value;
+    const size_t eq = arg.find('=');
+    if (eq != std::string::npos && arg.rfind("--", 0) == 0) {
+      value = arg.substr(eq + 1);
+      arg.resize(eq);
+    } else if (i + 1 < argc) {
+      value = argv[i + 1];
+    }
+    const auto it = delimited.find(arg);
+    if (it == delimited.end() || value.empty()) continue;
+    const char d = it->second;
+    if (value.front() == d || value.back() == d || value.find(std::string(2, d)) != std::string::npos)
+      return arg + ": `" + value + "` has an empty item";
+  }
+  return "";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -37,6 +68,10 @@ int main(int argc, char** argv) {
     runs[app.get_subcommands({}).back()] = std::move(run);
   }
   refuse_empty_values(app);
+  if (const std::string empty = empty_list_item(app, argc, argv); !empty.empty()) {
+    std::fprintf(stderr, "pelt: error: %s\n", empty.c_str());
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

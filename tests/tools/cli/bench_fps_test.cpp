@@ -176,6 +176,14 @@ TEST(BenchFps, AListedTwiceSceneOrThreadCountIsRefused) {
   expect_refused({"--threads", "2,1"}, "--threads: thread count 1 is listed twice");
 }
 
+// An empty item in a list (a script's variable that came out empty) is refused, as an empty
+// value is; CLI11 would drop it and measure the rest with no word said.
+TEST(BenchFps, AnEmptyListItemIsRefused) {
+  expect_refused({"--scenes", "teapot,,teapot2"}, "--scenes: `teapot,,teapot2` has an empty item");
+  expect_refused({"--threads=2,"}, "--threads: `2,` has an empty item");
+  expect_refused({"--versus", "filter=bilinear_mip,"}, "--versus: `filter=bilinear_mip,` has an empty item");
+}
+
 // The benchmarks run at the default budgets and take no budget flags: a size past the pixel budget
 // is refused naming --width, not a field of the built-in scene and a --max-pixels the command
 // lacks; and before the header is printed.

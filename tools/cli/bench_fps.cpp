@@ -203,7 +203,8 @@ io::Quality bench_quality(const Options& o) {
 // The knobs of --versus applied to the run's quality `base`: "knob=value" pairs separated by
 // commas, knob names as in `pelt tradeoff` (e.g. "filter=bilinear_mip,fins=off"). Throws
 // io::InputError naming --versus for a malformed pair, an unknown knob or value, a knob given
-// twice, or a setting that changes nothing (a comparison of a run with itself).
+// twice, or a setting that changes nothing (a comparison of a run with itself, or of skin
+// knobs in scenes without skin).
 io::Quality versus_quality(const std::string& spec, const io::Quality& base, bool match_llvmpipe) {
   io::Quality q = base;
   std::vector<std::string> seen;
@@ -223,6 +224,13 @@ io::Quality versus_quality(const std::string& spec, const io::Quality& base, boo
   }
   if (seen.empty()) throw io::InputError("", "--versus", "no knob=value given (e.g. filter=bilinear_mip)");
   if (q == base) throw io::InputError("", "--versus", "`" + spec + "` is the run's own setting: nothing to compare");
+  // The benchmark's scenes are fur on a lambert base: the skin's knobs draw the same frame.
+  io::Quality fur_knobs = q;
+  fur_knobs.multiple_scattering = base.multiple_scattering;
+  fur_knobs.single_scattering = base.single_scattering;
+  if (fur_knobs == base)
+    throw io::InputError("", "--versus", "`" + spec + "` changes only skin knobs, and the benchmark's scenes have no "
+                                         "skin: the same frame, nothing to compare");
   if (match_llvmpipe && q.fin_quads == io::FinQuads::merged)
     throw io::InputError("", "--versus", "merged fins are not drawn with --match-llvmpipe (the harness's fins are "
                                          "one quad per pair of layers)");

@@ -184,6 +184,13 @@ TEST(BenchFps, AnEmptyListItemIsRefused) {
   expect_refused({"--versus", "filter=bilinear_mip,"}, "--versus: `filter=bilinear_mip,` has an empty item");
 }
 
+// The fur scenes have no skin: a skin knob draws the same frame, and its "ratio" measured nothing.
+TEST(BenchFps, VersusASkinKnobAloneIsRefused) {
+  expect_refused({"--versus", "multiple_scattering=reference"},
+                 "--versus: `multiple_scattering=reference` changes only skin knobs");
+  expect_refused({"--versus", "single_scattering=off,multiple_scattering=paper"}, "changes only skin knobs");
+}
+
 // The benchmarks run at the default budgets and take no budget flags: a size past the pixel budget
 // is refused naming --width, not a field of the built-in scene and a --max-pixels the command
 // lacks; and before the header is printed.

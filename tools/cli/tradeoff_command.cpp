@@ -115,9 +115,11 @@ io::InputError name_origin(const io::InputError& e, const io::Scene& scene, cons
                            int height) {
   const io::InputError flagged = name_flag_origin(e, scene, QualityFlags{}, width, height);
   if (flagged.file != e.file) return flagged;
+  // The blur's pair budget names the material's radius; a row that set the model asked for it.
+  const bool blur_of_the_row = e.field.ends_with("normal_blur_radius") && s.quality.multiple_scattering.has_value();
   if (e.file == scene.file.string() &&
       ((e.field == "quality.shells" && s.quality.shells != scene.quality.shells) ||
-       (e.field == "quality.spp" && s.quality.spp != scene.quality.spp)))
+       (e.field == "quality.spp" && s.quality.spp != scene.quality.spp) || blur_of_the_row))
     return io::InputError("", "the sweep's " + label(s) + " row", e.reason);
   return e;
 }
@@ -155,6 +157,20 @@ int run_tradeoff(const TradeoffOptions& o) {
     }();
     io::OutputNames names(inputs, "tradeoff");
     for (const auto& [path, option] : outputs) names.add(path, option);
+    // So is every row's budget (pixels, shells, memory, the normal blur's pairs): a row refused
+    // when the sweep reached it came after the reference's minutes. Described, not drawn, each
+    // from the meshes loaded once; before any folder is made, so a refusal leaves none.
+    const std::vector<io::SceneMesh> meshes = io::load_scene_meshes(scene, o.budget);
+    for (const tradeoff::Setting& s : plan) {
+      if (s.same_as) continue;
+      render::RenderSettings row = settings(s.quality, o.budget, threads, o.width, o.height);
+      row.describe_only = true;
+      try {
+        const render::SceneRenderer check(scene, meshes, row);
+      } catch (const io::InputError& e) {
+        throw name_origin(e, scene, s, o.width, o.height);
+      }
+    }
     for (const auto& [path, option] : outputs) io::prepare_output(path, option);
   }
 

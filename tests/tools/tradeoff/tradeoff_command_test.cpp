@@ -169,6 +169,23 @@ TEST(TradeoffCommand, BudgetRefusalsNameTheFlagOrTheSweepRowNotTheScene) {
       << r.err;
   EXPECT_EQ(r.err.find("quality.shells"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out / "tradeoff.csv"));
+
+  // A row past the reference, refused before the reference renders (minutes on a real scene),
+  // naming the row: the scene's skin uses the paper's model, the sweep's normal_blur row asks for
+  // the blur. No folder is made.
+  const fs::path skin = dir.write("skin.json", R"({"pelt": 1, "image": {"width": 32, "height": 24},
+  "camera": {"eye": [0, 0, 4], "target": [0, 0, 0]},
+  "lights": [{"type": "directional", "direction": [0.6, 0.5, 0.7]}],
+  "objects": [{"mesh": "sphere:16", "material": {"type": "skin", "skin": {"multiple_scattering": "paper"}}}]})");
+  r = run_pelt({"tradeoff", skin.string(), "-o", out.string(), "--no-plot", "--knobs", "multiple_scattering",
+                "--max-blur-pairs", "10"},
+               dir.path());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("pelt: error: the sweep's multiple_scattering=normal_blur row: reaches about"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("[1/"), std::string::npos) << "rendered before refusing: " << r.err;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(TradeoffCommand, OutputPathThatIsAFileIsRefused) {

@@ -20,13 +20,14 @@ void key_below(float& key, float bound) {
   key = std::nextafter(bound, -std::numeric_limits<float>::infinity());
 }
 
-// Whether triangle t of a layer whose clip positions start at `layer` faces the viewer: wound
+// Whether triangle t of a layer whose clip positions start at `layer` may be drawn: wound
 // counter-clockwise on screen, as the shells' back-face culling keeps (CullMode::Back, OpenGL's
-// convention). A corner at or behind the eye gives no winding on screen: such a triangle holds
-// nothing back, as such an edge has no lean.
+// convention). A corner at or behind the eye gives no winding on screen, and the clipper may
+// still draw part of the triangle: it counts as drawn (its rules hold, as before culled shells
+// were told apart).
 bool faces_viewer(const glm::vec4* layer, const uint32_t* t) {
   const glm::vec4 a = layer[t[0]], b = layer[t[1]], c = layer[t[2]];
-  if (!(a.w > 0.0f && b.w > 0.0f && c.w > 0.0f)) return false;
+  if (!(a.w > 0.0f && b.w > 0.0f && c.w > 0.0f)) return true;
   const glm::vec2 pa(a.x / a.w, a.y / a.w), pb(b.x / b.w, b.y / b.w), pc(c.x / c.w, c.y / c.w);
   return (pb.x - pa.x) * (pc.y - pa.y) - (pc.x - pa.x) * (pb.y - pa.y) > 0.0f;
 }

@@ -177,6 +177,30 @@ TEST(SurfaceOrder, VerticesBehindTheEyeOrNotFiniteLeaveTheOtherKeysFinite) {
     }
 }
 
+// A triangle with a corner behind the eye has no winding on screen, and the clipper may still draw
+// part of it: it is not taken for culled, and still holds its own next layer back. Strands leaning
+// away from the eye, so each layer lies behind the one below it and the rule moves every key.
+TEST(SurfaceOrder, ATriangleReachingBehindTheEyeStillHoldsItsNextLayerBack) {
+  const int shells = 4;
+  const FurGeometry geo = grid_fur(4, shells);
+  const glm::mat4 m = camera({2.0f, 1.0f, 6.0f}, {2.0f, 0.0f, 2.0f});
+  std::vector<glm::vec4> clip = clip_of(geo, m, {0.0f, 0.01f, -0.08f});
+  const uint32_t n = geo.base_vertex_count, F = uint32_t(geo.counts.base_faces);
+  for (uint32_t s = 0; s < uint32_t(shells); ++s) clip[s * n].w = -1.0f;  // vertex 0's chain
+  SurfaceOrder order(geo);
+  std::vector<float> keys;
+  order.compute(clip, keys);
+  int checked = 0;
+  for (uint32_t s = 1; s < uint32_t(shells); ++s)
+    for (uint32_t f = 0; f < F; ++f) {
+      const uint32_t* t = &geo.shell_indices[3 * size_t{f}];
+      if (t[0] != 0 && t[1] != 0 && t[2] != 0) continue;
+      EXPECT_LT(keys[size_t{s} * F + f], keys[size_t{s - 1} * F + f]) << "layer " << s << " face " << f;
+      ++checked;
+    }
+  EXPECT_GT(checked, 0);
+}
+
 // A mesh split along a texture seam (or the box mapping's border) orders its shells as the same
 // mesh welded: a seam edge names the first copy of each end, and its face may name the other
 // copy, which must not pass for the face's corner off the edge (that left the edge no side, and

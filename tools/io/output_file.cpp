@@ -14,6 +14,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <pthread.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <unistd.h>
@@ -109,19 +110,34 @@ TempFile::TempFile(std::filesystem::path p) : path_(std::move(p)) {
     fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
     if (fd_ < 0) creation_error_ = errno;
   }
+  // The writer opens the file again (write_path, or the plot script by name), which the mode
+  // must allow: a umask without the owner's read and write (0222, 0277) would make the file
+  // read-only. The owner gets them until release() gives back the umask's mode.
+  if (struct stat st {}; fd_ >= 0 && ::fstat(fd_, &st) == 0) {
+    mode_ = st.st_mode & 07777;
+    if ((mode_ & 0600) != 0600) ::fchmod(fd_, mode_ | 0600);
+  }
   static const bool proc_fds = ::access("/proc/self/fd", X_OK) == 0;
   write_path_ = fd_ >= 0 && proc_fds ? "/proc/self/fd/" + std::to_string(fd_) : path_.string();
 }
 
 std::string TempFile::named(std::string message) const {
   if (write_path_ == path_.native()) return message;
-  for (size_t at = 0; (at = message.find(write_path_, at)) != std::string::npos; at += path_.native().size())
+  for (size_t at = 0; (at = message.find(write_path_, at)) != std::string::npos;) {
+    const size_t end = at + write_path_.size();
+    if (end < message.size() && message[end] >= '0' && message[end] <= '9') {  // another descriptor, /proc/self/fd/35
+      at = end;
+      continue;
+    }
     message.replace(at, write_path_.size(), path_.native());
+    at += path_.native().size();
+  }
   return message;
 }
 
 void TempFile::release() {
   released_ = true;
+  if (fd_ >= 0 && (mode_ & 0600) != 0600) ::fchmod(fd_, mode_);
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
   free_temp_slot(slot_);

@@ -60,7 +60,8 @@ class TempFile {
   std::string named(std::string message) const;
   // 0 when the constructor created the file, else its errno.
   int creation_error() const { return creation_error_; }
-  // The file stays (it has been renamed into place); its descriptor is closed.
+  // The file stays (it has been renamed into place) with the mode the umask gave it; its
+  // descriptor is closed.
   void release();
 
  private:
@@ -70,6 +71,7 @@ class TempFile {
   int slot_ = -1;  // in the signal handler's list; -1 when the list was full or after release
   int fd_ = -1;
   int creation_error_ = 0;
+  unsigned mode_ = 0600;  // the mode the umask gave the file (the owner may read and write it until release)
 };
 
 // Removes every live TempFile's file, after killing and reaping the child set by

@@ -159,6 +159,27 @@ TEST(OutputFile, OpeningTheWritePathNeverMakesTheNameAgain) {
   EXPECT_TRUE(fs::is_empty(dir.path()));
 }
 
+// A umask without the owner's write (0277) made the created temporary read-only, and the writer's
+// second open of it failed (for any user but root). The owner may write until release(), which
+// gives back the umask's mode. named() leaves another descriptor's path alone.
+TEST(OutputFile, ARestrictiveUmaskStillLetsTheWriterOpenTheTemporary) {
+  TempDir dir;
+  const fs::path p = dir.path() / ".x.tmp";
+  const mode_t before = ::umask(0277);
+  TempFile tmp(p);
+  ::umask(before);
+  ASSERT_EQ(tmp.creation_error(), 0);
+  EXPECT_EQ(fs::status(p).permissions() & fs::perms::owner_all, fs::perms::owner_read | fs::perms::owner_write);
+  std::ofstream(tmp.write_path(), std::ios::binary) << "pixels";
+  tmp.release();
+  EXPECT_EQ(fs::status(p).permissions() & fs::perms::all, fs::perms::owner_read);
+  EXPECT_EQ(read(p), "pixels");
+  fs::permissions(p, fs::perms::owner_write, fs::perm_options::add);  // for TempDir's clean-up
+  const TempFile other(dir.path() / ".y.tmp");
+  EXPECT_EQ(other.named(other.write_path() + "5 and " + other.write_path()),
+            other.write_path() + "5 and " + (dir.path() / ".y.tmp").string());
+}
+
 TEST(OutputFile, AFailedCreationIsReportedAndWritesGoToTheName) {
   TempDir dir;
   const TempFile tmp(dir.path() / "no-such-folder" / ".x.tmp");

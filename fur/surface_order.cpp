@@ -99,8 +99,9 @@ void SurfaceOrder::compute(std::span<const glm::vec4> clip, std::vector<float>& 
     if (s == 0) continue;
     const float* below = k - F;  // layer s - 1, final
     // Only a triangle that is drawn holds another back. A culled one draws nothing to be
-    // covered, yet its key would pass the chain on: across a silhouette or a fold (the teapot's rim), from the hidden side to the
-    // visible one, pulling it in front of parts of the mesh that lie before it.
+    // covered, yet its key would pass the chain on: across a silhouette or a fold (the teapot's
+    // rim), from the hidden side to the visible one, pulling it in front of parts of the mesh
+    // that lie before it.
     const size_t prev = size_t{s - 1} * n_;
     for (uint32_t f = 0; f < F; ++f) drawn_below_[f] = faces_viewer(&clip[prev], &base_indices_[3 * size_t{f}]);
     for (uint32_t f = 0; f < F; ++f)

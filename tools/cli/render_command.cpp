@@ -132,6 +132,21 @@ void check_stats_spare_frames(io::OutputNames& outputs, const std::string& stats
   }
 }
 
+// The run's outputs against its inputs (the scene, a mesh, a map a mesh names: what the set-up
+// read) and each other: --stats, the GIF or every frame this run writes, and the range's frames
+// the statistics' name could be. Throws InputError naming the output and the other file.
+void check_output_names(const std::vector<std::filesystem::path>& inputs, const RenderOptions& o, const Plan& plan,
+                        const render::OutputPattern& pattern) {
+  io::OutputNames outputs(inputs);
+  if (!o.stats.empty()) outputs.add(o.stats, "--stats");
+  if (plan.kind == render::OutputKind::gif) {
+    outputs.add(o.output, "-o");
+    return;
+  }
+  for (int f : plan.frames) outputs.add_frame(pattern.path_for(f), "-o");
+  if (!o.stats.empty()) check_stats_spare_frames(outputs, o.stats, pattern, plan.range);
+}
+
 Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov,
                  const render::OutputPattern& pattern) {
   Plan plan;
@@ -201,27 +216,28 @@ int run_render(const RenderOptions& o) {
       io::write_text_atomic(o.stats, nlohmann::json{{"frames", stats_frames}}.dump(2) + "\n", "--stats");
   };
 
+  render::RenderSettings rs;
+  rs.width = o.width;
+  rs.height = o.height;
+  rs.threads = worker_threads(o.threads);
+  rs.quality = quality;
+  rs.budget = o.budget;
+  rs.aov = aov;
+  const auto make_renderer = [&](const render::RenderSettings& settings) {
+    return naming_flag_origin(scene, o.quality, o.width, o.height,
+                              [&] { return std::make_unique<render::SceneRenderer>(scene, settings); });
+  };
+
   if (plan.frames.empty()) {
     // Nothing to finish: a signal while the stats are written ends the run at once, their
     // temporary removed (installed before the probe's temporary, as below).
     const render::InterruptGuard interrupt(render::InterruptGuard::Stop::now);
     if (!o.stats.empty()) {
-      // Checked as a render checks them: the statistics may replace no input (the scene, a mesh,
-      // a map a mesh names, found by a set-up that describes the scene without drawing it) and
-      // no frame of the range.
-      render::RenderSettings ds;
-      ds.width = o.width;
-      ds.height = o.height;
-      ds.threads = worker_threads(o.threads);
-      ds.quality = quality;
-      ds.budget = o.budget;
-      ds.aov = aov;
-      ds.describe_only = true;
-      const std::unique_ptr<render::SceneRenderer> described = naming_flag_origin(
-          scene, o.quality, o.width, o.height, [&] { return std::make_unique<render::SceneRenderer>(scene, ds); });
-      io::OutputNames outputs(described->input_files());
-      outputs.add(o.stats, "--stats");
-      if (plan.kind != render::OutputKind::gif) check_stats_spare_frames(outputs, o.stats, pattern, plan.range);
+      // Checked as a render checks them, against the inputs a set-up finds that describes the
+      // scene without drawing it.
+      render::RenderSettings described = rs;
+      described.describe_only = true;
+      check_output_names(make_renderer(described)->input_files(), o, plan, pattern);
       io::prepare_output(o.stats, "--stats");
     }
     if (!o.quiet)
@@ -232,20 +248,12 @@ int run_render(const RenderOptions& o) {
     return 0;
   }
 
-  render::RenderSettings rs;
-  rs.width = o.width;
-  rs.height = o.height;
-  rs.threads = worker_threads(o.threads);
   // OpenImageIO's module loads on a thread of its own while the scene is set up and the first
   // frame renders, rather than before everything (tools/io/image_backend.h); the render's
   // worker threads start first, as no thread can start during the load (raster/parallel.h).
   raster::start_worker_threads(rs.threads);
   io::preload_image_backend();
-  rs.quality = quality;
-  rs.budget = o.budget;
-  rs.aov = aov;
-  const std::unique_ptr<render::SceneRenderer> owned = naming_flag_origin(
-      scene, o.quality, o.width, o.height, [&] { return std::make_unique<render::SceneRenderer>(scene, rs); });
+  const std::unique_ptr<render::SceneRenderer> owned = make_renderer(rs);
   render::SceneRenderer& renderer = *owned;
   for (const std::string& w : renderer.warnings()) std::fprintf(stderr, "pelt: warning: %s\n", w.c_str());
   // Installed before any temporary is created (the writability probes below, the GIF's): a
@@ -257,14 +265,7 @@ int run_render(const RenderOptions& o) {
 
   // The destinations are proven writable before the first frame, so a bad path fails now
   // instead of after a whole sequence has rendered.
-  io::OutputNames outputs(renderer.input_files());
-  if (!o.stats.empty()) outputs.add(o.stats, "--stats");
-  if (plan.kind == render::OutputKind::gif) {
-    outputs.add(o.output, "-o");
-  } else {
-    for (int f : plan.frames) outputs.add_frame(pattern.path_for(f), "-o");
-    if (!o.stats.empty()) check_stats_spare_frames(outputs, o.stats, pattern, plan.range);
-  }
+  check_output_names(renderer.input_files(), o, plan, pattern);
   if (!o.stats.empty()) io::prepare_output(o.stats, "--stats");
   io::prepare_output(plan.kind == render::OutputKind::gif ? std::filesystem::path(o.output)
                                                            : pattern.path_for(plan.frames.front()),
@@ -354,15 +355,6 @@ int run_render(const RenderOptions& o) {
 
   const int done = progress.done();
   const int total = static_cast<int>(plan.frames.size());
-  if (done == total && render::InterruptGuard::requested()) {
-    // The signal came during the last frame, which was finished as any frame in flight is: every
-    // output is complete, and the exit status still says the run was interrupted, so a script
-    // looping over renders (or a farm's scheduler) sees the signal.
-    if (gif) gif->commit();
-    write_stats();
-    std::fprintf(stderr, "pelt: interrupted during the last frame (%d): every frame was written\n", last_done);
-    return 128 + render::InterruptGuard::signal_number();
-  }
   if (done < total) {
     write_stats();
     const std::string after = last_done < 0 ? std::string("before any frame was written")
@@ -374,6 +366,13 @@ int run_render(const RenderOptions& o) {
   }
   if (gif) gif->commit();
   write_stats();
+  if (render::InterruptGuard::requested()) {
+    // The signal came during the last frame, which was finished as any frame in flight is: every
+    // output is complete, and the exit status still says the run was interrupted, so a script
+    // looping over renders (or a farm's scheduler) sees the signal.
+    std::fprintf(stderr, "pelt: interrupted during the last frame (%d): every frame was written\n", last_done);
+    return 128 + render::InterruptGuard::signal_number();
+  }
   return 0;
 }
 

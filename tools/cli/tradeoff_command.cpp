@@ -137,40 +137,32 @@ int run_tradeoff(const TradeoffOptions& o) {
   const std::vector<tradeoff::Setting> plan = tradeoff::plan_sweep(scene.quality, knobs);
   // Before the probe's temporary: a signal ends the run at once, temporaries removed (render/interrupt.h).
   const render::InterruptGuard interrupt(render::InterruptGuard::Stop::now);
-  // Every file the sweep writes is checked before the reference, which can take minutes: none
-  // may be an input (the scene, a mesh, a map a mesh names: found by a set-up that describes the
-  // scene without drawing it) or another output, and each must be writable. (The CSV alone was
-  // probed: a plot or an image that could not be written failed after the whole sweep.)
+  // Every row's budget (pixels, shells, memory, the normal blur's pairs) and every file the
+  // sweep writes are checked before the reference, which can take minutes: a row refused when the
+  // sweep reached it, or a plot or image that could not be written, failed after it. Each row is
+  // described, not drawn, from the meshes loaded once; the description also finds the inputs (the
+  // scene, a mesh, a map a mesh names), which no output may be. Folders are made last, so a
+  // refusal leaves none.
   {
-    std::vector<std::pair<fs::path, std::string>> outputs{{dir / "tradeoff.csv", "-o"}, {dir / "tradeoff.md", "-o"}};
-    if (!o.no_plot) outputs.push_back({dir / "tradeoff.png", "-o"});
-    if (o.images)
-      for (const tradeoff::Setting& s : plan) outputs.push_back({image_path(dir, s), "--images"});
-    render::RenderSettings described = settings(scene.quality, o.budget, threads, o.width, o.height);
-    described.describe_only = true;
-    const std::vector<fs::path> inputs = [&] {
-      try {
-        return render::SceneRenderer(scene, described).input_files();
-      } catch (const io::InputError& e) {
-        throw name_flag_origin(e, scene, QualityFlags{}, o.width, o.height);
-      }
-    }();
-    io::OutputNames names(inputs, "tradeoff");
-    for (const auto& [path, option] : outputs) names.add(path, option);
-    // So is every row's budget (pixels, shells, memory, the normal blur's pairs): a row refused
-    // when the sweep reached it came after the reference's minutes. Described, not drawn, each
-    // from the meshes loaded once; before any folder is made, so a refusal leaves none.
     const std::vector<io::SceneMesh> meshes = io::load_scene_meshes(scene, o.budget);
+    std::vector<fs::path> inputs;
     for (const tradeoff::Setting& s : plan) {
       if (s.same_as) continue;
       render::RenderSettings row = settings(s.quality, o.budget, threads, o.width, o.height);
       row.describe_only = true;
       try {
-        const render::SceneRenderer check(scene, meshes, row);
+        const render::SceneRenderer described(scene, meshes, row);
+        if (inputs.empty()) inputs = described.input_files();
       } catch (const io::InputError& e) {
         throw name_origin(e, scene, s, o.width, o.height);
       }
     }
+    std::vector<std::pair<fs::path, std::string>> outputs{{dir / "tradeoff.csv", "-o"}, {dir / "tradeoff.md", "-o"}};
+    if (!o.no_plot) outputs.push_back({dir / "tradeoff.png", "-o"});
+    if (o.images)
+      for (const tradeoff::Setting& s : plan) outputs.push_back({image_path(dir, s), "--images"});
+    io::OutputNames names(inputs, "tradeoff");
+    for (const auto& [path, option] : outputs) names.add(path, option);
     for (const auto& [path, option] : outputs) io::prepare_output(path, option);
   }
 

@@ -1,7 +1,6 @@
 #include "tools/io/gif_writer.h"
 
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include "tools/io/image_backend.h"
@@ -14,7 +13,7 @@ namespace pelt::io {
 
 struct AnimatedGifWriter::Impl {
   std::filesystem::path path;
-  std::unique_ptr<TempFile> tmp;  // removed unless committed; declared before `out`, which closes it first
+  std::unique_ptr<AtomicOutput> file;  // removed unless committed; declared before `out`, which closes it first
   int width = 0, height = 0;
   std::unique_ptr<GifFrames> out;
   std::vector<uint8_t> rgba, bytes;  // a frame's RGBA and RGB sRGB bytes
@@ -29,8 +28,7 @@ AnimatedGifWriter::AnimatedGifWriter(const std::filesystem::path& path, int widt
   if (!(fps > 0.0)) throw InputError(file, "", "frames per second must be positive");
   Impl& m = *impl_;
   m.path = path;
-  // A device or a pipe is written in place (no temporary to rename over it).
-  if (!writes_through(path)) m.tmp = std::make_unique<TempFile>(temp_beside(path));
+  m.file = std::make_unique<AtomicOutput>(path);
   m.width = width;
   m.height = height;
   std::string error;
@@ -50,10 +48,8 @@ void AnimatedGifWriter::add_frame(const float* rgba) {
   encode_srgb8_span(rgba, m.rgba.data(), m.rgba.size());
   for (size_t p = 0, n = static_cast<size_t>(m.width) * m.height; p < n; ++p)
     for (int c = 0; c < 3; ++c) m.bytes[p * 3 + c] = m.rgba[p * 4 + c];
-  const std::string target = m.tmp ? m.tmp->write_path() : file;
-  if (const std::string error = m.out->append(target, m.bytes.data()); !error.empty())
-    throw InputError(file, "", "cannot write GIF frame " + std::to_string(frames_) + ": " +
-                                   (m.tmp ? m.tmp->named(error) : error));
+  if (const std::string error = m.out->append(m.file->write_path(), m.bytes.data()); !error.empty())
+    throw InputError(file, "", "cannot write GIF frame " + std::to_string(frames_) + ": " + m.file->named(error));
   ++frames_;
 }
 
@@ -63,12 +59,7 @@ void AnimatedGifWriter::commit() {
   if (frames_ == 0) throw InputError(file, "", "a GIF needs at least one frame");
   if (const std::string error = m.out->close(); !error.empty())
     throw InputError(file, "", "finishing the GIF failed: " + error);
-  if (m.tmp) {
-    std::error_code ec;
-    std::filesystem::rename(m.tmp->path(), m.path, ec);
-    if (ec) throw InputError(file, "", "cannot move the finished GIF into place: " + ec.message());
-    m.tmp->release();
-  }
+  m.file->commit("", "the finished GIF");
   m.committed = true;
 }
 

@@ -87,19 +87,10 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
   request.exr_grey_names = kind == FileKind::exr;
   if (kind == FileKind::png) request.png_compression = options.png_compression;
   request.pixels = data;
-  if (writes_through(path)) {
-    // A device or a pipe (/dev/null, /dev/stdout): written in place, nothing to rename.
-    request.temp = file;
-    if (const std::string error = backend.write(request); !error.empty()) throw InputError(file, "", error);
-    return;
-  }
-  TempFile tmp(temp_beside(path));
-  request.temp = tmp.write_path();
-  if (const std::string error = backend.write(request); !error.empty()) throw InputError(file, "", tmp.named(error));
-  std::error_code ec;
-  std::filesystem::rename(tmp.path(), path, ec);
-  if (ec) throw InputError(file, "", "cannot move the finished image into place: " + ec.message());
-  tmp.release();
+  AtomicOutput out(path);
+  request.temp = out.write_path();
+  if (const std::string error = backend.write(request); !error.empty()) throw InputError(file, "", out.named(error));
+  out.commit("", "the finished image");
 }
 
 namespace {

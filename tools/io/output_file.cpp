@@ -254,7 +254,8 @@ void prepare_output(const std::filesystem::path& path, const std::string& field)
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError(file, field, "is a folder, not a file");
   if (writes_through(path)) {
-    if (::access(path.c_str(), W_OK) != 0) throw InputError(file, field, std::string("cannot be written: ") + std::strerror(errno));
+    if (::access(path.c_str(), W_OK) != 0)
+      throw InputError(file, field, std::string("cannot be written: ") + std::strerror(errno));
     return;
   }
   const std::filesystem::path dir = folder_of(path);
@@ -267,28 +268,32 @@ void prepare_output(const std::filesystem::path& path, const std::string& field)
     throw InputError(file, field, "cannot create a file in " + dir.string() + ": " + std::strerror(error));
 }
 
+AtomicOutput::AtomicOutput(std::filesystem::path target)
+    : target_(std::move(target)), target_string_(target_.string()) {
+  if (!writes_through(target_)) tmp_.emplace(temp_beside(target_));
+}
+
+void AtomicOutput::commit(const std::string& field, const std::string& what) {
+  if (!tmp_) return;
+  std::error_code ec;
+  std::filesystem::rename(tmp_->path(), target_, ec);
+  if (ec) throw InputError(target_string_, field, "cannot move " + what + " into place: " + ec.message());
+  tmp_->release();
+}
+
 void write_text_atomic(const std::filesystem::path& path, const std::string& text, const std::string& field) {
   const std::string file = path.string();
-  if (writes_through(path)) {
-    std::ofstream f(path, std::ios::binary);
-    if (!f) throw InputError(file, field, "cannot be written");
-    f << text;
-    f.close();
-    if (!f) throw InputError(file, field, "write failed");
-    return;
-  }
-  TempFile tmp(temp_beside(path));
+  AtomicOutput out(path);
   {
-    std::ofstream f(tmp.write_path(), std::ios::binary);
-    if (!f) throw InputError(file, field, "cannot create a file in " + folder_of(path).string());
+    std::ofstream f(out.write_path(), std::ios::binary);
+    if (!f)
+      throw InputError(file, field,
+                       out.in_place() ? "cannot be written" : "cannot create a file in " + folder_of(path).string());
     f << text;
     f.close();
     if (!f) throw InputError(file, field, "write failed");
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp.path(), path, ec);
-  if (ec) throw InputError(file, field, "cannot move the file into place: " + ec.message());
-  tmp.release();
+  out.commit(field, "the file");
 }
 
 }  // namespace pelt::io

@@ -8,6 +8,7 @@
 #include <sys/types.h>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -71,7 +72,7 @@ class TempFile {
   int slot_ = -1;  // in the signal handler's list; -1 when the list was full or after release
   int fd_ = -1;
   int creation_error_ = 0;
-  unsigned mode_ = 0600;  // the mode the umask gave the file (the owner may read and write it until release)
+  mode_t mode_ = 0600;  // the mode the umask gave the file (the owner may read and write it until release)
 };
 
 // Removes every live TempFile's file, after killing and reaping the child set by
@@ -88,7 +89,8 @@ void set_temp_writer_child(pid_t pid);
 // scene, a mesh, a map) or another output. A file is compared as the directory entry a write
 // replaces, its canonical folder and its name (`textures/../map.png` is `map.png`): writes go
 // to a temporary renamed into place, so a link at the output is replaced, never written
-// through (but for a link to a device, a pipe or /proc: writes_through). Throws InputError(output, option, reason naming the other file).
+// through (but for a link to a device, a pipe or /proc: writes_through). Throws
+// InputError(output, option, reason naming the other file).
 class OutputNames {
  public:
   // `run` names the command in the message ("an input of this render").
@@ -117,10 +119,35 @@ class OutputNames {
 // link's place (as root, /dev/null itself) instead of writing to it.
 bool writes_through(const std::filesystem::path& path);
 
+// One output written whole or not at all: into a TempFile beside it, renamed over it by
+// commit(); where writes_through, in place, with nothing to rename. Every atomic writer (images,
+// GIFs, text) opens write_path() and commits once the data are complete; an output never
+// committed leaves no file (its temporary is removed).
+class AtomicOutput {
+ public:
+  explicit AtomicOutput(std::filesystem::path target);
+  AtomicOutput(const AtomicOutput&) = delete;
+  AtomicOutput& operator=(const AtomicOutput&) = delete;
+  // Where the writer opens: the temporary's write_path(), or the target itself in place.
+  const std::string& write_path() const { return tmp_ ? tmp_->write_path() : target_string_; }
+  bool in_place() const { return !tmp_; }
+  // A library's message about write_path(), naming the temporary's path (TempFile::named).
+  std::string named(std::string message) const { return tmp_ ? tmp_->named(std::move(message)) : message; }
+  // Renames the finished temporary over the target (nothing to do in place). Throws
+  // InputError(target, field, "cannot move `what` into place: reason").
+  void commit(const std::string& field, const std::string& what);
+
+ private:
+  std::filesystem::path target_;
+  std::string target_string_;
+  std::optional<TempFile> tmp_;
+};
+
 // Creates path's folder (with its parents, as `pelt render -o` does) and proves that a file
 // can be made there by creating and removing the temporary an atomic write would use (where
-// writes_through, that the output can be written). The target itself is not touched. Throws InputError(path, field, reason): e.g. a parent that
-// is a regular file, a read-only folder, or a path that names a folder.
+// writes_through, that the output can be written). The target itself is not touched. Throws
+// InputError(path, field, reason): e.g. a parent that is a regular file, a read-only folder,
+// or a path that names a folder.
 void prepare_output(const std::filesystem::path& path, const std::string& field);
 
 // Writes `text` to `path` atomically (through temp_beside), or in place where writes_through.

@@ -40,6 +40,14 @@ std::string sample_csv() {
   return s.str();
 }
 
+// A stand-in "python3" in `dir` running the shell script `body` (its arguments: -c SCRIPT CSV PNG
+// TITLE INDICES), for the paths the real interpreter rarely takes.
+fs::path fake_python(const io::TempDir& dir, const std::string& body) {
+  const fs::path fake = dir.write("python3", "#!/bin/sh\n" + body);
+  ::chmod(fake.c_str(), 0755);
+  return fake;
+}
+
 size_t files_in(const fs::path& dir) {
   size_t n = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++n;
@@ -121,8 +129,7 @@ TEST(TradeoffPlot, MissingInterpreterIsReportedAndLeavesNoFile) {
 TEST(TradeoffPlot, AScriptThatWritesNothingIsReportedAndLeavesNoFile) {
   io::TempDir dir;
   const fs::path csv = dir.write("tradeoff.csv", sample_csv());
-  const fs::path fake = dir.write("python3", "#!/bin/sh\nexit 0\n");
-  ::chmod(fake.c_str(), 0755);
+  const fs::path fake = fake_python(dir, "exit 0\n");
   const PlotOutcome r = make_plot(csv, dir.path() / "tradeoff.png", "t", {true}, fake.string());
   EXPECT_FALSE(r.made);
   EXPECT_EQ(r.problem, "the plot script wrote no image");
@@ -136,10 +143,8 @@ TEST(TradeoffPlot, TheScriptStartsWithTheCallersSignalMask) {
   io::TempDir dir;
   const fs::path csv = dir.write("tradeoff.csv", sample_csv());
   // Builtins only: a shell blocks its signals while it forks and waits for a command.
-  const fs::path fake = dir.write("python3",
-                                  "#!/bin/sh\nwhile read -r k v; do [ \"$k\" = SigBlk: ] && echo \"$v\" > \"${4%/*}/mask\"; "
-                                  "done < /proc/self/status\necho plot > \"$4\"\n");
-  ::chmod(fake.c_str(), 0755);
+  const fs::path fake = fake_python(dir, "while read -r k v; do [ \"$k\" = SigBlk: ] && echo \"$v\" > \"${4%/*}/mask\"; "
+                                         "done < /proc/self/status\necho plot > \"$4\"\n");
   const PlotOutcome r = make_plot(csv, dir.path() / "tradeoff.png", "t", {true}, fake.string());
   EXPECT_TRUE(r.made) << r.problem;
   std::ifstream mask(dir.path() / "mask");
@@ -158,8 +163,7 @@ TEST(TradeoffPlot, MissingMatplotlibIsNamed) {
   io::TempDir dir;
   const fs::path csv = dir.write("tradeoff.csv", sample_csv());
   // An "interpreter" that behaves like the script does when `import matplotlib` fails.
-  const fs::path fake = dir.write("python3", "#!/bin/sh\nexit 3\n");
-  ::chmod(fake.c_str(), 0755);
+  const fs::path fake = fake_python(dir, "exit 3\n");
   const PlotOutcome r = make_plot(csv, dir.path() / "tradeoff.png", "t", {true}, fake.string());
   EXPECT_FALSE(r.made);
   EXPECT_NE(r.problem.find("matplotlib is missing"), std::string::npos) << r.problem;
@@ -183,9 +187,8 @@ TEST(TradeoffPlot, ASignalWhileThePlotIsDrawnLeavesNoFileAndNoScript) {
   io::TempDir dir;
   const fs::path csv = dir.write("tradeoff.csv", sample_csv());
   // An "interpreter" that starts writing its output (argument 4) and then takes its time.
-  const fs::path fake = dir.write("python3", "#!/bin/sh\necho $$ > \"$(dirname \"$4\")/script.pid\"\n"
-                                             "echo partial > \"$4\"\nexec sleep 30\n");
-  ::chmod(fake.c_str(), 0755);
+  const fs::path fake =
+      fake_python(dir, "echo $$ > \"$(dirname \"$4\")/script.pid\"\necho partial > \"$4\"\nexec sleep 30\n");
   const pid_t child = ::fork();
   ASSERT_GE(child, 0);
   if (child == 0) {

@@ -17,7 +17,10 @@ enum class DepthFunc : uint8_t { Less, LessEqual, Always };
 enum class CullMode : uint8_t { None, Back, Front };  // front = counter-clockwise in NDC (OpenGL)
 enum class BlendMode : uint8_t {
   Opaque,
-  AlphaOver,  // src-over, straight alpha: C = Cs a + Cd (1 - a), A = a + Ad (1 - a)
+  // src-over of a shader's straight colour onto premultiplied planes: C = Cs a + Cd (1 - a),
+  // A = a + Ad (1 - a); the planes stay premultiplied (associated) when they start so
+  // (RenderOptions::background), which is what lets samples average and images composite.
+  AlphaOver,
   Additive,   // C = Cd + Cs a, A = Ad: counts overdraw, glows
 };
 

@@ -52,6 +52,8 @@ inline uint8_t unorm8(float c) {
 }
 
 struct RenderOptions {
+  // The planes' first value, as they hold colour: premultiplied by alpha for AlphaOver's
+  // result to be premultiplied too (pelt's renders pass the scene's background so).
   glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};
   SortMode sort = SortMode::None;
 };

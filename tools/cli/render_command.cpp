@@ -89,9 +89,12 @@ void write_frame(const std::filesystem::path& path, const render::FrameImage& im
       }
       break;
     }
-    default:
-      io::write_image_atomic(path, img.width, img.height, 4, io::PixelType::f32, img.color.data(), options);
+    default: {
+      io::ImageWriteOptions colour = options;
+      colour.alpha = io::Alpha::premultiplied;  // FrameImage::color
+      io::write_image_atomic(path, img.width, img.height, 4, io::PixelType::f32, img.color.data(), colour);
       break;
+    }
   }
 }
 
@@ -180,6 +183,15 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
       throw io::InputError(scene.file.string(), "animation.fps",
                            "a GIF frame lasts at most 655.35 s, so a GIF needs at least 0.0016 frames per second; got " +
                                std::to_string(fps));
+    if (fps > 100.0)
+      throw io::InputError(scene.file.string(), "animation.fps",
+                           "a GIF frame lasts at least 1/100 s, so a GIF plays at most 100 frames per second; got " +
+                               std::to_string(fps) + " (write a PNG sequence, -o frame_####.png, instead)");
+    if (fps > 50.0 && !o.quiet)
+      std::fprintf(stderr,
+                   "pelt render: note: %g frames per second is a GIF delay of 1/100 s, which most web browsers "
+                   "play as 1/10 s; 50 fps or fewer plays as asked everywhere\n",
+                   fps);
     if (pattern.has_frame_field())
       throw io::InputError(o.output, "-o", "a GIF holds every frame in one file; remove the `#` run");
     if (render::per_pixel_value(aov))

@@ -25,7 +25,10 @@ AnimatedGifWriter::AnimatedGifWriter(const std::filesystem::path& path, int widt
   const std::string file = path.string();
   if (width <= 0 || height <= 0 || width > 65535 || height > 65535)
     throw InputError(file, "", "GIF frames must be 1..65535 pixels on each side");
-  if (!(fps > 0.0)) throw InputError(file, "", "frames per second must be positive");
+  // OIIO writes int(100 / fps): 0 above 100 fps, which viewers play at their own pace.
+  if (!(fps >= 100.0 / 65535.0 && fps <= 100.0))
+    throw InputError(file, "", "a GIF's frame delay is whole hundredths of a second in 16 bits, so its frames per "
+                               "second must lie in [0.0016, 100]; got " + std::to_string(fps));
   Impl& m = *impl_;
   m.path = path;
   m.file = std::make_unique<AtomicOutput>(path);

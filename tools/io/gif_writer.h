@@ -12,15 +12,17 @@ namespace pelt::io {
 class AnimatedGifWriter {
  public:
   // Opens the temporary for `width` x `height` frames shown `fps` frames per second
-  // (GIF stores a delay of whole 1/100 s: 100 / fps, truncated, at least 1). Throws
-  // InputError(path, "", reason) when the file cannot be created.
+  // (GIF stores a delay of whole 1/100 s in 16 bits: 100 / fps, truncated, so fps must lie
+  // in [100 / 65535, 100]). Throws InputError(path, "", reason) for another fps or when the
+  // file cannot be created.
   AnimatedGifWriter(const std::filesystem::path& path, int width, int height, double fps);
   ~AnimatedGifWriter();
   AnimatedGifWriter(const AnimatedGifWriter&) = delete;
   AnimatedGifWriter& operator=(const AnimatedGifWriter&) = delete;
 
-  // Appends one frame of linear float RGBA (alpha ignored: GIF frames are opaque), rows
-  // top to bottom, encoded to sRGB bytes like PNG output (then quantised by the writer).
+  // Appends one frame of linear float RGBA with premultiplied colour (a render's), rows top
+  // to bottom, encoded to sRGB bytes like PNG output (then quantised by the writer). GIF
+  // frames are opaque: alpha is dropped, so a transparent part shows as over black.
   void add_frame(const float* rgba);
   // Finishes the file and moves it into place. At least one frame must have been added.
   void commit();

@@ -19,6 +19,12 @@ struct ImageRGBA {
   }
 };
 
+// How an RGBA buffer's colour relates to its alpha. pelt's renders are premultiplied
+// (associated: colour already multiplied by alpha), which is what src-over blending and the
+// average of samples need; 8-bit files (PNG, TIFF) store straight colour, EXR premultiplied
+// (OpenEXR's convention), and io::write_image_atomic converts between them.
+enum class Alpha { straight, premultiplied };
+
 // How 8/16-bit integer channels are turned into linear values: colour maps are sRGB
 // encoded, data maps (normal maps, masks) are not.
 enum class ColorEncoding { srgb, linear };

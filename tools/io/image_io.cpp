@@ -40,6 +40,15 @@ const char* type_name(PixelType t) {
   return "?";
 }
 
+// Straight colour with alpha as EXR stores it: each colour channel times the pixel's alpha.
+std::vector<float> premultiplied(const float* px, size_t pixels, int channels) {
+  const size_t nc = static_cast<size_t>(channels);
+  std::vector<float> out(px, px + pixels * nc);
+  for (size_t p = 0; p < out.size(); p += nc)
+    for (size_t c = 0; c + 1 < nc; ++c) out[p + c] *= out[p + nc - 1];
+  return out;
+}
+
 }  // namespace
 
 void write_image_atomic(const std::filesystem::path& path, int width, int height, int channels,
@@ -57,12 +66,13 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
   StoredType file_type;
   const void* data = pixels;
   std::vector<uint8_t> encoded;
+  std::vector<float> associated;
   const bool float_as_srgb8 = type == PixelType::f32 &&
                               (kind == FileKind::png || (kind == FileKind::tiff && channels > 1));
   if (float_as_srgb8) {
     encoded.resize(static_cast<size_t>(width) * height * channels);
     encode_srgb8_rows(static_cast<const float*>(pixels), static_cast<size_t>(width) * channels, encoded.data(),
-                      static_cast<size_t>(width) * channels, width, height, channels);
+                      static_cast<size_t>(width) * channels, width, height, channels, options.alpha);
     data = encoded.data();
     file_type = StoredType::u8;
   } else if (type == PixelType::u8 && kind != FileKind::exr) {
@@ -71,6 +81,10 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
     file_type = StoredType::u32;
   } else if (type == PixelType::f32 && (kind == FileKind::exr || kind == FileKind::tiff)) {
     file_type = StoredType::f32;
+    if (kind == FileKind::exr && (channels == 2 || channels == 4) && options.alpha == Alpha::straight) {
+      associated = premultiplied(static_cast<const float*>(pixels), static_cast<size_t>(width) * height, channels);
+      data = associated.data();
+    }
   } else {
     throw InputError(file, "", std::string("cannot write ") + type_name(type) + " pixels with " +
                                    std::to_string(channels) + " channel(s) to this file type " +

@@ -27,8 +27,11 @@ enum class PixelType {
 //   .tif / .tiff  u8 as is; u32 with 1 channel as 32-bit unsigned; f32 with 1 channel as
 //                 32-bit float; f32 with 2..4 channels as 8-bit sRGB like .png.
 //   .exr          f32 as 32-bit float channels (1 = "Y", 3 = RGB, 4 = RGBA).
-// Colour is written as given, with straight (unassociated) alpha: a caller holding
-// premultiplied colour divides by alpha first.
+// With 2 or 4 channels the last is alpha. 8-bit files hold straight (unassociated) colour and
+// EXR premultiplied (associated) colour, OpenEXR's convention that its readers assume:
+// float pixels are converted from `options.alpha` to the file's convention (colour divided
+// by alpha for 8-bit files, where alpha is above 0, and 0 where it is 0; multiplied for EXR).
+// u8 pixels are taken as straight.
 // The data go first to `.NAME.tmp-PID-TOKEN-N` (io::temp_beside) in the target's folder, which is renamed over
 // `path` only after the whole write succeeded; on any failure the temporary is removed
 // and InputError(path, "", reason) is thrown, leaving no partial output. An unknown
@@ -39,6 +42,7 @@ enum class PixelType {
 inline constexpr int kDefaultPngCompression = 1;
 struct ImageWriteOptions {
   int png_compression = kDefaultPngCompression;  // 0..9; other values are an InputError
+  Alpha alpha = Alpha::straight;                 // how f32 colour with alpha is given
 };
 void write_image_atomic(const std::filesystem::path& path, int width, int height, int channels,
                         PixelType type, const void* pixels, const ImageWriteOptions& options = {});

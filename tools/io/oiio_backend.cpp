@@ -87,9 +87,11 @@ class OiioBackend final : public ImageBackend {
     }
     if (r.channels == 2 || r.channels == 4) {
       spec.alpha_channel = r.channels - 1;
-      // The values are stored exactly as given; without this OIIO's PNG writer would divide
-      // the (already sRGB-encoded) colour by alpha.
-      spec.attribute("oiio:UnassociatedAlpha", 1);
+      // 8-bit files get straight colour (write_image_atomic divided it), stored as given:
+      // without this OIIO's PNG writer would divide the sRGB bytes by alpha again, and TIFF
+      // would be marked associated. Float files (EXR) are premultiplied, the format's own
+      // convention, which is OIIO's default.
+      if (type == OIIO::TypeDesc::UINT8) spec.attribute("oiio:UnassociatedAlpha", 1);
     }
     if (type == OIIO::TypeDesc::UINT8) spec.attribute("oiio:ColorSpace", "sRGB");
     else if (type == OIIO::TypeDesc::FLOAT) spec.attribute("oiio:ColorSpace", "Linear");

@@ -4,6 +4,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "tools/io/image.h"
+
 namespace pelt::io {
 
 // The reference: s = 12.92 x for x <= 0.0031308, else 1.055 x^(1/2.4) - 0.055, evaluated
@@ -27,9 +29,11 @@ void encode_srgb8_span(const float* src, uint8_t* dst, size_t n);
 
 // Encodes `height` rows of `width` pixels with `channels` floats each (1..4) into bytes.
 // Colour channels go through the sRGB curve; with 2 or 4 channels the last one is alpha
-// and is encoded linearly (linear_to_unorm8). Strides are in elements (floats / bytes).
-void encode_srgb8_rows(const float* src, size_t src_row_stride, uint8_t* dst,
-                       size_t dst_row_stride, int width, int height, int channels);
+// and is encoded linearly (linear_to_unorm8), and colour given premultiplied is divided by it
+// first (8-bit files hold straight colour; alpha at or below 0 gives colour 0, alpha 1 or
+// more leaves it as it is). Strides are in elements (floats / bytes).
+void encode_srgb8_rows(const float* src, size_t src_row_stride, uint8_t* dst, size_t dst_row_stride, int width,
+                       int height, int channels, Alpha alpha);
 
 // The smallest float whose sRGB byte is greater than b (b in 0..254): the boundaries the
 // fast path is built on, exposed for the exhaustive boundary test.

@@ -118,8 +118,8 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
   if (picked)
     for (int c = 0; c < 3; ++c) std::copy(picked[c], picked[c] + n, b.out[c]);
   // The skin shader returns colour premultiplied by Opacity (RenderMan's Ci = Oi * ...), the
-  // rasterizer blends straight alpha: undo the premultiplication once, or a translucent skin
-  // layer would count its opacity twice. Opacity 0 gives alpha 0, which blends to nothing.
+  // rasterizer blends a straight source colour (AlphaOver multiplies it by alpha): undo the
+  // premultiplication once, or a translucent skin layer would count its opacity twice. Opacity 0 gives alpha 0, which blends to nothing.
   const float op = desc_.skin.Opacity;
   if (desc_.kind == MaterialKind::skin && op > 0.0f && op < 1.0f) {
     const float inv = 1.0f / op;

@@ -14,8 +14,8 @@ namespace pelt::render {
 inline constexpr uint32_t kHeatmapTop = 256;
 
 // The ramp's sRGB colour for `count` fragments: black for none, then from dark blue through
-// blue, cyan, green and yellow to white at kHeatmapTop, evenly in log2(1 + count), so that 1, 2,
-// 4, ... 128 fragments lie one eighth apart; brighter (Rec. 709 luma) with every step.
+// blue, cyan, green and yellow to white at kHeatmapTop, evenly in log2(1 + count), so that 1, 3,
+// 7, 15, ... 255 fragments lie one eighth apart; brighter (Rec. 709 luma) with every step.
 void heatmap_rgb8(uint32_t count, uint8_t rgb[3]);
 
 // heatmap_rgb8 of every count, three bytes a pixel in the counts' order.

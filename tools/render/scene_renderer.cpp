@@ -525,7 +525,10 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
       break;
   }
   raster::RenderOptions opt;
-  opt.background = scene_.image.background;
+  // The scene gives the background straight; the planes hold premultiplied colour, so a
+  // background of alpha 0 adds nothing to a translucent pixel's colour.
+  const glm::vec4 bg = scene_.image.background;
+  opt.background = glm::vec4(glm::vec3(bg) * bg.a, bg.a);
   opt.sort = raster_sort_mode(fur_sort);
   // Supersampling: one full pass per stratified sample, the projection shifted by the
   // sample's sub-pixel offset, the passes' colours summed in double in a fixed order (so

@@ -66,8 +66,9 @@ std::vector<glm::vec2> sample_offsets(int spp);
 // The planes of one rendered frame, row 0 at the top. Only the AOV asked for is filled.
 struct FrameImage {
   int width = 0, height = 0;
-  std::vector<float> color;     // RGBA linear (with RenderSettings::color8 only when supersampled)
-  std::vector<uint8_t> color8;  // RenderSettings::color8: RGBA8 UNORM of the linear colour
+  std::vector<float> color;     // RGBA linear, colour premultiplied by alpha (with RenderSettings::color8 only
+                                // when supersampled)
+  std::vector<uint8_t> color8;  // RenderSettings::color8: RGBA8 UNORM of the linear (premultiplied) colour
   std::vector<float> depth;     // window depth, 1 = background
   std::vector<uint32_t> id;     // scene triangle index + 1, 0 = background
   std::vector<uint32_t> overdraw;  // translucent fragments that passed the depth test (raster::RenderTarget)

@@ -15,7 +15,8 @@ DisplayImage to_display(int width, int height, std::span<const float> rgba) {
   d.width = width;
   d.height = height;
   d.rgba.resize(rgba.size());
-  io::encode_srgb8_rows(rgba.data(), size_t(width) * 4, d.rgba.data(), size_t(width) * 4, width, height, 4);
+  io::encode_srgb8_rows(rgba.data(), size_t(width) * 4, d.rgba.data(), size_t(width) * 4, width, height, 4,
+                        io::Alpha::premultiplied);
   return d;
 }
 

@@ -16,8 +16,9 @@ struct DisplayImage {
   std::vector<uint8_t> rgba;
 };
 
-// Encodes linear float RGBA (render::FrameImage::color) exactly as io::write_image_atomic
-// does for .png, so a row's error is the error of the file a user would look at.
+// Encodes linear float RGBA with premultiplied colour (render::FrameImage::color) exactly as
+// io::write_image_atomic does for .png, straight colour and all, so a row's error is the error
+// of the file a user would look at.
 // Throws std::invalid_argument when `rgba` does not hold width * height pixels.
 DisplayImage to_display(int width, int height, std::span<const float> rgba);
 

@@ -175,6 +175,7 @@ TEST(RenderBadScene, ADeviceIsRefusedNotReadForever) {
 TEST(RenderBadScene, AColourMapTexelOutOfRangeNamesTheTexelAndTheField) {
   TempDir dir;
   std::vector<float> px(2 * 2 * 4, 0.5f);
+  for (size_t a = 3; a < px.size(); a += 4) px[a] = 1.0f;  // opaque: EXR would store colour times alpha
   px[4 * 3 + 1] = 1.5f;  // texel (1, 1), green
   io::write_image_atomic(dir.path() / "hdr.exr", 2, 2, 4, io::PixelType::f32, px.data());
   const fs::path scene = dir.write(

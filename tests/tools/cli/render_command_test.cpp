@@ -340,18 +340,83 @@ TEST_F(RenderCommand, WindShowsInAStillAndSwingsOnTheSceneClock) {
   EXPECT_TRUE(at24 != render("fps48_early", windy_box(wind, R"(, "animation": {"frames": 30, "fps": 48})"), 5));
 }
 
-// GIF counts a frame's delay in hundredths of a second in 16 bits: a slower animation is
-// refused up front rather than written with a wrapped delay.
-TEST_F(RenderCommand, AGifTooSlowForItsDelayFieldIsRefused) {
-  std::string slow = animated_scene(2);
-  const std::string fps = R"("fps": 12)";
-  ASSERT_NE(slow.find(fps), std::string::npos);
-  slow.replace(slow.find(fps), fps.size(), R"("fps": 0.001)");
-  const fs::path slow_scene = dir.write("slow.json", slow);
-  const Result r = run_pelt({"render", slow_scene.string(), "-o", (dir.path() / "g/a.gif").string()}, dir.path());
-  EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find("slow.json: animation.fps: a GIF frame lasts at most 655.35 s"), std::string::npos) << r.err;
+// GIF counts a frame's delay in whole hundredths of a second in 16 bits: a slower animation
+// is refused up front rather than written with a wrapped delay, a faster one rather than with
+// delay 0 (OIIO's int(100 / fps)), which viewers play at their own pace.
+TEST_F(RenderCommand, AGifOutsideItsDelayFieldIsRefused) {
+  auto gif_at = [&](const std::string& fps) {
+    std::string text = animated_scene(2);
+    const std::string key = R"("fps": 12)";
+    text.replace(text.find(key), key.size(), R"("fps": )" + fps);
+    const fs::path scene_file = dir.write("fps.json", text);
+    return run_pelt({"render", scene_file.string(), "-o", (dir.path() / "g/a.gif").string()}, dir.path());
+  };
+  const Result slow = gif_at("0.001");
+  EXPECT_EQ(slow.code, 2) << slow.err;
+  EXPECT_NE(slow.err.find("fps.json: animation.fps: a GIF frame lasts at most 655.35 s"), std::string::npos)
+      << slow.err;
+  const Result fast = gif_at("200");
+  EXPECT_EQ(fast.code, 2) << fast.err;
+  EXPECT_NE(fast.err.find("fps.json: animation.fps: a GIF frame lasts at least 1/100 s"), std::string::npos)
+      << fast.err;
   EXPECT_FALSE(fs::exists(dir.path() / "g"));
+  // 100 fps, a delay of 1/100 s, is written, with a note that browsers slow it down.
+  const Result ok = gif_at("100");
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_NE(ok.err.find("most web browsers play as 1/10 s"), std::string::npos) << ok.err;
+}
+
+// A background of alpha below 1 is for compositing: a translucent pixel's file colour is the
+// surface's own (PNG straight, EXR premultiplied), never tinted by the background's colour
+// (the planes used to start from the straight background, which src-over then mixed in),
+// and a supersampled edge averages coverage, not the invisible background's colour.
+TEST_F(RenderCommand, ATransparentBackgroundAddsNoColour) {
+  auto scene_with = [&](const std::string& name, const std::string& background, const std::string& material,
+                        double scale) {
+    return dir.write(name, R"({"pelt": 1, "image": {"width": 8, "height": 8, "background": )" + background + R"(},
+      "camera": {"eye": [0, 0, 5], "target": [0, 0, 0]}, "lights": [{"type": "ambient"}],
+      "objects": [{"mesh": "plane:1", "transform": {"rotate_deg": [90, 0, 0], "scale": )" + std::to_string(scale) +
+                                  R"(}, "material": )" + material + "}]}");
+  };
+  const std::string half_skin = R"({"type": "skin", "skin": {"Opacity": 0.5}})";
+  const fs::path red = scene_with("red.json", "[1, 0, 0, 0]", half_skin, 3.0);
+  const fs::path black = scene_with("black.json", "[0, 0, 0, 0]", half_skin, 3.0);
+  const fs::path opaque = scene_with("opaque.json", "[0, 0, 0, 1]", R"({"type": "skin"})", 3.0);
+  for (const fs::path& s : {red, black, opaque})
+    for (const char* ext : {".png", ".exr"}) {
+      const Result r = run_pelt({"render", s.string(), "-o", fs::path(s).replace_extension(ext).string(), "-q"},
+                                dir.path());
+      ASSERT_EQ(r.code, 0) << r.err;
+    }
+  const io::ImageRGBA want_png = io::read_image_rgba(dir.path() / "opaque.png");
+  const io::ImageRGBA want_exr = io::read_image_rgba(dir.path() / "opaque.exr");
+  for (const char* name : {"red", "black"}) {
+    const io::ImageRGBA png = io::read_image_rgba(dir.path() / (std::string(name) + ".png"));
+    const io::ImageRGBA exr = io::read_image_rgba(dir.path() / (std::string(name) + ".exr"));
+    const float* p = png.pixel(4, 4);
+    const float* q = want_png.pixel(4, 4);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(p[c], q[c], 0.006f) << name << " PNG channel " << c;
+    EXPECT_NEAR(p[3], 128.0f / 255.0f, 1e-6f) << name;
+    const float* e = exr.pixel(4, 4);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(e[c], 0.5f * want_exr.pixel(4, 4)[c], 1e-5f) << name << " EXR " << c;
+    EXPECT_EQ(e[3], 0.5f) << name;
+  }
+  // A green square's edges at 4 samples a pixel over transparent red: green, at the coverage.
+  const fs::path square = scene_with("square.json", "[1, 0, 0, 0]", R"({"type": "unlit", "color": [0, 1, 0]})", 0.78);
+  const Result r = run_pelt({"render", square.string(), "-o", (dir.path() / "square.png").string(), "--spp", "4", "-q"},
+                            dir.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const io::ImageRGBA img = io::read_image_rgba(dir.path() / "square.png");
+  int edges = 0;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      const float* p = img.pixel(x, y);
+      if (p[3] == 0.0f) continue;
+      EXPECT_EQ(p[0], 0.0f) << x << "," << y << " alpha " << p[3];
+      EXPECT_EQ(p[1], 1.0f) << x << "," << y << " alpha " << p[3];
+      edges += p[3] < 1.0f;
+    }
+  EXPECT_GT(edges, 8);
 }
 
 // A normal_blur skin whose radius reaches too many vertex pairs is refused with exit 2, naming

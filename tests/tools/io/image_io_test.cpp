@@ -58,6 +58,25 @@ TEST(ImageIo, PngFromLinearFloatIsExactSrgb) {
   EXPECT_EQ(files_in(dir.path()), 1u);  // no temporary left
 }
 
+// PNG holds straight colour: a render's premultiplied colour is divided by alpha first, so a
+// half-covered edge of a green square over a transparent background is green at half alpha
+// (not a darker green, nor the background's colour).
+TEST(ImageIo, PngFromPremultipliedFloatStoresStraightColour) {
+  TempDir dir;
+  const std::vector<float> px = {0.0f, 0.5f, 0.0f, 0.5f,  0.0f, 1.0f, 0.0f, 1.0f,  0.1f, 0.2f, 0.3f, 0.0f,
+                                 0.2f, 0.1f, 0.05f, 0.25f};
+  ImageWriteOptions premultiplied;
+  premultiplied.alpha = Alpha::premultiplied;
+  for (const char* name : {"p.png", "p.tif"}) {
+    write_image_atomic(dir.path() / name, 4, 1, 4, PixelType::f32, px.data(), premultiplied);
+    OIIO::ImageSpec spec;
+    const auto bytes = read_back<uint8_t>(dir.path() / name, OIIO::TypeDesc::UINT8, spec);
+    const std::vector<uint8_t> want = {0,   255, 0, 128, 0, 255, 0, 255, 0, 0, 0, 0, linear_to_srgb8(0.8f),
+                                       linear_to_srgb8(0.4f), linear_to_srgb8(0.2f), 64};
+    EXPECT_EQ(bytes, want) << name;
+  }
+}
+
 // Every compression level stores the same bytes; the levels trade size for time. The image
 // is smooth, as rendered frames are, so zlib finds something to squeeze.
 TEST(ImageIo, PngCompressionLevelsStoreTheSameBytes) {
@@ -123,16 +142,32 @@ TEST(ImageIo, TiffEightBitAndUint32AndFloat) {
   EXPECT_EQ(dback, depth);
 }
 
+// EXR holds premultiplied colour (OpenEXR's convention, which its readers assume): a render's
+// premultiplied floats are stored as they are, straight ones multiplied by alpha.
 TEST(ImageIo, ExrFloatRgbaAndOneChannel) {
   TempDir dir;
   const auto rgba = ramp(5, 4, 4);
   std::vector<float> hdr = rgba;
   hdr[0] = 1234.5f;
-  write_image_atomic(dir.path() / "c.exr", 5, 4, 4, PixelType::f32, hdr.data());
+  ImageWriteOptions premultiplied;
+  premultiplied.alpha = Alpha::premultiplied;
+  write_image_atomic(dir.path() / "c.exr", 5, 4, 4, PixelType::f32, hdr.data(), premultiplied);
   OIIO::ImageSpec spec;
   EXPECT_EQ(read_back<float>(dir.path() / "c.exr", OIIO::TypeDesc::FLOAT, spec), hdr);
   EXPECT_EQ(spec.nchannels, 4);
   EXPECT_EQ(spec.format, OIIO::TypeDesc::FLOAT);
+  write_image_atomic(dir.path() / "s.exr", 5, 4, 4, PixelType::f32, hdr.data());  // straight
+  std::vector<float> want = hdr;
+  for (size_t p = 0; p < want.size(); p += 4)
+    for (int c = 0; c < 3; ++c) want[p + c] *= want[p + 3];
+  EXPECT_EQ(read_back<float>(dir.path() / "s.exr", OIIO::TypeDesc::FLOAT, spec), want);
+  // OIIO's own reading (which associates what a file marks unassociated) finds the same.
+  auto in = OIIO::ImageInput::open((dir.path() / "s.exr").string());
+  ASSERT_TRUE(in);
+  std::vector<float> plain(want.size());
+  ASSERT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::FLOAT, plain.data()));
+  EXPECT_EQ(plain, want);
+  EXPECT_EQ(in->spec().get_int_attribute("oiio:UnassociatedAlpha", 0), 0);
   std::vector<float> z = {0.25f, 3.0e10f, 7.0f, 0.0f, 1.0f, 2.0f};
   write_image_atomic(dir.path() / "z.exr", 3, 2, 1, PixelType::f32, z.data());
   EXPECT_EQ(read_back<float>(dir.path() / "z.exr", OIIO::TypeDesc::FLOAT, spec), z);
@@ -156,9 +191,11 @@ TEST(ImageIo, OverwritesAnExistingFileWhole) {
   TempDir dir;
   const auto f = dir.path() / "o.exr";
   const auto a = ramp(8, 8, 4);
-  write_image_atomic(f, 8, 8, 4, PixelType::f32, a.data());
+  ImageWriteOptions as_stored;  // premultiplied floats go into an EXR as they are
+  as_stored.alpha = Alpha::premultiplied;
+  write_image_atomic(f, 8, 8, 4, PixelType::f32, a.data(), as_stored);
   std::vector<float> b = {1, 2, 3, 4};
-  write_image_atomic(f, 1, 1, 4, PixelType::f32, b.data());
+  write_image_atomic(f, 1, 1, 4, PixelType::f32, b.data(), as_stored);
   OIIO::ImageSpec spec;
   EXPECT_EQ(read_back<float>(f, OIIO::TypeDesc::FLOAT, spec), b);
   EXPECT_EQ(files_in(dir.path()), 1u);
@@ -225,9 +262,11 @@ TEST(ImageIo, ReadRgbaDecodesSrgbBytes) {
   }
   const ImageRGBA lin = read_image_rgba(dir.path() / "g.png", ColorEncoding::linear);
   EXPECT_FLOAT_EQ(lin.pixel(1, 0)[0], 64.0f / 255.0f);
-  // Float files are linear already.
+  // Float files are linear already, and read as stored.
   const auto rgba = ramp(3, 2, 4);
-  write_image_atomic(dir.path() / "f.exr", 3, 2, 4, PixelType::f32, rgba.data());
+  ImageWriteOptions as_stored;
+  as_stored.alpha = Alpha::premultiplied;
+  write_image_atomic(dir.path() / "f.exr", 3, 2, 4, PixelType::f32, rgba.data(), as_stored);
   EXPECT_EQ(read_image_rgba(dir.path() / "f.exr").rgba, rgba);
 }
 

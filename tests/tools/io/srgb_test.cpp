@@ -63,7 +63,7 @@ TEST(Srgb, EncodeRowsHandlesAlphaAndStrides) {
   std::vector<float> src = {0.5f, 0.18f, 1.0f, 0.5f, 0.0f, 2.0f, -1.0f, 0.2f, 9, 9,
                             0.25f, 0.75f, 0.0031308f, 1.0f, 1.0f, 0.0f, 0.5f, 0.0f, 9, 9};
   std::vector<uint8_t> dst(18, 7);
-  encode_srgb8_rows(src.data(), 10, dst.data(), 9, 2, 2, 4);
+  encode_srgb8_rows(src.data(), 10, dst.data(), 9, 2, 2, 4, Alpha::straight);
   for (int y = 0; y < 2; ++y)
     for (int x = 0; x < 2; ++x)
       for (int c = 0; c < 4; ++c) {
@@ -72,6 +72,29 @@ TEST(Srgb, EncodeRowsHandlesAlphaAndStrides) {
       }
   EXPECT_EQ(dst[8], 7);  // padding untouched
   EXPECT_EQ(dst[17], 7);
+}
+
+// A render's colour is premultiplied; an 8-bit file holds straight colour: divided by alpha
+// where alpha lies in (0, 1), 0 where alpha is 0 (or NaN), as it is where alpha is 1.
+TEST(Srgb, EncodeRowsDividesPremultipliedColourByAlpha) {
+  const std::vector<float> src = {0.25f, 0.1f,  0.0f, 0.5f,   // half covered: straight 0.5, 0.2, 0
+                                  0.3f,  0.2f,  0.1f, 0.0f,   // alpha 0: colour undefined, written 0
+                                  0.3f,  0.2f,  0.1f, 1.0f,   // opaque: as it is, bit for bit
+                                  0.02f, 0.01f, 0.0f, 0.01f,  // a faint fringe: straight 2, 1, 0
+                                  0.4f,  0.4f,  0.4f, NAN};
+  std::vector<uint8_t> dst(src.size());
+  encode_srgb8_rows(src.data(), src.size(), dst.data(), dst.size(), 5, 1, 4, Alpha::premultiplied);
+  const float want[5][3] = {{0.5f, 0.2f, 0.0f}, {0, 0, 0}, {0.3f, 0.2f, 0.1f}, {2.0f, 1.0f, 0.0f}, {0, 0, 0}};
+  for (int p = 0; p < 5; ++p) {
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(dst[4 * p + c], linear_to_srgb8(want[p][c])) << p << " " << c;
+    EXPECT_EQ(dst[4 * p + 3], linear_to_unorm8(src[4 * p + 3])) << p;
+  }
+  // Grey and alpha alike.
+  const float ga[4] = {0.1f, 0.5f, 0.7f, 0.0f};
+  uint8_t gb[4];
+  encode_srgb8_rows(ga, 4, gb, 4, 2, 1, 2, Alpha::premultiplied);
+  EXPECT_EQ(gb[0], linear_to_srgb8(0.2f));
+  EXPECT_EQ(gb[2], 0);
 }
 
 // encode_srgb8_span is raster::srgb_bytes (compared with the scalar search on every target in

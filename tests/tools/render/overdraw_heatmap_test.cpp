@@ -36,7 +36,7 @@ TEST(OverdrawHeatmap, BlackForNoneWhiteAtTheTopBrighterInBetween) {
     EXPECT_GT(luma(rgb), luma(prev) + 4.0) << n;
     for (int c = 0; c < 3; ++c) prev[c] = rgb[c];
   }
-  // Powers of two one eighth of the ramp apart: 1 fragment is well off black, 128 well below white.
+  // 1, 3, 7, ... 255 fragments one eighth of the ramp apart: 1 is well off black, 128 well below white.
   heatmap_rgb8(1, rgb);
   EXPECT_GT(luma(rgb), 15.0);
   heatmap_rgb8(128, rgb);

@@ -27,14 +27,17 @@ void set_byte(std::vector<float>& img, int w, int x, int y, int c, uint8_t b) {
 
 DisplayImage display(int w, int h, const std::vector<float>& img) { return to_display(w, h, img); }
 
+// A render's colour is premultiplied; the PNG holds it straight.
 TEST(TradeoffImageCompare, ToDisplayEncodesLikeThePngWriter) {
-  const std::vector<float> px = {0.5f, -1.0f, 2.0f, 0.25f, 0.0031308f, NAN, 1.0f, 1.0f};
+  const std::vector<float> px = {0.05f, -1.0f, 2.0f, 0.25f, 0.0031308f, NAN, 1.0f, 1.0f};
   const DisplayImage d = to_display(2, 1, px);
   ASSERT_EQ(d.rgba.size(), 8u);
   for (int i = 0; i < 8; ++i) {
+    const float a = px[i / 4 * 4 + 3];
     const bool alpha = i % 4 == 3;
-    EXPECT_EQ(d.rgba[i], alpha ? io::linear_to_unorm8(px[i]) : io::linear_to_srgb8(px[i])) << i;
+    EXPECT_EQ(d.rgba[i], alpha ? io::linear_to_unorm8(px[i]) : io::linear_to_srgb8(px[i] / a)) << i;
   }
+  EXPECT_EQ(d.rgba[0], io::linear_to_srgb8(0.2f));  // 0.05 at alpha 0.25
   EXPECT_EQ(d.rgba[1], 0);    // negative clamps to 0
   EXPECT_EQ(d.rgba[2], 255);  // above 1 clamps to 1
   EXPECT_EQ(d.rgba[5], 0);    // NaN is 0
@@ -96,10 +99,10 @@ TEST(TradeoffImageCompare, RmseByHandOverSeveralPixelsAndChannels) {
 }
 
 TEST(TradeoffImageCompare, AlphaIsLeftOut) {
-  std::vector<float> ref = flat(3, 3, 20, 40, 60);
-  std::vector<float> img = ref;
-  for (size_t i = 3; i < img.size(); i += 4) img[i] = 0.0f;
-  const ImageError e = compare(display(3, 3, img), display(3, 3, ref));
+  const std::vector<float> ref = flat(3, 3, 20, 40, 60);
+  DisplayImage img = display(3, 3, ref);
+  for (size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 0;
+  const ImageError e = compare(img, display(3, 3, ref));
   EXPECT_EQ(e.rmse, 0.0);
   EXPECT_EQ(e.share_over_1_255, 0.0);
 }

@@ -46,6 +46,11 @@ class GltfReader {
 
   LoadedMesh read() {
     const std::vector<int> roots = scene_roots();
+    parents_.assign(model_.nodes.size(), -1);
+    for (size_t i = 0; i < model_.nodes.size(); ++i)
+      for (int c : model_.nodes[i].children)
+        if (c >= 0 && c < static_cast<int>(parents_.size()) && parents_[size_t(c)] < 0)
+          parents_[size_t(c)] = static_cast<int>(i);
     std::vector<int> on_path(model_.nodes.size(), 0);
     for (int root : roots) visit(root, glm::dmat4(1.0), 0, on_path);
     if (out_.mesh.indices.empty())
@@ -119,6 +124,11 @@ class GltfReader {
       std::memcpy(glm::value_ptr(m), n.matrix.data(), sizeof(double) * 16);  // column-major
       for (int k = 0; k < 16; ++k)
         if (!std::isfinite(n.matrix[k])) throw InputError(file_, where + ".matrix", "value is not finite");
+      // A node's matrix is a translation, rotation and scale (decomposable, the specification
+      // says): its last row is 0, 0, 0, 1. Another would be a projection, whose w pelt drops.
+      if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0)
+        throw InputError(file_, where + ".matrix",
+                         "the last row (elements 3, 7, 11, 15) must be 0, 0, 0, 1: a node's matrix is affine");
       return m;
     }
     if (!n.matrix.empty()) throw InputError(file_, where + ".matrix", "must have 16 numbers");
@@ -153,7 +163,7 @@ class GltfReader {
     if (depth > kMaxNodeDepth) throw InputError(file_, where, "node hierarchy is too deep");
     const tinygltf::Node& n = model_.nodes[node];
     const glm::dmat4 world = parent * local_transform(n, where);
-    if (n.mesh >= 0) add_mesh(n.mesh, world);
+    if (n.mesh >= 0) add_mesh(node, world);
     on_path[node] = 1;
     for (int c : n.children) visit(c, world, depth + 1, on_path);
     on_path[node] = 0;
@@ -232,13 +242,201 @@ class GltfReader {
     }
   }
 
-  void add_mesh(int mesh_index, const glm::dmat4& world) {
+  // How a node's linear transform takes normals: its inverse transpose where it is invertible;
+  // where it flattens the mesh into a plane (a scale of 0 along one axis) the surface is that
+  // plane, whose normals the flattened triangles give; a point or a line (scale 0, the usual
+  // way to hide a node) has no surface at all.
+  struct NormalTransform {
+    glm::dmat3 matrix{1.0};  // rank 3: the inverse transpose
+    bool mirrored = false;   // rank 3: the transform turns the winding inside out
+    int rank = 3;            // 3, 2 (a plane) or 1 (a line or a point)
+  };
+  static NormalTransform normal_transform(const glm::dmat3& m) {
+    constexpr double kFlat = 1e-12;  // far below float positions' precision
+    double big = 0.0;
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k) big = std::max(big, std::abs(m[c][k]));
+    if (!(big > 0.0)) return {glm::dmat3(0.0), false, 1};
+    const glm::dmat3 a = m / big;  // the rank tests on a matrix of size 1, whatever the scale
+    if (std::abs(glm::determinant(a)) > kFlat)
+      return {glm::inverseTranspose(m), glm::determinant(m) < 0.0, 3};
+    const glm::dmat3 minors(glm::cross(a[1], a[2]), glm::cross(a[2], a[0]), glm::cross(a[0], a[1]));
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k)
+        if (std::abs(minors[c][k]) > kFlat) return {glm::dmat3(0.0), false, 2};
+    return {glm::dmat3(0.0), false, 1};
+  }
+
+  // The world transform of `node` through its parents: a joint's, wherever the traversal
+  // meets the mesh it moves.
+  glm::dmat4 world_of(int node, int depth = 0) const {
+    const std::string where = "nodes[" + std::to_string(node) + "]";
+    if (depth > kMaxNodeDepth) throw InputError(file_, where, "node hierarchy is too deep, or a cycle");
+    const glm::dmat4 local = local_transform(model_.nodes[size_t(node)], where);
+    const int parent = parents_[size_t(node)];
+    return parent < 0 ? local : world_of(parent, depth + 1) * local;
+  }
+
+  // Each joint's skinning matrix: its world transform times its inverse bind matrix.
+  std::vector<glm::dmat4> joint_matrices(int skin_index, const std::string& node_where) const {
+    if (skin_index >= static_cast<int>(model_.skins.size()))
+      throw InputError(file_, node_where + ".skin", "skin " + std::to_string(skin_index) + " does not exist");
+    const tinygltf::Skin& skin = model_.skins[size_t(skin_index)];
+    const std::string sw = "skins[" + std::to_string(skin_index) + "]";
+    if (skin.joints.empty()) throw InputError(file_, sw + ".joints", "a skin needs at least one joint");
+    std::vector<glm::dmat4> out(skin.joints.size(), glm::dmat4(1.0));
+    if (skin.inverseBindMatrices >= 0) {
+      const std::string iw = sw + ".inverseBindMatrices";
+      const View v = view_of(skin.inverseBindMatrices, iw);
+      if (v.components != 16 || v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || v.count < out.size())
+        throw InputError(file_, iw, "must be MAT4 of FLOAT with one matrix per joint (" +
+                                        std::to_string(out.size()) + ")");
+      for (size_t j = 0; j < out.size(); ++j)
+        for (int k = 0; k < 16; ++k) {
+          const float x = component(v, j, k);
+          if (!std::isfinite(x)) throw InputError(file_, iw + "[" + std::to_string(j) + "]", "value is not finite");
+          out[j][k / 4][k % 4] = x;  // column-major, as glm
+        }
+    }
+    for (size_t j = 0; j < out.size(); ++j) {
+      const int joint = skin.joints[j];
+      if (joint < 0 || joint >= static_cast<int>(model_.nodes.size()))
+        throw InputError(file_, sw + ".joints[" + std::to_string(j) + "]",
+                         "node " + std::to_string(joint) + " does not exist");
+      out[j] = world_of(joint) * out[j];
+      for (int c = 0; c < 4; ++c)
+        for (int k = 0; k < 4; ++k)
+          if (!std::isfinite(out[j][c][k]))
+            throw InputError(file_, sw + ".joints[" + std::to_string(j) + "]", "joint transform is not finite");
+    }
+    return out;
+  }
+
+  // The morph weights a node's mesh is drawn with: the node's own, else the mesh's defaults,
+  // else none (every target at weight 0). Field named for the messages.
+  std::pair<std::vector<double>, std::string> morph_weights(const tinygltf::Node& n, const std::string& nw,
+                                                            const tinygltf::Mesh& mesh, const std::string& mw) const {
+    std::pair<std::vector<double>, std::string> w =
+        n.weights.empty() ? std::pair{mesh.weights, mw + ".weights"} : std::pair{n.weights, nw + ".weights"};
+    for (size_t k = 0; k < w.first.size(); ++k)
+      if (!std::isfinite(w.first[k]))
+        throw InputError(file_, w.second + "[" + std::to_string(k) + "]", "weight is not finite");
+    return w;
+  }
+
+  // Adds a primitive's weighted morph target deltas of `attribute` (POSITION or NORMAL) to `v`.
+  void add_morph(const tinygltf::Primitive& prim, const std::string& pw,
+                 const std::pair<std::vector<double>, std::string>& weights, const char* attribute,
+                 std::vector<glm::dvec3>& v) const {
+    if (weights.first.empty()) return;
+    if (prim.targets.size() != weights.first.size())
+      throw InputError(file_, weights.second,
+                       std::to_string(weights.first.size()) + " weights for the " + std::to_string(prim.targets.size()) +
+                           " morph targets of " + pw);
+    for (size_t t = 0; t < prim.targets.size(); ++t) {
+      const double w = weights.first[t];
+      const auto it = prim.targets[t].find(attribute);
+      if (w == 0.0 || it == prim.targets[t].end()) continue;
+      const std::string tw = pw + ".targets[" + std::to_string(t) + "]." + attribute;
+      const View dv = view_of(it->second, tw);
+      if (dv.components != 3 || dv.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || dv.count != v.size())
+        throw InputError(file_, tw, "must be VEC3 of FLOAT with one value per position");
+      for (size_t i = 0; i < v.size(); ++i) {
+        const glm::dvec3 d(component(dv, i, 0), component(dv, i, 1), component(dv, i, 2));
+        if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
+          throw InputError(file_, tw + "[" + std::to_string(i) + "]", "value is not finite");
+        v[i] += w * d;
+      }
+    }
+  }
+
+  // A skinned primitive's JOINTS_n / WEIGHTS_n sets (every set it has), checked once.
+  struct SkinSet {
+    View joints, weights;
+    std::string joints_where, weights_where;
+  };
+  std::vector<SkinSet> skin_sets(const tinygltf::Primitive& prim, const std::string& pw, size_t count) const {
+    std::vector<SkinSet> sets;
+    for (int k = 0;; ++k) {
+      const auto ji = prim.attributes.find("JOINTS_" + std::to_string(k));
+      const auto wi = prim.attributes.find("WEIGHTS_" + std::to_string(k));
+      if (ji == prim.attributes.end() && wi == prim.attributes.end()) break;
+      const std::string jw = pw + ".attributes.JOINTS_" + std::to_string(k);
+      const std::string ww = pw + ".attributes.WEIGHTS_" + std::to_string(k);
+      if (ji == prim.attributes.end()) throw InputError(file_, ww, "has no JOINTS_" + std::to_string(k));
+      if (wi == prim.attributes.end()) throw InputError(file_, jw, "has no WEIGHTS_" + std::to_string(k));
+      SkinSet set{view_of(ji->second, jw), view_of(wi->second, ww), jw, ww};
+      const View& jv = set.joints;
+      const View& wv = set.weights;
+      if (jv.components != 4 || jv.count != count ||
+          (jv.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+           jv.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT))
+        throw InputError(file_, jw, "must be VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT with one entry per position");
+      if (wv.components != 4 || wv.count != count ||
+          !(wv.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+            (wv.normalized && (wv.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                               wv.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT))))
+        throw InputError(file_, ww,
+                         "must be VEC4 of FLOAT (or normalized UNSIGNED_BYTE/SHORT) with one entry per position");
+      sets.push_back(std::move(set));
+    }
+    if (sets.empty()) throw InputError(file_, pw + ".attributes", "a skinned mesh needs JOINTS_0 and WEIGHTS_0");
+    return sets;
+  }
+
+  // Vertex i's blend of its joints' matrices, its weights normalised to sum 1.
+  glm::dmat4 skin_matrix(const std::vector<SkinSet>& sets, const std::vector<glm::dmat4>& joints, size_t i) const {
+    glm::dmat4 out(0.0);
+    double total = 0.0;
+    for (const SkinSet& set : sets)
+      for (int k = 0; k < 4; ++k) {
+        const double w = component(set.weights, i, k);
+        if (!(w >= 0.0) || !std::isfinite(w))
+          throw InputError(file_, set.weights_where + "[" + std::to_string(i) + "]",
+                           "a joint weight must be finite and >= 0");
+        if (w == 0.0) continue;
+        const uint32_t j = joint_at(set.joints, i, k);
+        if (j >= joints.size())
+          throw InputError(file_, set.joints_where + "[" + std::to_string(i) + "]",
+                           "joint " + std::to_string(j) + " out of range (the skin has " +
+                               std::to_string(joints.size()) + ")");
+        out += w * joints[j];
+        total += w;
+      }
+    if (!(total > 0.0))
+      throw InputError(file_, sets[0].weights_where + "[" + std::to_string(i) + "]",
+                       "the vertex has no joint weight, so no joint places it");
+    return out / total;
+  }
+
+  static uint32_t joint_at(const View& v, size_t i, int k) {
+    const uint8_t* p = v.data + i * v.stride;
+    if (v.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) return p[k];
+    uint16_t s;
+    std::memcpy(&s, p + 2 * k, 2);
+    return s;
+  }
+
+  void add_mesh(int node, const glm::dmat4& world) {
+    const tinygltf::Node& n = model_.nodes[size_t(node)];
+    const std::string nw = "nodes[" + std::to_string(node) + "]";
+    const int mesh_index = n.mesh;
     const std::string mw = "meshes[" + std::to_string(mesh_index) + "]";
     if (mesh_index >= static_cast<int>(model_.meshes.size()))
       throw InputError(file_, mw, "mesh does not exist");
-    const glm::dmat3 normal_matrix = glm::inverseTranspose(glm::dmat3(world));
-    const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
-    const auto& prims = model_.meshes[mesh_index].primitives;
+    const tinygltf::Mesh& mesh = model_.meshes[size_t(mesh_index)];
+    const auto weights = morph_weights(n, nw, mesh, mw);
+    // A skinned mesh is placed by its joints alone: the specification has the node's own
+    // transform ignored. The joints stand as the file poses them (pelt plays no animation).
+    const std::vector<glm::dmat4> joints = n.skin >= 0 ? joint_matrices(n.skin, nw) : std::vector<glm::dmat4>{};
+    const NormalTransform whole = normal_transform(glm::dmat3(world));
+    if (joints.empty() && whole.rank < 2) {
+      // A node scaled to nothing (how files hide one): no triangle to draw, and its vertices
+      // would still count in the mesh's bounds and uv area, which size the fur.
+      out_.warnings.push_back(nw + " is scaled to a point or a line: its mesh is not drawn");
+      return;
+    }
+    const auto& prims = mesh.primitives;
     for (size_t pi = 0; pi < prims.size(); ++pi) {
       const tinygltf::Primitive& prim = prims[pi];
       const std::string pw = mw + ".primitives[" + std::to_string(pi) + "]";
@@ -257,27 +455,51 @@ class GltfReader {
       if (pos.components != 3 || pos.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT)
         throw InputError(file_, posw, "must be VEC3 of FLOAT");
 
-      Mesh& m = out_.mesh;
-      const auto base = static_cast<uint32_t>(m.positions.size());
+      std::vector<glm::dvec3> local(pos.count);
       for (size_t i = 0; i < pos.count; ++i) {
         const glm::dvec3 p(component(pos, i, 0), component(pos, i, 1), component(pos, i, 2));
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
           throw InputError(file_, posw + "[" + std::to_string(i) + "]",
                            std::string("position is ") + (std::isnan(p.x + p.y + p.z) ? "NaN" : "infinite"));
-        m.positions.emplace_back(glm::dvec3(world * glm::dvec4(p, 1.0)));
+        local[i] = p;
+      }
+      add_morph(prim, pw, weights, "POSITION", local);
+      // A flattened transform (rank 2) takes its normals from the flattened faces.
+      std::vector<glm::dvec3> normals;
+      if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end() && (!joints.empty() || whole.rank == 3)) {
+        const std::string nw2 = pw + ".attributes.NORMAL";
+        const View nv = view_of(it->second, nw2);
+        if (nv.components != 3 || nv.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || nv.count != pos.count)
+          throw InputError(file_, nw2, "must be VEC3 of FLOAT with one normal per position");
+        normals.resize(nv.count);
+        for (size_t i = 0; i < nv.count; ++i) {
+          normals[i] = glm::dvec3(component(nv, i, 0), component(nv, i, 1), component(nv, i, 2));
+          if (!std::isfinite(normals[i].x) || !std::isfinite(normals[i].y) || !std::isfinite(normals[i].z))
+            throw InputError(file_, nw2 + "[" + std::to_string(i) + "]", "normal is not finite");
+        }
+        add_morph(prim, pw, weights, "NORMAL", normals);
       }
 
-      if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
-        const std::string nw = pw + ".attributes.NORMAL";
-        const View nv = view_of(it->second, nw);
-        if (nv.components != 3 || nv.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || nv.count != pos.count)
-          throw InputError(file_, nw, "must be VEC3 of FLOAT with one normal per position");
-        for (size_t i = 0; i < nv.count; ++i) {
-          const glm::dvec3 n(component(nv, i, 0), component(nv, i, 1), component(nv, i, 2));
-          if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z))
-            throw InputError(file_, nw + "[" + std::to_string(i) + "]", "normal is not finite");
-          m.normals.emplace_back(normal_matrix * n);
+      Mesh& m = out_.mesh;
+      const auto base = static_cast<uint32_t>(m.positions.size());
+      const std::vector<SkinSet> sets = joints.empty() ? std::vector<SkinSet>{} : skin_sets(prim, pw, pos.count);
+      std::vector<uint8_t> vertex_mirrored(sets.empty() ? 0 : pos.count);  // a skinned vertex's joints mirror it
+      for (size_t i = 0; i < pos.count; ++i) {
+        const glm::dmat4 to_world = sets.empty() ? world : skin_matrix(sets, joints, i);
+        const glm::dvec4 p = to_world * glm::dvec4(local[i], 1.0);
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+          throw InputError(file_, posw + "[" + std::to_string(i) + "]", "the transformed position is not finite");
+        m.positions.emplace_back(glm::dvec3(p));
+        if (sets.empty()) {
+          if (!normals.empty()) m.normals.emplace_back(whole.matrix * normals[i]);
+          continue;
         }
+        const NormalTransform t = normal_transform(glm::dmat3(to_world));
+        vertex_mirrored[i] = t.mirrored;
+        // A vertex its joints collapse has no surface of its own: any unit normal will do, and
+        // a zero one would have every normal of the file recomputed.
+        if (!normals.empty())
+          m.normals.emplace_back(t.rank == 3 ? glm::vec3(t.matrix * normals[i]) : glm::vec3(0.0f, 1.0f, 0.0f));
       }
       const bool flat = m.normals.size() != m.positions.size();
 
@@ -328,6 +550,11 @@ class GltfReader {
       check_index_count(prim.mode, idx.size(), prim.indices >= 0 ? prim.indices : pos_it->second,
                         prim.indices >= 0);
       const size_t first_index = m.indices.size();
+      // A skinned triangle turns inside out where most of its corners' joints mirror it.
+      const auto mirrored = [&](uint32_t a, uint32_t b, uint32_t c) {
+        if (sets.empty()) return whole.mirrored;
+        return vertex_mirrored[a] + vertex_mirrored[b] + vertex_mirrored[c] >= 2;
+      };
       append_triangles(prim.mode, idx, base, mirrored);
       if (flat) make_flat(base, first_index);
       take_textures(prim.material);
@@ -374,10 +601,11 @@ class GltfReader {
                                          " takes at least 3");
   }
 
-  void append_triangles(int mode, const std::vector<uint32_t>& idx, uint32_t base, bool mirrored) {
+  template <class Mirrored>
+  void append_triangles(int mode, const std::vector<uint32_t>& idx, uint32_t base, const Mirrored& mirrored) {
     auto& out = out_.mesh.indices;
     const auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
-      if (mirrored) std::swap(b, c);  // a mirroring transform turns the winding inside out
+      if (mirrored(a, b, c)) std::swap(b, c);  // a mirroring transform turns the winding inside out
       out.insert(out.end(), {base + a, base + b, base + c});
     };
     if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
@@ -488,6 +716,7 @@ class GltfReader {
   std::string file_;
   std::filesystem::path dir_;
   LoadedMesh out_;
+  std::vector<int> parents_;  // each node's first parent, -1 for none
   bool all_uvs_ = true, any_uvs_ = false;
   Taken color_texture_, normal_texture_;
 };
@@ -633,7 +862,19 @@ void check_integer_fields(const std::string& text, const std::string& file) {
   each(doc, "", "scenes", [&](const auto& s, const std::string& p) { check_indices(s, p, "nodes"); });
   each(doc, "", "nodes", [&](const auto& n, const std::string& p) {
     check(n, p, "mesh", kIndex);
+    check(n, p, "skin", kIndex);
     check_indices(n, p, "children");
+    // Not an integer, but also hidden by tinygltf, which drops a node's translation, rotation
+    // and scale when it has a matrix: the specification allows one or the other, and which one
+    // the file meant cannot be known.
+    if (n.is_object() && n.contains("matrix"))
+      for (const char* key : {"translation", "rotation", "scale"})
+        if (n.contains(key))
+          throw InputError(file, json_child(p, key), "a node has a matrix or translation, rotation and scale, not both");
+  });
+  each(doc, "", "skins", [&](const auto& k, const std::string& p) {
+    check(k, p, "inverseBindMatrices", kIndex);
+    check_indices(k, p, "joints");
   });
   each(doc, "", "meshes", [&](const auto& m, const std::string& mp) {
     each(m, mp, "primitives", [&](const auto& prim, const std::string& p) {
@@ -643,6 +884,10 @@ void check_integer_fields(const std::string& text, const std::string& file) {
       if (prim.is_object() && prim.contains("attributes") && prim["attributes"].is_object())
         for (const auto& [name, accessor] : prim["attributes"].items())
           integer(accessor, json_child(json_child(p, "attributes"), name), kIndex);
+      each(prim, p, "targets", [&](const auto& target, const std::string& tp) {
+        if (target.is_object())
+          for (const auto& [name, accessor] : target.items()) integer(accessor, json_child(tp, name), kIndex);
+      });
     });
   });
   each(doc, "", "accessors", [&](const auto& a, const std::string& p) {

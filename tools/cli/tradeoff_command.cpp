@@ -270,9 +270,18 @@ int run_tradeoff(const TradeoffOptions& o) {
   std::fwrite(table.data(), 1, table.size(), stdout);
   std::fflush(stdout);
 
+  // A plot left by an earlier run stays beside the new CSV (pelt removes no file it did not
+  // write this run): the user is told it does not show this sweep.
+  auto stale_plot = [&] {
+    std::error_code ec;
+    const fs::path png = dir / "tradeoff.png";
+    return fs::exists(png, ec) ? "; " + png.string() + " is an earlier run's plot and does not show this sweep"
+                               : std::string();
+  };
   if (o.no_plot) {
-    std::fprintf(stderr, "pelt tradeoff: wrote %s and %s (no plot: --no-plot)\n",
-                 (dir / "tradeoff.csv").string().c_str(), (dir / "tradeoff.md").string().c_str());
+    std::fprintf(stderr, "pelt tradeoff: wrote %s and %s (no plot: --no-plot%s)\n",
+                 (dir / "tradeoff.csv").string().c_str(), (dir / "tradeoff.md").string().c_str(),
+                 stale_plot().c_str());
     return 0;
   }
   const tradeoff::PlotOutcome plot =
@@ -283,9 +292,9 @@ int run_tradeoff(const TradeoffOptions& o) {
                           front);
   if (!plot.made) {
     std::fprintf(stderr,
-                 "pelt: error: plot: %s; %s and %s were written, the plot was not made (or pass --no-plot)\n",
+                 "pelt: error: plot: %s; %s and %s were written, the plot was not made (or pass --no-plot)%s\n",
                  plot.problem.c_str(), (dir / "tradeoff.csv").string().c_str(),
-                 (dir / "tradeoff.md").string().c_str());
+                 (dir / "tradeoff.md").string().c_str(), stale_plot().c_str());
     return 2;
   }
   std::fprintf(stderr, "pelt tradeoff: wrote %s, %s and %s\n", (dir / "tradeoff.csv").string().c_str(),

@@ -137,6 +137,30 @@ INSTANTIATE_TEST_SUITE_P(
                       BadRun{"ZeroWidth", {"--width", "0"}, "--width"}),
     [](const ::testing::TestParamInfo<BadRun>& info) { return std::string(info.param.name); });
 
+// --no-plot writes no plot, and removes none: an earlier run's plot left in the folder is
+// named as not showing this sweep, so nobody reads the new CSV off the old picture.
+TEST(TradeoffCommand, NoPlotNamesAnEarlierRunsPlot) {
+  TempDir dir;
+  const fs::path scene = dir.write("tiny.json", kTinyFurScene);
+  const fs::path out = dir.path() / "report";
+  fs::create_directories(out);
+  const std::string old_plot = "an earlier run's picture";
+  dir.write("report/tradeoff.png", old_plot);
+  const Result r = run_pelt({"tradeoff", scene.string(), "-o", out.string(), "--runs", "5", "--knobs", "fins",
+                             "--no-plot"},
+                            dir.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("tradeoff.png is an earlier run's plot and does not show this sweep"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(read_text(out / "tradeoff.png"), old_plot);
+  fs::remove(out / "tradeoff.png");
+  const Result again = run_pelt({"tradeoff", scene.string(), "-o", out.string(), "--runs", "5", "--knobs", "fins",
+                                 "--no-plot"},
+                                dir.path());
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_EQ(again.err.find("earlier run's plot"), std::string::npos) << again.err;
+}
+
 TEST(TradeoffCommand, BadSceneExits2NamingTheFieldAndWritesNothing) {
   TempDir dir;
   const fs::path scene =

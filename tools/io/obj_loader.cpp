@@ -16,6 +16,7 @@
 
 #include "tools/io/input_error.h"
 #include "tools/io/mesh_loader_detail.h"
+#include "tools/io/obj_materials.h"
 #include "tools/io/polygon_triangulation.h"
 
 namespace pelt::io::detail {
@@ -189,7 +190,32 @@ struct ObjPrescan {
   // records is smoothed whole, as pelt always did; a file that gives every normal needs none computed).
   bool smoothing_groups = false;
   bool corner_without_normal = false;
+  // Valid OBJ that tinyobjloader misreads, mended in memory first (mend_obj): a byte-order
+  // mark, a line continued by `\`, a comment after a face's corners, a material name with
+  // blanks.
+  bool needs_mending = false;
+  // Each `mtllib` record's text after the keyword (MaterialLibraries reads them).
+  std::vector<std::string> libraries;
 };
+
+// Whether `line` (a record, not a comment) goes on in the next line: its last character
+// before trailing blanks is `\` (the OBJ specification's continuation).
+bool continues(const std::string& line) {
+  size_t end = line.find_last_not_of(" \t");
+  return end != std::string::npos && line[end] == '\\' && line[line.find_first_not_of(" \t")] != '#';
+}
+
+// The text of a record after its keyword at i, without a trailing comment.
+std::string record_text(const std::string& line, size_t i, size_t keyword) {
+  std::string t = line.substr(std::min(line.size(), i + keyword));
+  for (size_t h = t.find('#'); h != std::string::npos; h = t.find('#', h + 1))
+    if (h == 0 || t[h - 1] == ' ' || t[h - 1] == '\t') {
+      t.resize(h);
+      break;
+    }
+  const size_t a = t.find_first_not_of(" \t"), b = t.find_last_not_of(" \t");
+  return a == std::string::npos ? std::string() : t.substr(a, b - a + 1);
+}
 
 // An `s` record's argument: `off`, or a group number, 0 meaning off (the OBJ specification).
 // tinyobjloader reads any other word as 0 and a negative number as 0, without a word; both would
@@ -221,17 +247,32 @@ std::string check_smoothing_group(std::string_view arg) {
 // reported too: tinyobjloader drops it without a word, leaving a hole in the mesh; so is a
 // face of more corners than tinyobjloader can count, and a corner it would misread
 // (check_corner).
-ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& file) {
+ObjPrescan prescan_obj(std::istream& in, const std::string& file) {
   ObjPrescan out;
-  std::ifstream in(path, std::ios::binary);
   std::string line, tok;
   size_t counts[3] = {0, 0, 0};  // v, vt, vn
   static const char* kWhat[3] = {"position", "texture coordinate", "normal"};
   size_t line_number = 0, faces = 0, smoothing_records = 0;
   while (read_line(in, line)) {
     ++line_number;
+    if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) {
+      out.needs_mending = true;  // tinyobjloader would take the mark for part of the first word
+      line.erase(0, 3);
+    }
     size_t i = line.find_first_not_of(" \t");
     if (i == std::string::npos) continue;
+    if (continues(line)) {
+      out.needs_mending = true;  // checked once joined
+      continue;
+    }
+    if (starts_record(line, i, "mtllib")) {
+      out.libraries.push_back(record_text(line, i, 6));
+      continue;
+    }
+    if (starts_record(line, i, "usemtl")) {
+      if (record_text(line, i, 6).find_first_of(" \t") != std::string::npos) out.needs_mending = true;
+      continue;
+    }
     if (starts_record(line, i, "f")) {
       uint64_t corners = 0;
       const std::string where = " (line " + std::to_string(line_number) + ")";
@@ -252,10 +293,8 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
       ++faces;
       if (corners >= 3) out.triangles = sat_add(out.triangles, corners - 2);
       if (out.bad_record) continue;
-      if (comment && corners >= 3)  // tinyobjloader reads `#` as a corner and fails with "zero value"
-        out.bad_record.emplace(file, face_name(faces - 1),
-                               "a comment after a face's corners is not OBJ: put it on a line of its own" + where);
-      else if (corners < 3)
+      if (comment) out.needs_mending = true;  // tinyobjloader would read `#` as a corner
+      if (corners < 3)
         out.bad_record.emplace(file, face_name(faces - 1),
                                "a face needs at least 3 vertices, this one has " + std::to_string(corners) + where);
       else if (corners > kMaxCorners)
@@ -320,6 +359,40 @@ ObjPrescan prescan_obj(const std::filesystem::path& path, const std::string& fil
   return out;
 }
 
+// The file's text as tinyobjloader should read it (ObjPrescan::needs_mending), line for line so
+// that every message's line number is still the file's: the byte-order mark dropped, a
+// continued record joined onto its first line (the lines it took left empty), a comment after a
+// face's corners (or a line's or point's) cut off, and a material name's blanks kept
+// (kNameBlank).
+std::string mend_obj(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string out, line, next;
+  bool first = true;
+  while (read_line(in, line)) {
+    if (first && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+    first = false;
+    size_t joined = 0;
+    while (continues(line) && read_line(in, next)) {
+      line.resize(line.find_last_not_of(" \t"));  // the `\` and what follows it
+      line.append(" ").append(next);
+      ++joined;
+    }
+    const size_t i = line.find_first_not_of(" \t");
+    if (i != std::string::npos) {
+      if (starts_record(line, i, "f") || starts_record(line, i, "l") || starts_record(line, i, "p")) {
+        line = line.substr(i, 1) + " " + record_text(line, i, 1);
+      } else if (starts_record(line, i, "usemtl")) {
+        std::string name = record_text(line, i, 6);
+        std::replace_if(name.begin(), name.end(), [](char c) { return c == ' ' || c == '\t'; }, kNameBlank);
+        line = "usemtl " + name;
+      }
+    }
+    out.append(line).push_back('\n');
+    out.append(joined, '\n');
+  }
+  return out;
+}
+
 }  // namespace
 
 LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
@@ -328,27 +401,49 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     std::ifstream probe(path);
     if (!probe) throw InputError(file, "", "cannot open the file for reading");
   }
-  const ObjPrescan pre = prescan_obj(path, file);
+  ObjPrescan pre;
+  {
+    std::ifstream in(path, std::ios::binary);
+    pre = prescan_obj(in, file);
+  }
   check_face_budget(pre.triangles, budget, file, "");
+  // Only a file that needs it is held in memory, mended, and checked again as mended.
+  std::string mended;
+  const bool mend = pre.needs_mending && !pre.bad_record;
+  if (mend) {
+    mended = mend_obj(path);
+    std::istringstream again(mended);
+    pre = prescan_obj(again, file);
+  }
   if (pre.bad_record) throw *pre.bad_record;
-  tinyobj::ObjReaderConfig config;
+  std::ifstream from_file;
+  std::istringstream from_text;
+  std::istream* text = &from_file;
+  if (mend) {
+    from_text.str(std::move(mended));
+    text = &from_text;
+  } else {
+    from_file.open(path, std::ios::binary);
+  }
+  const std::filesystem::path dir = path.parent_path();
+  MaterialLibraries libraries(dir, pre.libraries);
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+  std::string warnings, error;
   // pelt splits polygons itself (triangulate_polygon): tinyobjloader's triangulation drops
   // a quad with an index past the end and part of some valid polygons, without a word.
-  config.triangulate = false;
-  config.vertex_color = false;
-  config.mtl_search_path = path.parent_path().string();
-  tinyobj::ObjReader reader;
-  const bool ok = reader.ParseFromFile(file, config);
+  const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warnings, &error, text, &libraries,
+                                   /*triangulate=*/false, /*default_vcols_fallback=*/false);
   if (!ok) {
-    std::string msg = reader.Error();
+    std::string msg = error;
     while (!msg.empty() && (msg.back() == '\n' || msg.back() == '\r')) msg.pop_back();
     throw InputError(file, "", "malformed OBJ: " + (msg.empty() ? std::string("parse failed") : msg));
   }
 
   LoadedMesh out;
-  add_library_warnings(out, reader.Warning());  // a missing .mtl gives two lines
-
-  const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  out.warnings = libraries.warnings();
+  add_library_warnings(out, shown_name(warnings));
   const size_t nv = attrib.vertices.size() / 3, nt = attrib.texcoords.size() / 2,
                nn = attrib.normals.size() / 3;
   for (size_t i = 0; i < nv; ++i)
@@ -373,11 +468,11 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   Mesh& m = out.mesh;
   size_t face_number = 0;
   int material = -1;
-  const auto& materials = reader.GetMaterials();
   std::vector<char> material_used(materials.size(), 0);  // by material id
+  size_t faces_without_material = 0;
   std::vector<glm::vec3> corner_positions;
   std::vector<uint32_t> corner_vertices, triangles;
-  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+  for (const tinyobj::shape_t& shape : shapes) {
     const auto& mesh = shape.mesh;
     size_t offset = 0;
     for (size_t f = 0; f < mesh.num_face_vertices.size(); ++f, ++face_number) {
@@ -388,6 +483,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
         const int id = mesh.material_ids[f];
         if (material < 0) material = id;
         if (id >= 0 && size_t(id) < material_used.size()) material_used[size_t(id)] = 1;
+        faces_without_material += id < 0;
       }
       corner_positions.clear();
       corner_vertices.clear();
@@ -455,18 +551,25 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     size_t others = 0;
     for (size_t id = 0; id < materials.size(); ++id)
       if (material_used[id] && maps(materials[id]) != maps(mat)) ++others;
+    const std::string name = shown_name(mat.name);
     if (others > 0)
       out.warnings.push_back("faces use " + std::to_string(others + 1) +
-                             " materials with different texture maps: the maps of `" + mat.name +
+                             " materials with different texture maps: the maps of `" + name +
                              "` (the first face's) are used for the whole mesh");
-    const std::filesystem::path dir = path.parent_path();
-    if (!mat.diffuse_texname.empty()) out.color_map.path = dir / mat.diffuse_texname;
+    if (faces_without_material > 0 && maps(mat) != maps(tinyobj::material_t{}))
+      out.warnings.push_back(std::to_string(faces_without_material) +
+                             " faces name no material (no `usemtl` before them): the maps of `" + name +
+                             "` are drawn on them too");
+    // A map's name is read from its library's folder, as exporters write it (until 2026-11-27
+    // from the OBJ's, where pelt still looks when the library's folder has no such file).
+    const std::filesystem::path& library_dir = libraries.folder_of(material);
+    if (!mat.diffuse_texname.empty()) out.color_map.path = find_named_file(mat.diffuse_texname, library_dir, dir);
     if (!mat.normal_texname.empty()) {
-      out.normal_map.path = dir / mat.normal_texname;
+      out.normal_map.path = find_named_file(mat.normal_texname, library_dir, dir);
     } else if (!mat.bump_texname.empty()) {
       // `bump` is as often a height map as a normal map (Blender writes normal maps there,
       // Sponza height maps): not drawn, and the user hears why.
-      out.warnings.push_back("material `" + mat.name + "` names a bump map `" + mat.bump_texname +
+      out.warnings.push_back("material `" + name + "` names a bump map `" + mat.bump_texname +
                              "` that is not drawn: pelt draws tangent-space normal maps, named by `norm` in the "
                              "MTL file or by the scene's normal_map");
     }

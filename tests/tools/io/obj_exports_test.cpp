@@ -1,0 +1,134 @@
+// OBJ and MTL files as exporters write them, which tinyobjloader alone misread (a helper's hunt,
+// 2026-11-27): a byte-order mark, continued lines, comments after a face, material names with
+// blanks, libraries named by absolute paths, several on one record or with blanks in their
+// names, maps beside their library in another folder or named with `\`, and map statements
+// with options of fewer than three values.
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tests/tools/io/expect_load_error.h"
+#include "tests/tools/io/temp_dir.h"
+#include "tools/io/mesh_loader.h"
+
+namespace pelt::io {
+namespace {
+
+using testing::expect_load_error;
+
+const std::string kQuad = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
+const std::string kFace = "f 1/1 2/2 3/3 4/4\n";
+
+std::string joined(const std::vector<std::string>& w) {
+  std::string out;
+  for (const std::string& s : w) out += s + "\n";
+  return out;
+}
+
+// The mark was read as part of the first record's keyword, which was skipped: the quad lost
+// its first corner and took the next record's point instead, without a word.
+TEST(ObjExports, AByteOrderMarkIsNotPartOfTheFirstRecord) {
+  TempDir dir;
+  const LoadedMesh l = load_mesh_file(dir.write("bom.obj", "\xEF\xBB\xBF" "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
+                                                                          "v 0 0 -50\nf 1 2 3 4\n"));
+  ASSERT_EQ(l.mesh.triangle_count(), 2u);
+  for (const auto& p : l.mesh.positions) EXPECT_EQ(p.z, 0.0f);
+}
+
+// `\` continues a record on the next line, and a comment may follow a face's corners; the
+// lines keep their numbers in messages.
+TEST(ObjExports, ContinuedLinesAndCommentsAfterAFace) {
+  TempDir dir;
+  const LoadedMesh l = load_mesh_file(dir.write("cont.obj", "v -1 -1 0\nv 1 -1 \\\n 0\nv 1 1 0\nv -1 1 0\n"
+                                                            "f 1 2 \\\n  3 4 # a quad\n"));
+  ASSERT_EQ(l.mesh.triangle_count(), 2u);
+  EXPECT_EQ(l.mesh.positions[1].x, 1.0f);
+  expect_load_error(dir.write("later.obj", "v 0 0 0\nv 1 \\\n 0 0\nv 0 1 0\nf 1 2 3 # fine\nf 1 2 x\n"), "f 2",
+                    "`x` is not a corner (v, v/vt, v//vn or v/vt/vn) (line 6)");
+}
+
+// Libraries: an absolute path (joined to the OBJ's folder before), several names on one record
+// (only the first was read), a name with a blank (split in two), and material names with
+// blanks (cut at the first).
+TEST(ObjExports, MaterialLibrariesAreFoundWhereverTheRecordSays) {
+  TempDir dir;
+  dir.write("tex.png", "");
+  dir.write("other.mtl", "newmtl other\n");
+  dir.write("my lib.mtl", "newmtl My Skin\nmap_Kd tex.png\n");
+  const std::string use = "usemtl My Skin\n";
+  const auto map_of = [&](const std::string& name, const std::string& mtllib) {
+    const LoadedMesh l = load_mesh_file(dir.write(name, "mtllib " + mtllib + "\n" + kQuad + use + kFace));
+    EXPECT_TRUE(l.warnings.empty()) << name << ": " << ::testing::PrintToString(l.warnings);
+    return l.color_map.path;
+  };
+  EXPECT_EQ(map_of("spaced.obj", "my lib.mtl"), dir.path() / "tex.png");
+  EXPECT_EQ(map_of("two.obj", "other.mtl my\\ lib.mtl"), dir.path() / "tex.png");
+  EXPECT_EQ(map_of("absolute.obj", (dir.path() / "my lib.mtl").string()), dir.path() / "tex.png");
+  // From another folder, the absolute path still finds it.
+  std::filesystem::create_directories(dir.path() / "elsewhere");
+  EXPECT_EQ(map_of("elsewhere/absolute.obj", (dir.path() / "my lib.mtl").string()), dir.path() / "tex.png");
+}
+
+// A map is named from its library's folder (as Blender's and three.js's importers read it),
+// and a Windows path's `\` is read as `/`.
+TEST(ObjExports, MapsAreFoundBesideTheirLibrary) {
+  TempDir dir;
+  dir.write("mats/textures/wood.png", "");
+  dir.write("mats/sub.mtl", "newmtl m\nmap_Kd textures\\wood.png\n");
+  const LoadedMesh l = load_mesh_file(dir.write("sub.obj", "mtllib mats/sub.mtl\n" + kQuad + "usemtl m\n" + kFace));
+  EXPECT_EQ(l.color_map.path, dir.path() / "mats" / "textures/wood.png");
+  EXPECT_TRUE(l.warnings.empty()) << ::testing::PrintToString(l.warnings);
+}
+
+// A map statement's options take one to three values (-s, -o, -t): tinyobjloader always read
+// three, took `tex.png` for the third and dropped the map. Options pelt cannot honour are named.
+TEST(ObjExports, MapOptionsAreReadAtTheirArities) {
+  TempDir dir;
+  dir.write("tex.png", "");
+  struct Case {
+    std::string statement, warning;  // "" = no warning
+  };
+  const std::vector<Case> cases = {
+      {"map_Kd -s 2 2 tex.png", "is scaled, offset or turbulent (-s, -o, -t), which pelt does not apply"},
+      {"map_Kd -o 0.5 tex.png", "is scaled, offset or turbulent"},
+      {"map_Kd -t 0.1 0.1 0.1 tex.png", "is scaled, offset or turbulent"},
+      {"map_Kd -s 1 1 1 -o 0 0 tex.png", ""},
+      {"map_Kd -cc on -blendu off -mm 0 1 -bm 0.5 tex.png", ""},
+      {"map_Kd -clamp on tex.png", "is clamped (-clamp on), which pelt does not apply"},
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    std::string stem(1, 'm');  // (one concatenation less: GCC 12 warns falsely on `"m" + to_string(i)`)
+    stem.append(std::to_string(i));
+    const std::string lib = stem + ".mtl";
+    dir.write(lib, "newmtl m\n" + cases[i].statement + "\n");
+    const LoadedMesh l = load_mesh_file(dir.write(stem + ".obj", "mtllib " + lib + "\n" + kQuad + "usemtl m\n" + kFace));
+    EXPECT_EQ(l.color_map.path, dir.path() / "tex.png") << cases[i].statement;
+    if (cases[i].warning.empty()) {
+      EXPECT_TRUE(l.warnings.empty()) << cases[i].statement << ": " << ::testing::PrintToString(l.warnings);
+    } else {
+      ASSERT_EQ(l.warnings.size(), 1u) << cases[i].statement << ": " << ::testing::PrintToString(l.warnings);
+      EXPECT_EQ(l.warnings[0].rfind("`map_Kd` of material `m` in " + lib + " ", 0), 0u) << l.warnings[0];
+      EXPECT_NE(l.warnings[0].find(cases[i].warning), std::string::npos) << l.warnings[0];
+    }
+  }
+  dir.write("none.mtl", "newmtl m\nmap_Kd -s 2\n");
+  const LoadedMesh none = load_mesh_file(dir.write("none.obj", "mtllib none.mtl\n" + kQuad + "usemtl m\n" + kFace));
+  EXPECT_TRUE(none.color_map.path.empty());
+  ASSERT_EQ(none.warnings.size(), 1u) << ::testing::PrintToString(none.warnings);
+  EXPECT_EQ(none.warnings[0], "`map_Kd` of material `m` in none.mtl names no file: no map is drawn");
+}
+
+// Faces before any `usemtl` have no material, yet take the first material's maps: said so.
+TEST(ObjExports, FacesWithoutAMaterialAreNamedWhenAMapCoversThem) {
+  TempDir dir;
+  dir.write("tex.png", "");
+  dir.write("m.mtl", "newmtl m\nmap_Kd tex.png\n");
+  const LoadedMesh l = load_mesh_file(
+      dir.write("mixed.obj", joined({"mtllib m.mtl", kQuad + "f 1/1 2/2 3/3", "usemtl m", "f 1/1 3/3 4/4"})));
+  ASSERT_EQ(l.warnings.size(), 1u) << ::testing::PrintToString(l.warnings);
+  EXPECT_EQ(l.warnings[0], "1 faces name no material (no `usemtl` before them): the maps of `m` are drawn on them too");
+}
+
+}  // namespace
+}  // namespace pelt::io

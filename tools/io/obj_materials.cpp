@@ -1,0 +1,215 @@
+#include "tools/io/obj_materials.h"
+
+#include <algorithm>
+#include <charconv>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string_view>
+#include <system_error>
+
+namespace pelt::io::detail {
+namespace {
+
+bool blank(char c) { return c == ' ' || c == '\t'; }
+
+std::string_view trimmed(std::string_view s) {
+  while (!s.empty() && (blank(s.front()) || s.front() == '\r')) s.remove_prefix(1);
+  while (!s.empty() && (blank(s.back()) || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+// The words of `s`, split at blanks.
+std::vector<std::string_view> words(std::string_view s) {
+  std::vector<std::string_view> out;
+  size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && blank(s[i])) ++i;
+    const size_t start = i;
+    while (i < s.size() && !blank(s[i])) ++i;
+    if (i > start) out.push_back(s.substr(start, i - start));
+  }
+  return out;
+}
+
+// A record's names: split at blanks, except a blank after `\` (tinyobjloader's escape, kept
+// as a blank in the name).
+std::vector<std::string> names(std::string_view s) {
+  std::vector<std::string> out;
+  std::string name;
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '\\' && i + 1 < s.size() && blank(s[i + 1])) {
+      name.push_back(s[++i]);
+    } else if (blank(s[i])) {
+      if (!name.empty()) out.push_back(std::move(name));
+      name.clear();
+    } else {
+      name.push_back(s[i]);
+    }
+  }
+  if (!name.empty()) out.push_back(std::move(name));
+  return out;
+}
+
+bool is_number(std::string_view w, double& value) {
+  if (!w.empty() && w.front() == '+') w.remove_prefix(1);
+  const auto [end, ec] = std::from_chars(w.data(), w.data() + w.size(), value);
+  return ec == std::errc() && end == w.data() + w.size();
+}
+
+bool is_file(const std::filesystem::path& p) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(p, ec);
+}
+
+// A map statement's options (MTL specification, "Options for texture map statements"): how
+// many values each takes. -o, -s and -t take one to three numbers.
+struct MapOption {
+  std::string_view name;
+  int least, most;
+};
+constexpr MapOption kMapOptions[] = {{"-blendu", 1, 1}, {"-blendv", 1, 1},  {"-boost", 1, 1},   {"-mm", 1, 2},
+                                     {"-o", 1, 3},      {"-s", 1, 3},       {"-t", 1, 3},       {"-texres", 1, 1},
+                                     {"-clamp", 1, 1},  {"-bm", 1, 1},      {"-imfchan", 1, 1}, {"-type", 1, 1},
+                                     {"-cc", 1, 1},     {"-colorspace", 1, 1}};
+
+bool is_map_statement(std::string_view keyword) {
+  return keyword == "map_Kd" || keyword == "norm" || keyword == "bump" || keyword == "map_Bump" ||
+         keyword == "map_bump";
+}
+
+}  // namespace
+
+std::string shown_name(std::string name) {
+  std::replace(name.begin(), name.end(), kNameBlank, ' ');
+  return name;
+}
+
+std::filesystem::path find_named_file(const std::string& name, const std::filesystem::path& first,
+                                      const std::filesystem::path& second) {
+  std::string slashed = name;
+  std::replace(slashed.begin(), slashed.end(), '\\', '/');
+  for (const std::string& n : {name, slashed}) {
+    const std::filesystem::path p(n);
+    if (p.is_absolute()) {
+      if (is_file(p)) return p;
+      continue;
+    }
+    if (is_file(first / p)) return first / p;
+    if (is_file(second / p)) return second / p;
+  }
+  const std::filesystem::path p(name);
+  return p.is_absolute() ? p : first / p;
+}
+
+std::string mend_mtl(const std::string& text, const std::string& library, std::vector<std::string>& warnings) {
+  std::string_view rest(text);
+  if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);
+  std::string out, material;
+  out.reserve(rest.size());
+  while (!rest.empty()) {
+    size_t end = rest.find_first_of("\r\n");
+    std::string_view line = rest.substr(0, end);
+    rest.remove_prefix(end == std::string_view::npos ? rest.size() : end);
+    if (!rest.empty() && rest.front() == '\r') rest.remove_prefix(1);
+    if (!rest.empty() && rest.front() == '\n') rest.remove_prefix(1);
+    const std::vector<std::string_view> w = words(line);
+    if (w.empty() || w[0].front() == '#') {
+      out.append(line).push_back('\n');
+      continue;
+    }
+    if (w[0] == "newmtl") {
+      std::string name(trimmed(line.substr(line.find("newmtl") + 6)));
+      material = name;
+      std::replace_if(name.begin(), name.end(), blank, kNameBlank);
+      out.append("newmtl ").append(name).push_back('\n');
+      continue;
+    }
+    if (!is_map_statement(w[0])) {
+      out.append(line).push_back('\n');
+      continue;
+    }
+    // The options, then the file name: the rest of the statement, blanks and all.
+    bool transformed = false, clamped = false;
+    size_t k = 1;
+    while (k < w.size() && w[k].size() > 1 && w[k].front() == '-') {
+      const auto* option = std::find_if(std::begin(kMapOptions), std::end(kMapOptions),
+                                        [&](const MapOption& o) { return o.name == w[k]; });
+      if (option == std::end(kMapOptions)) break;  // a file whose name begins with `-`
+      const std::string_view name = w[k++];
+      // Its values: `least` words whatever they are (-clamp on), then only numbers, so
+      // `-s 2 2 tex.png` ends at the file.
+      for (int taken = 0; taken < option->most && k < w.size(); ++taken, ++k) {
+        double value = 0.0;
+        const bool number = is_number(w[k], value);
+        if (taken >= option->least && !number) break;
+        if (name == "-clamp") clamped = w[k] == "on";
+        if (number && (name == "-s" || name == "-o" || name == "-t")) transformed |= value != (name == "-s" ? 1.0 : 0.0);
+      }
+    }
+    std::string who(1, '`');
+    who.append(w[0]).append("` of material `").append(material).append("` in ").append(library);
+    std::string file;
+    if (k < w.size()) file = std::string(trimmed(line.substr(size_t(w[k].data() - line.data()))));
+    if (file.empty()) {
+      warnings.push_back(who + " names no file: no map is drawn");
+      out.push_back('\n');
+      continue;
+    }
+    if (transformed)
+      warnings.push_back(who + " is scaled, offset or turbulent (-s, -o, -t), which pelt does not apply: the map is "
+                               "drawn at the mesh's uvs as they are");
+    if (clamped)
+      warnings.push_back(who + " is clamped (-clamp on), which pelt does not apply: the map repeats outside [0, 1]");
+    out.append(w[0]).append(" ").append(file).push_back('\n');
+  }
+  return out;
+}
+
+MaterialLibraries::MaterialLibraries(std::filesystem::path obj_dir, std::vector<std::string> records)
+    : obj_dir_(std::move(obj_dir)), records_(std::move(records)), read_(records_.size(), false) {}
+
+const std::filesystem::path& MaterialLibraries::folder_of(int id) const {
+  return id >= 0 && size_t(id) < folder_.size() ? folder_[size_t(id)] : obj_dir_;
+}
+
+bool MaterialLibraries::operator()(const std::string& first_word, std::vector<tinyobj::material_t>* materials,
+                                   std::map<std::string, int>* by_name, std::string* warn, std::string* err) {
+  // tinyobjloader calls once per record, in order, with the record's first word (and not for a
+  // record whose first word it has read before): the next unread record that begins so, else
+  // the next unread one.
+  size_t r = 0;
+  while (r < records_.size() && (read_[r] || records_[r].rfind(first_word, 0) != 0)) ++r;
+  if (r == records_.size()) r = size_t(std::find(read_.begin(), read_.end(), false) - read_.begin());
+  if (r == records_.size()) return true;
+  read_[r] = true;
+  const std::string& record = records_[r];
+  // One library whose name holds blanks, or several names (the specification's list).
+  const std::filesystem::path whole = find_named_file(record, obj_dir_, obj_dir_);
+  if (is_file(whole)) {
+    load(whole, materials, by_name, warn, err);
+    return true;
+  }
+  for (const std::string& name : names(record)) {
+    const std::filesystem::path found = find_named_file(name, obj_dir_, obj_dir_);
+    if (is_file(found))
+      load(found, materials, by_name, warn, err);
+    else
+      warnings_.push_back("material library `" + name + "` not found (looked for " + found.string() +
+                          "): its materials are not drawn");
+  }
+  return true;
+}
+
+void MaterialLibraries::load(const std::filesystem::path& library, std::vector<tinyobj::material_t>* materials,
+                             std::map<std::string, int>* by_name, std::string* warn, std::string* err) {
+  std::ifstream in(library, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::istringstream mended(mend_mtl(text, library.filename().string(), warnings_));
+  const size_t before = materials->size();
+  tinyobj::LoadMtl(by_name, materials, &mended, warn, err);
+  folder_.resize(materials->size(), obj_dir_);
+  for (size_t id = before; id < materials->size(); ++id) folder_[id] = library.parent_path();
+}
+
+}  // namespace pelt::io::detail

@@ -1,0 +1,62 @@
+// The MTL side of OBJ loading. tinyobjloader reads what pelt hands it here: every library an
+// `mtllib` record names (several on one record, a name with blanks, an absolute path), their
+// text with each map statement's options read at the MTL specification's arities (tinyobjloader
+// always reads three numbers after -s, -o and -t, and so took `map_Kd -s 2 2 tex.png`'s file for
+// a number and dropped the map), and the maps' paths resolved from the library's own folder.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <tiny_obj_loader.h>
+
+namespace pelt::io::detail {
+
+// Material names may hold blanks (`newmtl My Mat`), where tinyobjloader reads one word: pelt
+// hands it the blanks as this character (in both `newmtl` and `usemtl`) and shows them again.
+inline constexpr char kNameBlank = '\x1f';
+std::string shown_name(std::string name);
+
+// The `mtllib` records of one OBJ file, read when tinyobjloader meets each.
+class MaterialLibraries final : public tinyobj::MaterialReader {
+ public:
+  // `records`: each `mtllib` record's text after the keyword, in file order.
+  MaterialLibraries(std::filesystem::path obj_dir, std::vector<std::string> records);
+
+  // Called by tinyobjloader with the first word of a record: loads every library that record
+  // names. Always true: a library not found is pelt's own warning (warnings()).
+  bool operator()(const std::string& first_word, std::vector<tinyobj::material_t>* materials,
+                  std::map<std::string, int>* by_name, std::string* warn, std::string* err) override;
+
+  // The folder of the library that defined material `id` (the OBJ's folder for none).
+  const std::filesystem::path& folder_of(int id) const;
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+ private:
+  void load(const std::filesystem::path& library, std::vector<tinyobj::material_t>* materials,
+            std::map<std::string, int>* by_name, std::string* warn, std::string* err);
+
+  std::filesystem::path obj_dir_;
+  std::vector<std::string> records_;
+  std::vector<bool> read_;                       // per record
+  std::vector<std::filesystem::path> folder_;    // per material id
+  std::vector<std::string> warnings_;
+};
+
+// A file an OBJ or MTL names, as found: relative to `first` (the library's folder for a map),
+// else to `second` (the OBJ's; where earlier pelt looked), with `\` read as `/` (Windows
+// exports) when that finds it. Absolute names stand alone. When nothing is found, the name as
+// `first` would read it, for the error message.
+std::filesystem::path find_named_file(const std::string& name, const std::filesystem::path& first,
+                                      const std::filesystem::path& second);
+
+// MTL text as tinyobjloader should read it: a byte-order mark dropped, material names' blanks
+// kept (kNameBlank), and each map statement pelt draws (map_Kd, norm, bump, map_Bump) reduced to
+// its file name, after its options are read at their arities. What pelt cannot honour (a map
+// scaled, offset or turbulent by -s, -o, -t, or clamped) and a map statement naming no file are
+// added to `warnings`, naming `library`.
+std::string mend_mtl(const std::string& text, const std::string& library, std::vector<std::string>& warnings);
+
+}  // namespace pelt::io::detail

@@ -348,12 +348,17 @@ std::filesystem::path find_head_scan(std::string_view option) {
     if (fs::path p = walk_up(exe.parent_path()); !p.empty()) return p;
     tried.push_back(exe.parent_path() / kHeadRelative);
   }
+  // Each place once (the working directory is often the program's folder), and the parents said
+  // as such: the message lists the first place of each walk.
   std::string list;
-  for (const fs::path& p : tried) list += (list.empty() ? "" : ", ") + p.string();
+  for (size_t i = 0; i < tried.size(); ++i)
+    if (std::find(tried.begin(), tried.begin() + long(i), tried[i]) == tried.begin() + long(i))
+      list += (list.empty() ? "" : ", ") + tried[i].string();
   throw io::InputError("", std::string(option),
                        "the head scan " + std::string(kHeadRelative) +
-                           " was not found under $PELT_SOURCE_DIR, the working directory, the program's "
-                           "folder or their parents (tried " + list + "); pass its path");
+                           " was not found under $PELT_SOURCE_DIR (the source tree), the working directory, the "
+                           "program's folder or any of their parents up to 8 levels (tried " + list +
+                           " and the same under each parent); pass its path");
 }
 
 MeshTopology mesh_topology(const Mesh& mesh) {

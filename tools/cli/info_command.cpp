@@ -56,6 +56,7 @@ std::string force_frames(bool present, int computed, int frames) {
 
 struct InfoOptions {
   std::string path;
+  int width = 0, height = 0, threads = 0;  // as `pelt render` takes them
   QualityFlags quality;
   io::Budget budget;
 };
@@ -64,13 +65,16 @@ int run_info(const InfoOptions& o) {
   const std::string& path = o.path;
   const io::Scene file_scene = io::load_scene(path);
   render::RenderSettings rs;
-  // As `pelt render` sets it, so the memory estimate counts the same workers' scratch.
-  rs.threads = worker_threads(0);
+  // As `pelt render` sets them, so the memory estimate (and its budget check) is the render's:
+  // the same image buffers and the same workers' scratch.
+  rs.width = o.width;
+  rs.height = o.height;
+  rs.threads = worker_threads(o.threads);
   rs.quality = resolve_quality(file_scene, o.quality);
   rs.budget = o.budget;
   rs.describe_only = true;
   const std::unique_ptr<render::SceneRenderer> owned = naming_flag_origin(
-      file_scene, o.quality, 0, 0, [&] { return std::make_unique<render::SceneRenderer>(file_scene, rs); });
+      file_scene, o.quality, o.width, o.height, [&] { return std::make_unique<render::SceneRenderer>(file_scene, rs); });
   const render::SceneRenderer& r = *owned;
   for (const std::string& w : r.warnings()) std::fprintf(stderr, "pelt: warning: %s\n", w.c_str());
   // Shells, fins and skin models as the quality draws them.
@@ -144,9 +148,9 @@ int run_info(const InfoOptions& o) {
   }
   std::printf("triangles  %llu before fur, %llu after\n", static_cast<unsigned long long>(r.base_triangles()),
               static_cast<unsigned long long>(r.base_triangles() + r.fur_triangles()));
-  std::printf("memory     about %s at the peak of `pelt render` on %d threads (what --max-memory is checked "
+  std::printf("memory     about %s at the peak of `pelt render` on %d thread%s (what --max-memory is checked "
               "against)\n",
-              render::describe_bytes(r.budget_estimate()).c_str(), rs.threads);
+              render::describe_bytes(r.budget_estimate()).c_str(), rs.threads, rs.threads == 1 ? "" : "s");
   return 0;
 }
 
@@ -156,6 +160,7 @@ Run add_info_command(CLI::App& app) {
   auto o = std::make_shared<InfoOptions>();
   CLI::App* sub = app.add_subcommand("info", "Show what a scene will compute, without rendering");
   sub->add_option("scene", o->path, "Scene file (JSON, version 1)")->required();
+  add_image_options(*sub, o->width, o->height, o->threads);
   add_quality_options(*sub, o->quality);
   add_budget_options(*sub, o->budget);
   return [o] { return run_info(*o); };

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "tools/cli/commands.h"
+#include "tools/cli/parse_errors.h"
 #include "tools/io/input_error.h"
 
 namespace {
@@ -81,7 +82,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    std::fprintf(stderr, "pelt: error: %s\n", pelt::cli::explain_parse_error(app, argc, argv, e).c_str());
     return 2;
   }
   try {

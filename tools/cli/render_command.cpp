@@ -179,19 +179,21 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
   if (gif) {
     // GIF counts a frame's delay in hundredths of a second in 16 bits.
     const double fps = scene.animation ? scene.animation->fps : io::Animation{}.fps;
+    char shown[32];
+    std::snprintf(shown, sizeof shown, "%g", fps);
     if (fps < 100.0 / 65535.0)
       throw io::InputError(scene.file.string(), "animation.fps",
-                           "a GIF frame lasts at most 655.35 s, so a GIF needs at least 0.0016 frames per second; got " +
-                               std::to_string(fps));
+                           std::string("a GIF frame lasts at most 655.35 s, so a GIF needs at least 0.0016 frames per "
+                                       "second; got ") + shown);
     if (fps > 100.0)
       throw io::InputError(scene.file.string(), "animation.fps",
-                           "a GIF frame lasts at least 1/100 s, so a GIF plays at most 100 frames per second; got " +
-                               std::to_string(fps) + " (write a PNG sequence, -o frame_####.png, instead)");
-    if (fps > 50.0 && !o.quiet)
+                           std::string("a GIF frame lasts at least 1/100 s, so a GIF plays at most 100 frames per "
+                                       "second; got ") + shown + " (write a PNG sequence, -o frame_####.png, instead)");
+    if (fps > 50.0)  // a warning, which --quiet does not silence
       std::fprintf(stderr,
-                   "pelt render: note: %g frames per second is a GIF delay of 1/100 s, which most web browsers "
-                   "play as 1/10 s; 50 fps or fewer plays as asked everywhere\n",
-                   fps);
+                   "pelt: warning: %s (animation.fps): %s frames per second is a GIF delay of 1/100 s, which most web "
+                   "browsers play as 1/10 s; 50 fps or fewer plays as asked everywhere\n",
+                   scene.file.string().c_str(), shown);
     if (pattern.has_frame_field())
       throw io::InputError(o.output, "-o", "a GIF holds every frame in one file; remove the `#` run");
     if (render::per_pixel_value(aov))
@@ -265,9 +267,17 @@ int run_render(const RenderOptions& o) {
   // worker threads start first, as no thread can start during the load (raster/parallel.h).
   raster::start_worker_threads(rs.threads);
   io::preload_image_backend();
+  const auto setup_start = std::chrono::steady_clock::now();
   const std::unique_ptr<render::SceneRenderer> owned = make_renderer(rs);
   render::SceneRenderer& renderer = *owned;
   for (const std::string& w : renderer.warnings()) std::fprintf(stderr, "pelt: warning: %s\n", w.c_str());
+  // The frames' reports count their own time; what the scene cost once (meshes, maps, fur, the
+  // normal blur: the first frame's set-up stages in --stats) is said before them.
+  if (mode != render::ProgressMode::quiet)
+    std::fprintf(stderr, "pelt: scene set up in %s (meshes, maps, fur, blurred normals: once, before the frames)\n",
+                 render::format_duration(
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count())
+                     .c_str());
   // Installed before any temporary is created (the writability probes below, the GIF's): a
   // signal that found a temporary but not yet the handler would end the process by the default
   // action and leave the temporary behind. (Installed after the probes, a second Ctrl-C in the
@@ -397,9 +407,7 @@ Run add_render_command(CLI::App& app) {
   sub->add_option("-o,--output", o->output,
                   "Output: .png, .exr, .tif with `#` for the frame number (out/frame_####.png), or .gif")
       ->required();
-  sub->add_option("--width", o->width, "Image width (default: the scene's)")->check(CLI::Range(1, 16384));
-  sub->add_option("--height", o->height, "Image height (default: the scene's)")->check(CLI::Range(1, 16384));
-  sub->add_option("--threads", o->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 256));
+  add_image_options(*sub, o->width, o->height, o->threads);
   sub->add_option("--png-compression", o->png_compression,
                   "PNG zlib level: 0 (fastest) to 9 (smallest) (default: " +
                       std::to_string(io::kDefaultPngCompression) + ")")

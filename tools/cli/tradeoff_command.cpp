@@ -313,9 +313,7 @@ Run add_tradeoff_command(CLI::App& app) {
   sub->add_option("-o,--output", o->output, "Output folder (default: out/tradeoff/<scene file stem>)");
   sub->add_option("--runs", o->runs, "Timed frames per setting and pass, after one warm-up each (at least 5)")
       ->check(CLI::Range(5, 1000));
-  sub->add_option("--threads", o->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 256));
-  sub->add_option("--width", o->width, "Image width (default: the scene's)")->check(CLI::Range(1, 16384));
-  sub->add_option("--height", o->height, "Image height (default: the scene's)")->check(CLI::Range(1, 16384));
+  add_image_options(*sub, o->width, o->height, o->threads);
   std::string knob_names;
   for (std::string_view k : io::kKnobs) knob_names += (knob_names.empty() ? "" : ",") + std::string(k);
   CLI::Option* knobs =

@@ -28,6 +28,15 @@ void on_signal(int sig) {
   // finish). The temporaries go first (and a child writing one, io::set_temp_writer_child), or
   // they would stay behind under a name no later run removes.
   io::remove_temp_files_in_signal_handler();
+  // Said, as `pelt render` says its first signal's stop: a log would otherwise end with no line.
+  // write(2), not stdio: this is a signal handler.
+  const bool again = !g_stop_now.load();
+  const char* message = again ? "pelt: interrupted again: stopped at once; the frame in flight is not written\n"
+                        : sig == SIGINT ? "pelt: interrupted (SIGINT): stopped at once; nothing more is written\n"
+                                        : "pelt: interrupted (SIGTERM): stopped at once; nothing more is written\n";
+  size_t length = 0;
+  while (message[length] != '\0') ++length;
+  [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, message, length);
   ::_exit(128 + sig);
 }
 

@@ -9,6 +9,7 @@
 #include <memory>
 #include <sstream>
 #include <stdexcept>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -270,18 +271,33 @@ int run_tradeoff(const TradeoffOptions& o) {
   std::fwrite(table.data(), 1, table.size(), stdout);
   std::fflush(stdout);
 
-  // A plot left by an earlier run stays beside the new CSV (pelt removes no file it did not
-  // write this run): the user is told it does not show this sweep.
-  auto stale_plot = [&] {
+  // Outputs an earlier run left in the folder stay (pelt removes no file it did not write this
+  // run), beside the new CSV: the user is told which do not show this sweep. The row images
+  // are counted for the folder's own files only.
+  std::set<fs::path> drawn;
+  if (o.images)
+    for (const tradeoff::Setting& s : plan) drawn.insert(image_path(dir, s));
+  auto stale_outputs = [&](bool plot_written) {
+    std::string note;
     std::error_code ec;
     const fs::path png = dir / "tradeoff.png";
-    return fs::exists(png, ec) ? "; " + png.string() + " is an earlier run's plot and does not show this sweep"
-                               : std::string();
+    if (!plot_written && fs::exists(png, ec))
+      note += "; " + png.string() + " is an earlier run's plot and does not show this sweep";
+    size_t old_images = 0;
+    std::string first;
+    for (fs::directory_iterator it(dir / "images", ec), end; !ec && it != end; it.increment(ec))
+      if (it->path().extension() == ".png" && !drawn.count(it->path()) && old_images++ == 0)
+        first = it->path().filename().string();
+    if (old_images > 0)
+      note += "; " + (dir / "images").string() + " holds " + std::to_string(old_images) + " row image" +
+              (old_images == 1 ? "" : "s") + " of an earlier sweep (" + first + (old_images > 1 ? ", ..." : "") +
+              ") that this one did not draw";
+    return note;
   };
   if (o.no_plot) {
     std::fprintf(stderr, "pelt tradeoff: wrote %s and %s (no plot: --no-plot%s)\n",
                  (dir / "tradeoff.csv").string().c_str(), (dir / "tradeoff.md").string().c_str(),
-                 stale_plot().c_str());
+                 stale_outputs(false).c_str());
     return 0;
   }
   const tradeoff::PlotOutcome plot =
@@ -294,11 +310,12 @@ int run_tradeoff(const TradeoffOptions& o) {
     std::fprintf(stderr,
                  "pelt: error: plot: %s; %s and %s were written, the plot was not made (or pass --no-plot)%s\n",
                  plot.problem.c_str(), (dir / "tradeoff.csv").string().c_str(),
-                 (dir / "tradeoff.md").string().c_str(), stale_plot().c_str());
+                 (dir / "tradeoff.md").string().c_str(), stale_outputs(false).c_str());
     return 2;
   }
-  std::fprintf(stderr, "pelt tradeoff: wrote %s, %s and %s\n", (dir / "tradeoff.csv").string().c_str(),
-               (dir / "tradeoff.md").string().c_str(), (dir / "tradeoff.png").string().c_str());
+  std::fprintf(stderr, "pelt tradeoff: wrote %s, %s and %s%s\n", (dir / "tradeoff.csv").string().c_str(),
+               (dir / "tradeoff.md").string().c_str(), (dir / "tradeoff.png").string().c_str(),
+               stale_outputs(true).c_str());
   return 0;
 }
 

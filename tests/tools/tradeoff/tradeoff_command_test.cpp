@@ -138,7 +138,8 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<BadRun>& info) { return std::string(info.param.name); });
 
 // --no-plot writes no plot, and removes none: an earlier run's plot left in the folder is
-// named as not showing this sweep, so nobody reads the new CSV off the old picture.
+// named as not showing this sweep, so nobody reads the new CSV off the old picture; so are row
+// images an earlier --images left.
 TEST(TradeoffCommand, NoPlotNamesAnEarlierRunsPlot) {
   TempDir dir;
   const fs::path scene = dir.write("tiny.json", kTinyFurScene);
@@ -146,14 +147,19 @@ TEST(TradeoffCommand, NoPlotNamesAnEarlierRunsPlot) {
   fs::create_directories(out);
   const std::string old_plot = "an earlier run's picture";
   dir.write("report/tradeoff.png", old_plot);
+  dir.write("report/images/filter_bilinear.png", old_plot);
   const Result r = run_pelt({"tradeoff", scene.string(), "-o", out.string(), "--runs", "5", "--knobs", "fins",
                              "--no-plot"},
                             dir.path());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("tradeoff.png is an earlier run's plot and does not show this sweep"), std::string::npos)
       << r.err;
+  EXPECT_NE(r.err.find("images holds 1 row image of an earlier sweep (filter_bilinear.png) that this one did not draw"),
+            std::string::npos)
+      << r.err;
   EXPECT_EQ(read_text(out / "tradeoff.png"), old_plot);
   fs::remove(out / "tradeoff.png");
+  fs::remove_all(out / "images");
   const Result again = run_pelt({"tradeoff", scene.string(), "-o", out.string(), "--runs", "5", "--knobs", "fins",
                                  "--no-plot"},
                                 dir.path());

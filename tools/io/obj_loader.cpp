@@ -393,6 +393,21 @@ std::string mend_obj(const std::filesystem::path& path) {
   return out;
 }
 
+// " (line N)" of face `face` (0-based, in file order), found by reading the file again: only an
+// error needs it, so no line number is kept per face of a large file.
+std::string face_line(const std::filesystem::path& path, size_t face) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  size_t faces = 0;
+  for (size_t number = 1; read_line(in, line); ++number) {
+    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+    const size_t i = line.find_first_not_of(" \t");
+    if (i != std::string::npos && starts_record(line, i, "f") && faces++ == face)
+      return " (line " + std::to_string(number) + ")";
+  }
+  return "";
+}
+
 }  // namespace
 
 LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
@@ -492,15 +507,15 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
         if (idx.vertex_index < 0 || static_cast<size_t>(idx.vertex_index) >= nv)
           throw InputError(file, face_name(face_number),
                            "vertex index " + std::to_string(idx.vertex_index + 1) + " out of range (" +
-                               std::to_string(nv) + " vertices)");
+                               std::to_string(nv) + " vertices)" + face_line(path, face_number));
         if (idx.texcoord_index >= 0 && static_cast<size_t>(idx.texcoord_index) >= nt)
           throw InputError(file, face_name(face_number),
-                           "texture coordinate index " + std::to_string(idx.texcoord_index + 1) +
-                               " out of range (" + std::to_string(nt) + " texture coordinates)");
+                           "texture coordinate index " + std::to_string(idx.texcoord_index + 1) + " out of range (" +
+                               std::to_string(nt) + " texture coordinates)" + face_line(path, face_number));
         if (idx.normal_index >= 0 && static_cast<size_t>(idx.normal_index) >= nn)
           throw InputError(file, face_name(face_number),
                            "normal index " + std::to_string(idx.normal_index + 1) + " out of range (" +
-                               std::to_string(nn) + " normals)");
+                               std::to_string(nn) + " normals)" + face_line(path, face_number));
         CornerKey key{idx, 0};
         if (by_smoothing)
           key.smoothing = smoothing_key(f < mesh.smoothing_group_ids.size() ? mesh.smoothing_group_ids[f] : 0u,

@@ -218,10 +218,11 @@ TEST(MeshLoader, ObjRecordsMustHaveTheirNumbers) {
   EXPECT_EQ(l.mesh.uvs[2], glm::vec2(1.0f, 1.0f));
 }
 
+// Named by the face's record and its line (found again only for the message).
 TEST(MeshLoader, ObjIndexOutOfRange) {
   TempDir dir;
-  const auto f = dir.write("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n");
-  expect_load_error(f, "f 2", "vertex index 9 out of range (3 vertices)");
+  const auto f = dir.write("range.obj", "v 0 0 0\nv 1 0 0\n# a comment\nv 0 1 0\nf 1 2 3\n\nf 1 2 9\n");
+  expect_load_error(f, "f 2", "vertex index 9 out of range (3 vertices) (line 7)");
 }
 
 // Faces are numbered as the file's `f` records, whatever polygons come before: the third

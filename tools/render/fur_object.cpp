@@ -92,7 +92,7 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
     if (auto e = fur::build_fur_geometry(base, params, geo_, options.length_scale))
       throw_fur_error(origin, e->field, e->reason);
   }
-  {
+  if (options.textures) {
     StageTimer t(setup, "fur_textures");
     fur::StrandTextures tex;
     if (match_llvmpipe_) {

@@ -63,6 +63,9 @@ struct FurDrawOptions {
   std::vector<float> length_scale;
   // Builds the strand textures' layers as its items (the render's threads); none: in order.
   raster::ParallelFor parallel;
+  // Off: the fur is never drawn (the depth and id AOVs, a describe-only set-up), so its strand
+  // textures are not generated; the object then serves geometry() and counts only.
+  bool textures = true;
 };
 
 // Where a furry object's fur block sits in its scene, so that a bad field is reported as the

@@ -368,6 +368,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       fo.grey_varyings = settings.fur_grey_varyings;
       fo.merge_fins = quality_.fin_quads == io::FinQuads::merged;
       fo.parallel = parallel;
+      fo.textures = !settings.describe_only && aov_shows_fur(settings.aov);
       if (!obj->color_map.empty()) fo.color_map = &obj->color_map;
       if (!so.fur_length_map.empty()) {
         StageTimer t(setup_stats_, "textures");

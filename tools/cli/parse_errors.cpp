@@ -8,6 +8,11 @@
 namespace pelt::cli {
 
 std::string explain_parse_error(CLI::App& app, int argc, char** argv, const CLI::ParseError& e) {
+  // Only words CLI11 could not place are pelt's to name; any other refusal (a value out of
+  // range, two options that exclude each other) is CLI11's own message.
+  const bool extras = dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr;
+  const bool required = dynamic_cast<const CLI::RequiredError*>(&e) != nullptr;
+  if (!extras && !required) return e.what();
   // The command the words name, as far as they name one.
   CLI::App* level = &app;
   std::string path = "pelt";
@@ -33,8 +38,7 @@ std::string explain_parse_error(CLI::App& app, int argc, char** argv, const CLI:
     level = next;
     path += " " + word;
   }
-  if (const auto* required = dynamic_cast<const CLI::RequiredError*>(&e);
-      required && std::string_view(e.what()).find("ubcommand") != std::string_view::npos) {
+  if (required && std::string_view(e.what()).find("ubcommand") != std::string_view::npos) {
     std::string list;
     for (CLI::App* s : level->get_subcommands({})) list += (list.empty() ? "" : ", ") + s->get_name();
     return "`" + path + "` needs a command: " + list + " (`" + path + " --help` says what each does)";
@@ -44,9 +48,10 @@ std::string explain_parse_error(CLI::App& app, int argc, char** argv, const CLI:
   for (const CLI::Option* o : level->get_options())
     for (const std::string& n : o->get_lnames()) options.push_back("--" + n);
   const std::vector<std::string_view> candidates(options.begin(), options.end());
-  for (; i < argc; ++i) {
+  for (; extras && i < argc; ++i) {
     std::string word = argv[i];
-    if (word.rfind("--", 0) != 0 || word == "--") continue;
+    if (word == "--") break;  // what follows is positional
+    if (word.rfind("--", 0) != 0) continue;
     word.resize(std::min(word.size(), word.find('=')));
     bool known = false;
     for (const std::string& o : options) known |= o == word;

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <optional>
 
 #include <glm/geometric.hpp>
@@ -29,8 +30,8 @@ constexpr int kMaxNodeDepth = 256;  // deeper than any real scene; stops runaway
 
 class GltfReader {
  public:
-  GltfReader(const tinygltf::Model& model, std::string file, std::filesystem::path dir)
-      : model_(model), file_(std::move(file)), dir_(std::move(dir)) {}
+  GltfReader(const tinygltf::Model& model, std::string file, std::filesystem::path dir, const Budget& budget)
+      : model_(model), file_(std::move(file)), dir_(std::move(dir)), budget_(budget) {}
 
   // Triangles the default scene makes, from the accessors' counts alone (no buffer is
   // read), every mesh instance counted; saturating. A node reached twice through a DAG of
@@ -47,12 +48,17 @@ class GltfReader {
   LoadedMesh read() {
     const std::vector<int> roots = scene_roots();
     parents_.assign(model_.nodes.size(), -1);
+    world_.assign(model_.nodes.size(), std::nullopt);
     for (size_t i = 0; i < model_.nodes.size(); ++i)
       for (int c : model_.nodes[i].children)
         if (c >= 0 && c < static_cast<int>(parents_.size()) && parents_[size_t(c)] < 0)
           parents_[size_t(c)] = static_cast<int>(i);
     std::vector<int> on_path(model_.nodes.size(), 0);
     for (int root : roots) visit(root, glm::dmat4(1.0), 0, on_path);
+    if (!hidden_.empty())
+      out_.warnings.push_back(hidden_[0] + (hidden_.size() > 1 ? " and " + std::to_string(hidden_.size() - 1) +
+                                                                     " more nodes are" : " is") +
+                              " scaled to a point or a line: not drawn");
     if (out_.mesh.indices.empty())
       throw InputError(file_, "", "the default scene has no triangles");
     if (!all_uvs_) {
@@ -118,17 +124,25 @@ class GltfReader {
     return total;
   }
 
+  // A node's matrix, like a joint's inverse bind matrix, is a translation, rotation and scale
+  // (decomposable, the specification says): its last row is 0, 0, 0, 1, made exact here when it
+  // is within an exporter's float rounding. Another would be a projection, whose w pelt drops.
+  void make_affine(glm::dmat4& m, const std::string& field) const {
+    constexpr double kRounding = 1e-6;
+    if (std::abs(m[0][3]) > kRounding || std::abs(m[1][3]) > kRounding || std::abs(m[2][3]) > kRounding ||
+        std::abs(m[3][3] - 1.0) > kRounding)
+      throw InputError(file_, field, "the last row (elements 3, 7, 11, 15) must be 0, 0, 0, 1: the matrix is affine");
+    m[0][3] = m[1][3] = m[2][3] = 0.0;
+    m[3][3] = 1.0;
+  }
+
   glm::dmat4 local_transform(const tinygltf::Node& n, const std::string& where) const {
     if (n.matrix.size() == 16) {
       glm::dmat4 m;
       std::memcpy(glm::value_ptr(m), n.matrix.data(), sizeof(double) * 16);  // column-major
       for (int k = 0; k < 16; ++k)
         if (!std::isfinite(n.matrix[k])) throw InputError(file_, where + ".matrix", "value is not finite");
-      // A node's matrix is a translation, rotation and scale (decomposable, the specification
-      // says): its last row is 0, 0, 0, 1. Another would be a projection, whose w pelt drops.
-      if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0)
-        throw InputError(file_, where + ".matrix",
-                         "the last row (elements 3, 7, 11, 15) must be 0, 0, 0, 1: a node's matrix is affine");
+      make_affine(m, where + ".matrix");
       return m;
     }
     if (!n.matrix.empty()) throw InputError(file_, where + ".matrix", "must have 16 numbers");
@@ -269,18 +283,23 @@ class GltfReader {
 
   // The world transform of `node` through its parents: a joint's, wherever the traversal
   // meets the mesh it moves.
-  glm::dmat4 world_of(int node, int depth = 0) const {
+  glm::dmat4 world_of(int node, int depth = 0) {
+    if (const auto& known = world_[size_t(node)]) return *known;  // once per node, however many joints
     const std::string where = "nodes[" + std::to_string(node) + "]";
     if (depth > kMaxNodeDepth) throw InputError(file_, where, "node hierarchy is too deep, or a cycle");
     const glm::dmat4 local = local_transform(model_.nodes[size_t(node)], where);
     const int parent = parents_[size_t(node)];
-    return parent < 0 ? local : world_of(parent, depth + 1) * local;
+    const glm::dmat4 world = parent < 0 ? local : world_of(parent, depth + 1) * local;
+    world_[size_t(node)] = world;
+    return world;
   }
 
   // Each joint's skinning matrix: its world transform times its inverse bind matrix.
-  std::vector<glm::dmat4> joint_matrices(int skin_index, const std::string& node_where) const {
+  const std::vector<glm::dmat4>& joint_matrices(int skin_index, const std::string& node_where) {
     if (skin_index >= static_cast<int>(model_.skins.size()))
       throw InputError(file_, node_where + ".skin", "skin " + std::to_string(skin_index) + " does not exist");
+    // Once per skin, however many nodes (instances) it skins.
+    if (const auto it = skins_.find(skin_index); it != skins_.end()) return it->second;
     const tinygltf::Skin& skin = model_.skins[size_t(skin_index)];
     const std::string sw = "skins[" + std::to_string(skin_index) + "]";
     if (skin.joints.empty()) throw InputError(file_, sw + ".joints", "a skin needs at least one joint");
@@ -297,6 +316,7 @@ class GltfReader {
           if (!std::isfinite(x)) throw InputError(file_, iw + "[" + std::to_string(j) + "]", "value is not finite");
           out[j][k / 4][k % 4] = x;  // column-major, as glm
         }
+      for (size_t j = 0; j < out.size(); ++j) make_affine(out[j], iw + "[" + std::to_string(j) + "]");
     }
     for (size_t j = 0; j < out.size(); ++j) {
       const int joint = skin.joints[j];
@@ -309,7 +329,7 @@ class GltfReader {
           if (!std::isfinite(out[j][c][k]))
             throw InputError(file_, sw + ".joints[" + std::to_string(j) + "]", "joint transform is not finite");
     }
-    return out;
+    return skins_[skin_index] = std::move(out);
   }
 
   // The morph weights a node's mesh is drawn with: the node's own, else the mesh's defaults,
@@ -324,10 +344,23 @@ class GltfReader {
     return w;
   }
 
+  // Morph targets and skins move `values` more vertex values (a target's attribute, a skin set's
+  // four joints): bounded like the triangles that must be read, or a small file of many targets
+  // sharing one accessor (or a deep skin instanced many times) would run for hours.
+  void charge(uint64_t values, const std::string& field) {
+    const uint64_t limit = sat_mul(budget_.max_faces, 3);
+    deformed_ = sat_add(deformed_, values);
+    if (deformed_ > limit)
+      throw InputError(file_, field,
+                       "morph targets and skins move " + std::to_string(deformed_) +
+                           " vertex values or more, more than the budget of " + std::to_string(limit) + " (3 x " +
+                           kMaxFacesFlag + "; raise it with " + kMaxFacesFlag + ")");
+  }
+
   // Adds a primitive's weighted morph target deltas of `attribute` (POSITION or NORMAL) to `v`.
   void add_morph(const tinygltf::Primitive& prim, const std::string& pw,
                  const std::pair<std::vector<double>, std::string>& weights, const char* attribute,
-                 std::vector<glm::dvec3>& v) const {
+                 std::vector<glm::vec3>& v) {
     if (weights.first.empty()) return;
     if (prim.targets.size() != weights.first.size())
       throw InputError(file_, weights.second,
@@ -341,11 +374,12 @@ class GltfReader {
       const View dv = view_of(it->second, tw);
       if (dv.components != 3 || dv.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || dv.count != v.size())
         throw InputError(file_, tw, "must be VEC3 of FLOAT with one value per position");
+      charge(v.size(), tw);
       for (size_t i = 0; i < v.size(); ++i) {
         const glm::dvec3 d(component(dv, i, 0), component(dv, i, 1), component(dv, i, 2));
         if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
           throw InputError(file_, tw + "[" + std::to_string(i) + "]", "value is not finite");
-        v[i] += w * d;
+        v[i] = glm::vec3(glm::dvec3(v[i]) + w * d);
       }
     }
   }
@@ -428,12 +462,14 @@ class GltfReader {
     const auto weights = morph_weights(n, nw, mesh, mw);
     // A skinned mesh is placed by its joints alone: the specification has the node's own
     // transform ignored. The joints stand as the file poses them (pelt plays no animation).
-    const std::vector<glm::dmat4> joints = n.skin >= 0 ? joint_matrices(n.skin, nw) : std::vector<glm::dmat4>{};
+    static const std::vector<glm::dmat4> kNoJoints;
+    const std::vector<glm::dmat4>& joints = n.skin >= 0 ? joint_matrices(n.skin, nw) : kNoJoints;
     const NormalTransform whole = normal_transform(glm::dmat3(world));
     if (joints.empty() && whole.rank < 2) {
       // A node scaled to nothing (how files hide one): no triangle to draw, and its vertices
-      // would still count in the mesh's bounds and uv area, which size the fur.
-      out_.warnings.push_back(nw + " is scaled to a point or a line: its mesh is not drawn");
+      // would still count in the mesh's bounds and uv area, which size the fur. Its triangles
+      // still count in --max-faces (counted before any transform).
+      hidden_.push_back(nw);
       return;
     }
     const auto& prims = mesh.primitives;
@@ -455,9 +491,10 @@ class GltfReader {
       if (pos.components != 3 || pos.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT)
         throw InputError(file_, posw, "must be VEC3 of FLOAT");
 
-      std::vector<glm::dvec3> local(pos.count);
+      // The file's values (floats) before the transform: morphs add to them.
+      std::vector<glm::vec3> local(pos.count);
       for (size_t i = 0; i < pos.count; ++i) {
-        const glm::dvec3 p(component(pos, i, 0), component(pos, i, 1), component(pos, i, 2));
+        const glm::vec3 p(component(pos, i, 0), component(pos, i, 1), component(pos, i, 2));
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
           throw InputError(file_, posw + "[" + std::to_string(i) + "]",
                            std::string("position is ") + (std::isnan(p.x + p.y + p.z) ? "NaN" : "infinite"));
@@ -465,7 +502,7 @@ class GltfReader {
       }
       add_morph(prim, pw, weights, "POSITION", local);
       // A flattened transform (rank 2) takes its normals from the flattened faces.
-      std::vector<glm::dvec3> normals;
+      std::vector<glm::vec3> normals;
       if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end() && (!joints.empty() || whole.rank == 3)) {
         const std::string nw2 = pw + ".attributes.NORMAL";
         const View nv = view_of(it->second, nw2);
@@ -473,7 +510,7 @@ class GltfReader {
           throw InputError(file_, nw2, "must be VEC3 of FLOAT with one normal per position");
         normals.resize(nv.count);
         for (size_t i = 0; i < nv.count; ++i) {
-          normals[i] = glm::dvec3(component(nv, i, 0), component(nv, i, 1), component(nv, i, 2));
+          normals[i] = glm::vec3(component(nv, i, 0), component(nv, i, 1), component(nv, i, 2));
           if (!std::isfinite(normals[i].x) || !std::isfinite(normals[i].y) || !std::isfinite(normals[i].z))
             throw InputError(file_, nw2 + "[" + std::to_string(i) + "]", "normal is not finite");
         }
@@ -483,15 +520,16 @@ class GltfReader {
       Mesh& m = out_.mesh;
       const auto base = static_cast<uint32_t>(m.positions.size());
       const std::vector<SkinSet> sets = joints.empty() ? std::vector<SkinSet>{} : skin_sets(prim, pw, pos.count);
+      if (!sets.empty()) charge(sat_mul(pos.count, 4 * sets.size()), pw + ".attributes.JOINTS_0");
       std::vector<uint8_t> vertex_mirrored(sets.empty() ? 0 : pos.count);  // a skinned vertex's joints mirror it
       for (size_t i = 0; i < pos.count; ++i) {
         const glm::dmat4 to_world = sets.empty() ? world : skin_matrix(sets, joints, i);
-        const glm::dvec4 p = to_world * glm::dvec4(local[i], 1.0);
+        const glm::dvec4 p = to_world * glm::dvec4(glm::dvec3(local[i]), 1.0);
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
           throw InputError(file_, posw + "[" + std::to_string(i) + "]", "the transformed position is not finite");
         m.positions.emplace_back(glm::dvec3(p));
         if (sets.empty()) {
-          if (!normals.empty()) m.normals.emplace_back(whole.matrix * normals[i]);
+          if (!normals.empty()) m.normals.emplace_back(whole.matrix * glm::dvec3(normals[i]));
           continue;
         }
         const NormalTransform t = normal_transform(glm::dmat3(to_world));
@@ -499,7 +537,7 @@ class GltfReader {
         // A vertex its joints collapse has no surface of its own: any unit normal will do, and
         // a zero one would have every normal of the file recomputed.
         if (!normals.empty())
-          m.normals.emplace_back(t.rank == 3 ? glm::vec3(t.matrix * normals[i]) : glm::vec3(0.0f, 1.0f, 0.0f));
+          m.normals.emplace_back(t.rank == 3 ? glm::vec3(t.matrix * glm::dvec3(normals[i])) : glm::vec3(0.0f, 1.0f, 0.0f));
       }
       const bool flat = m.normals.size() != m.positions.size();
 
@@ -716,7 +754,12 @@ class GltfReader {
   std::string file_;
   std::filesystem::path dir_;
   LoadedMesh out_;
-  std::vector<int> parents_;  // each node's first parent, -1 for none
+  const Budget& budget_;
+  std::vector<int> parents_;                       // each node's first parent, -1 for none
+  std::vector<std::optional<glm::dmat4>> world_;   // world_of's, per node
+  std::map<int, std::vector<glm::dmat4>> skins_;   // joint_matrices', per skin
+  std::vector<std::string> hidden_;                // nodes scaled to a point or a line
+  uint64_t deformed_ = 0;                          // vertex values moved by morphs and skins
   bool all_uvs_ = true, any_uvs_ = false;
   Taken color_texture_, normal_texture_;
 };
@@ -938,7 +981,7 @@ LoadedMesh load_gltf(const std::filesystem::path& path, bool binary, const Budge
                      "the file needs the extension `" + model.extensionsRequired.front() +
                          "`, which pelt does not read (it reads core glTF 2.0 only)");
   check_integer_fields(gltf_json_text(path, binary), file);
-  GltfReader reader(model, file, path.parent_path());
+  GltfReader reader(model, file, path.parent_path(), budget);
   check_face_budget(reader.triangle_count(), budget, file, "");
   LoadedMesh out = reader.read();
   add_library_warnings(out, warn);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -194,27 +195,90 @@ struct ObjPrescan {
   // mark, a line continued by `\`, a comment after a face's corners, a material name with
   // blanks.
   bool needs_mending = false;
-  // Each `mtllib` record's text after the keyword (MaterialLibraries reads them).
-  std::vector<std::string> libraries;
+  // The `mtllib` records tinyobjloader will load, in order: the word it calls the reader with,
+  // and the record's text after the keyword (MaterialLibraries reads them).
+  std::vector<LibraryRecord> libraries;
 };
 
-// Whether `line` (a record, not a comment) goes on in the next line: its last character
-// before trailing blanks is `\` (the OBJ specification's continuation).
-bool continues(const std::string& line) {
-  size_t end = line.find_last_not_of(" \t");
-  return end != std::string::npos && line[end] == '\\' && line[line.find_first_not_of(" \t")] != '#';
-}
-
-// The text of a record after its keyword at i, without a trailing comment.
-std::string record_text(const std::string& line, size_t i, size_t keyword) {
+// The text after a record's keyword at i: blanks trimmed, and a trailing comment (a word that
+// begins with `#`) cut off, except in a name (`usemtl Material #2`, `mtllib my #1.mtl`).
+std::string record_text(const std::string& line, size_t i, size_t keyword, bool name = false) {
   std::string t = line.substr(std::min(line.size(), i + keyword));
-  for (size_t h = t.find('#'); h != std::string::npos; h = t.find('#', h + 1))
-    if (h == 0 || t[h - 1] == ' ' || t[h - 1] == '\t') {
-      t.resize(h);
-      break;
-    }
+  if (!name)
+    for (size_t h = t.find('#'); h != std::string::npos; h = t.find('#', h + 1))
+      if (h == 0 || t[h - 1] == ' ' || t[h - 1] == '\t') {
+        t.resize(h);
+        break;
+      }
   const size_t a = t.find_first_not_of(" \t"), b = t.find_last_not_of(" \t");
   return a == std::string::npos ? std::string() : t.substr(a, b - a + 1);
+}
+
+bool names_something(const std::string& line, size_t i) {
+  for (const char* k : {"usemtl", "mtllib", "newmtl", "o", "g"})
+    if (starts_record(line, i, k)) return true;
+  return false;
+}
+
+// Whether `line` goes on in the next one: its last character before trailing blanks, and
+// before a trailing comment (but in a name), is `\` (the OBJ specification's continuation). A
+// comment line never goes on.
+bool continues(const std::string& line) {
+  const size_t i = line.find_first_not_of(" \t");
+  if (i == std::string::npos || line[i] == '#') return false;
+  const std::string text = record_text(line, i, 0, names_something(line, i));
+  return !text.empty() && text.back() == '\\';
+}
+
+// One record of the file: its lines joined where `\` continues them, the byte-order mark dropped
+// from the file's first line. `lines`: how many of the file's lines it took; `mended`: set
+// when the record is not the file's text as tinyobjloader would read it. A `\` on the file's
+// last line continues into nothing and is dropped.
+bool read_record(std::istream& in, std::string& record, size_t& lines, bool first, bool& mended) {
+  if (!read_line(in, record)) return false;
+  lines = 1;
+  if (first && record.rfind("\xEF\xBB\xBF", 0) == 0) {
+    record.erase(0, 3);  // tinyobjloader would take the mark for part of the first word
+    mended = true;
+  }
+  std::string next;
+  while (continues(record)) {
+    mended = true;
+    const size_t i = record.find_first_not_of(" \t");
+    // Keep what precedes the `\` (a comment after it went with the record's end anyway).
+    const std::string body = record_text(record, i, 0, names_something(record, i));
+    record = record.substr(0, i) + body.substr(0, body.size() - 1);
+    if (!read_line(in, next)) break;
+    record.append(" ").append(next);
+    ++lines;
+  }
+  return true;
+}
+
+// What tinyobjloader calls its MaterialReader with for an `mtllib` record (`rest`: the text
+// after `mtllib `): its names split at blanks, `\` escaping the next character, and the first
+// that no earlier call loaded; none when every name was (`loaded` is tinyobjloader's set).
+std::optional<std::string> library_call(const std::string& rest, std::set<std::string>& loaded) {
+  std::vector<std::string> names;
+  std::string token;
+  bool escaping = false;
+  for (char ch : rest) {
+    if (escaping) {
+      escaping = false;
+    } else if (ch == '\\') {
+      escaping = true;
+      continue;
+    } else if (ch == ' ') {
+      if (!token.empty()) names.push_back(token);
+      token.clear();
+      continue;
+    }
+    token += ch;
+  }
+  names.push_back(token);
+  for (const std::string& n : names)
+    if (loaded.insert(n).second) return n;
+  return std::nullopt;
 }
 
 // An `s` record's argument: `off`, or a group number, 0 meaning off (the OBJ specification).
@@ -252,25 +316,22 @@ ObjPrescan prescan_obj(std::istream& in, const std::string& file) {
   std::string line, tok;
   size_t counts[3] = {0, 0, 0};  // v, vt, vn
   static const char* kWhat[3] = {"position", "texture coordinate", "normal"};
-  size_t line_number = 0, faces = 0, smoothing_records = 0;
-  while (read_line(in, line)) {
+  size_t line_number = 0, faces = 0, smoothing_records = 0, lines = 1;
+  std::set<std::string> loaded;  // tinyobjloader's set of library names
+  // Records, not lines: a continued record is checked joined, named by its first line.
+  for (; read_record(in, line, lines, line_number == 0, out.needs_mending); line_number += lines - 1) {
     ++line_number;
-    if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) {
-      out.needs_mending = true;  // tinyobjloader would take the mark for part of the first word
-      line.erase(0, 3);
-    }
     size_t i = line.find_first_not_of(" \t");
     if (i == std::string::npos) continue;
-    if (continues(line)) {
-      out.needs_mending = true;  // checked once joined
-      continue;
-    }
     if (starts_record(line, i, "mtllib")) {
-      out.libraries.push_back(record_text(line, i, 6));
+      // tinyobjloader takes the text after `mtllib` and one character (its token + 7).
+      const std::string rest = line.substr(std::min(line.size(), i + 7));
+      if (std::optional<std::string> word = library_call(rest, loaded))
+        out.libraries.push_back({*word, record_text(line, i, 6, true)});
       continue;
     }
     if (starts_record(line, i, "usemtl")) {
-      if (record_text(line, i, 6).find_first_of(" \t") != std::string::npos) out.needs_mending = true;
+      if (record_text(line, i, 6, true).find_first_of(" \t") != std::string::npos) out.needs_mending = true;
       continue;
     }
     if (starts_record(line, i, "f")) {
@@ -366,29 +427,22 @@ ObjPrescan prescan_obj(std::istream& in, const std::string& file) {
 // (kNameBlank).
 std::string mend_obj(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  std::string out, line, next;
-  bool first = true;
-  while (read_line(in, line)) {
-    if (first && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
-    first = false;
-    size_t joined = 0;
-    while (continues(line) && read_line(in, next)) {
-      line.resize(line.find_last_not_of(" \t"));  // the `\` and what follows it
-      line.append(" ").append(next);
-      ++joined;
-    }
+  std::string out, line;
+  size_t lines = 1;
+  bool mended = false;
+  for (bool first = true; read_record(in, line, lines, first, mended); first = false) {
     const size_t i = line.find_first_not_of(" \t");
     if (i != std::string::npos) {
       if (starts_record(line, i, "f") || starts_record(line, i, "l") || starts_record(line, i, "p")) {
         line = line.substr(i, 1) + " " + record_text(line, i, 1);
       } else if (starts_record(line, i, "usemtl")) {
-        std::string name = record_text(line, i, 6);
+        std::string name = record_text(line, i, 6, true);
         std::replace_if(name.begin(), name.end(), [](char c) { return c == ' ' || c == '\t'; }, kNameBlank);
         line = "usemtl " + name;
       }
     }
     out.append(line).push_back('\n');
-    out.append(joined, '\n');
+    out.append(lines - 1, '\n');
   }
   return out;
 }
@@ -398,9 +452,9 @@ std::string mend_obj(const std::filesystem::path& path) {
 std::string face_line(const std::filesystem::path& path, size_t face) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
-  size_t faces = 0;
-  for (size_t number = 1; read_line(in, line); ++number) {
-    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+  size_t faces = 0, lines = 1;
+  bool mended = false;
+  for (size_t number = 1; read_record(in, line, lines, number == 1, mended); number += lines) {
     const size_t i = line.find_first_not_of(" \t");
     if (i != std::string::npos && starts_record(line, i, "f") && faces++ == face)
       return " (line " + std::to_string(number) + ")";
@@ -422,15 +476,12 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     pre = prescan_obj(in, file);
   }
   check_face_budget(pre.triangles, budget, file, "");
-  // Only a file that needs it is held in memory, mended, and checked again as mended.
-  std::string mended;
-  const bool mend = pre.needs_mending && !pre.bad_record;
-  if (mend) {
-    mended = mend_obj(path);
-    std::istringstream again(mended);
-    pre = prescan_obj(again, file);
-  }
   if (pre.bad_record) throw *pre.bad_record;
+  // Only a file that needs it is held in memory, mended (the prescan read its records as the
+  // mended text holds them, so the budget above and the checks are the mended file's).
+  std::string mended;
+  const bool mend = pre.needs_mending;
+  if (mend) mended = mend_obj(path);
   std::ifstream from_file;
   std::istringstream from_text;
   std::istream* text = &from_file;
@@ -441,7 +492,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     from_file.open(path, std::ios::binary);
   }
   const std::filesystem::path dir = path.parent_path();
-  MaterialLibraries libraries(dir, pre.libraries);
+  MaterialLibraries libraries(dir, std::move(pre.libraries));
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
   std::vector<tinyobj::material_t> materials;

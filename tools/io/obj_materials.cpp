@@ -166,37 +166,42 @@ std::string mend_mtl(const std::string& text, const std::string& library, std::v
   return out;
 }
 
-MaterialLibraries::MaterialLibraries(std::filesystem::path obj_dir, std::vector<std::string> records)
-    : obj_dir_(std::move(obj_dir)), records_(std::move(records)), read_(records_.size(), false) {}
+MaterialLibraries::MaterialLibraries(std::filesystem::path obj_dir, std::vector<LibraryRecord> records)
+    : obj_dir_(std::move(obj_dir)), records_(std::move(records)) {}
 
 const std::filesystem::path& MaterialLibraries::folder_of(int id) const {
   return id >= 0 && size_t(id) < folder_.size() ? folder_[size_t(id)] : obj_dir_;
 }
 
-bool MaterialLibraries::operator()(const std::string& first_word, std::vector<tinyobj::material_t>* materials,
+bool MaterialLibraries::operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
                                    std::map<std::string, int>* by_name, std::string* warn, std::string* err) {
-  // tinyobjloader calls once per record, in order, with the record's first word (and not for a
-  // record whose first word it has read before): the next unread record that begins so, else
-  // the next unread one.
-  size_t r = 0;
-  while (r < records_.size() && (read_[r] || records_[r].rfind(first_word, 0) != 0)) ++r;
-  if (r == records_.size()) r = size_t(std::find(read_.begin(), read_.end(), false) - read_.begin());
-  if (r == records_.size()) return true;
-  read_[r] = true;
-  const std::string& record = records_[r];
+  // The prescan listed the calls tinyobjloader makes, in its order; one out of step (never
+  // seen) finds its record by name.
+  size_t r = next_;
+  while (r < records_.size() && records_[r].call != name) ++r;
+  if (r >= records_.size()) return true;
+  next_ = r + 1;
+  const std::string& record = records_[r].text;
   // One library whose name holds blanks, or several names (the specification's list).
-  const std::filesystem::path whole = find_named_file(record, obj_dir_, obj_dir_);
-  if (is_file(whole)) {
-    load(whole, materials, by_name, warn, err);
-    return true;
+  std::vector<std::filesystem::path> files;
+  if (const std::filesystem::path whole = find_named_file(record, obj_dir_, obj_dir_); is_file(whole)) {
+    files.push_back(whole);
+  } else {
+    for (const std::string& n : names(record)) {
+      const std::filesystem::path found = find_named_file(n, obj_dir_, obj_dir_);
+      if (is_file(found))
+        files.push_back(found);
+      else
+        warnings_.push_back("material library `" + n + "` not found (looked for " + found.string() +
+                            "): its materials are not drawn");
+    }
   }
-  for (const std::string& name : names(record)) {
-    const std::filesystem::path found = find_named_file(name, obj_dir_, obj_dir_);
-    if (is_file(found))
-      load(found, materials, by_name, warn, err);
-    else
-      warnings_.push_back("material library `" + name + "` not found (looked for " + found.string() +
-                          "): its materials are not drawn");
+  for (const std::filesystem::path& f : files) {
+    std::error_code ec;
+    const std::filesystem::path key = std::filesystem::weakly_canonical(f, ec);
+    if (std::find(loaded_.begin(), loaded_.end(), key) != loaded_.end()) continue;
+    loaded_.push_back(key);
+    load(f, materials, by_name, warn, err);
   }
   return true;
 }

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,15 +20,23 @@ namespace pelt::io::detail {
 inline constexpr char kNameBlank = '\x1f';
 std::string shown_name(std::string name);
 
+// An `mtllib` record tinyobjloader loads: the name it calls the reader with (its first name no
+// earlier record loaded, read with tinyobjloader's own splitting) and the record's text after
+// the keyword. Records it calls for no name are not listed.
+struct LibraryRecord {
+  std::string call;
+  std::string text;
+};
+
 // The `mtllib` records of one OBJ file, read when tinyobjloader meets each.
 class MaterialLibraries final : public tinyobj::MaterialReader {
  public:
-  // `records`: each `mtllib` record's text after the keyword, in file order.
-  MaterialLibraries(std::filesystem::path obj_dir, std::vector<std::string> records);
+  // `records`: in file order, as the OBJ's prescan found them.
+  MaterialLibraries(std::filesystem::path obj_dir, std::vector<LibraryRecord> records);
 
-  // Called by tinyobjloader with the first word of a record: loads every library that record
-  // names. Always true: a library not found is pelt's own warning (warnings()).
-  bool operator()(const std::string& first_word, std::vector<tinyobj::material_t>* materials,
+  // Called by tinyobjloader once per listed record, in order: loads every library that record
+  // names, each file once. Always true: a library not found is pelt's own warning (warnings()).
+  bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
                   std::map<std::string, int>* by_name, std::string* warn, std::string* err) override;
 
   // The folder of the library that defined material `id` (the OBJ's folder for none).
@@ -39,8 +48,9 @@ class MaterialLibraries final : public tinyobj::MaterialReader {
             std::map<std::string, int>* by_name, std::string* warn, std::string* err);
 
   std::filesystem::path obj_dir_;
-  std::vector<std::string> records_;
-  std::vector<bool> read_;                       // per record
+  std::vector<LibraryRecord> records_;
+  size_t next_ = 0;                              // the record of tinyobjloader's next call
+  std::vector<std::filesystem::path> loaded_;    // the library files read
   std::vector<std::filesystem::path> folder_;    // per material id
   std::vector<std::string> warnings_;
 };

@@ -31,7 +31,7 @@ void on_signal(int sig) {
   // Said, as `pelt render` says its first signal's stop: a log would otherwise end with no line.
   // write(2), not stdio: this is a signal handler.
   const bool again = !g_stop_now.load();
-  const char* message = again ? "pelt: interrupted again: stopped at once; the frame in flight is not written\n"
+  const char* message = again ? "pelt: interrupted again: stopped at once; what was in flight is not written\n"
                         : sig == SIGINT ? "pelt: interrupted (SIGINT): stopped at once; nothing more is written\n"
                                         : "pelt: interrupted (SIGTERM): stopped at once; nothing more is written\n";
   size_t length = 0;

@@ -988,6 +988,9 @@ INSTANTIATE_TEST_SUITE_P(
         // CLI11's "The following arguments were not expected: 160 --widht", without `pelt: error`.
         BadOption{"MistypedOption", {"-o", "OUT/a.png", "--frame", "0", "--widht", "160"},
                   "pelt: error: unknown option `--widht` for `pelt render` (did you mean `--width`?)"},
+        // CLI11's own refusal, not a word after `--` taken for an unknown option.
+        BadOption{"RangeBeforeSeparator", {"-o", "OUT/a.png", "--frame", "0", "--width", "0", "--", "--x"},
+                  "pelt: error: --width: Value 0 not in range 1 to 16384"},
         BadOption{"UnknownPreset", {"-o", "OUT/a.png", "--frame", "0", "--quality", "ultra"}, "--quality: unknown preset `ultra`"},
         BadOption{"SppNotSquare", {"-o", "OUT/a.png", "--frame", "0", "--spp", "3"}, "--spp: must be a square number"},
         BadOption{"UnknownSort", {"-o", "OUT/a.png", "--frame", "0", "--sort", "depth"}, "--sort: unknown value `depth`"},

@@ -14,12 +14,14 @@
 #include "tests/tools/io/base64.h"
 #include "tests/tools/io/expect_load_error.h"
 #include "tests/tools/io/temp_dir.h"
+#include "tools/io/input_error.h"
 #include "tools/io/mesh_loader.h"
 
 namespace pelt::io {
 namespace {
 
 using testing::expect_load_error;
+namespace fs = std::filesystem;
 
 constexpr int kFloat = 5126, kUnsignedByte = 5121, kUnsignedShort = 5123;
 
@@ -91,7 +93,15 @@ TEST(GltfNodes, ANodeScaledToNothingIsNotDrawn) {
     EXPECT_LT(l.mesh.positions[v].x, 2.0f);
   }
   ASSERT_EQ(l.warnings.size(), 1u);
-  EXPECT_EQ(l.warnings[0], "nodes[1] is scaled to a point or a line: its mesh is not drawn");
+  EXPECT_EQ(l.warnings[0], "nodes[1] is scaled to a point or a line: not drawn");
+  // A hidden level of detail of several nodes is one warning.
+  const std::string many = R"("scene":0,"scenes":[{"nodes":[0,1]}],
+    "nodes":[{"mesh":0},{"scale":[0,0,0],"children":[2,3,4]},{"mesh":0},{"mesh":0},{"mesh":0}],
+    "meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":1}}]}])";
+  const LoadedMesh lod = load_mesh_file(dir.write("lod.gltf", triangle(n).text(many)));
+  EXPECT_EQ(lod.mesh.triangle_count(), 1u);
+  ASSERT_EQ(lod.warnings.size(), 1u) << ::testing::PrintToString(lod.warnings);
+  EXPECT_EQ(lod.warnings[0], "nodes[2] and 2 more nodes are scaled to a point or a line: not drawn");
 }
 
 // A scale of 0 along one axis flattens the mesh into a plane: its normals are the plane's,
@@ -215,6 +225,52 @@ TEST(GltfNodes, NodeMatricesTheSpecificationForbidsAreRefused) {
                     "nodes[0].translation", "a node has a matrix or translation, rotation and scale, not both");
   expect_load_error(with_node(R"({"mesh":0,"matrix":[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,4]})", "w.gltf"),
                     "nodes[0].matrix", "must be 0, 0, 0, 1");
+  // An exporter's float rounding of the last row is taken as the 1 it means.
+  EXPECT_EQ(load_mesh_file(with_node(R"({"mesh":0,"matrix":[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,0.99999994]})",
+                                     "rounded.gltf"))
+                .mesh.triangle_count(),
+            1u);
+}
+
+// A joint's inverse bind matrix is affine too (its w was dropped without a word).
+TEST(GltfNodes, AnInverseBindMatrixMustBeAffine) {
+  TempDir dir;
+  GltfFile f = triangle(glm::vec3(0, 0, 1));
+  const int joints = f.add(std::vector<uint8_t>(12, 0), kUnsignedByte, "VEC4");
+  const int weights = f.add(std::vector<float>{1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, kFloat, "VEC4");
+  const int ibm = f.add(std::vector<float>{1, 0, 0, 0.5f, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, kFloat, "MAT4");
+  const std::string rest = R"("scene":0,"scenes":[{"nodes":[0,1]}],"nodes":[{"mesh":0,"skin":0},{}],
+    "skins":[{"joints":[1],"inverseBindMatrices":)" + std::to_string(ibm) + R"(}],
+    "meshes":[{"primitives":[{"attributes":{"POSITION":0,"JOINTS_0":)" + std::to_string(joints) +
+                           R"(,"WEIGHTS_0":)" + std::to_string(weights) + "}}]}]";
+  expect_load_error(dir.write("ibm.gltf", f.text(rest)), "skins[0].inverseBindMatrices[0]", "must be 0, 0, 0, 1");
+}
+
+// Morph targets cost vertices x targets: bounded by 3 x --max-faces vertex values, so a small
+// file of many targets sharing one accessor is refused rather than running for hours.
+TEST(GltfNodes, MorphWorkIsBudgeted) {
+  TempDir dir;
+  GltfFile f = triangle(glm::vec3(0, 0, 1));
+  const int delta = f.add(std::vector<float>(9, 0.001f), kFloat, "VEC3");
+  std::string targets, weights;
+  for (int t = 0; t < 40; ++t) {
+    targets += std::string(t ? "," : "") + R"({"POSITION":)" + std::to_string(delta) + "}";
+    weights += std::string(t ? "," : "") + "1";
+  }
+  const fs::path file = dir.write("morphs.gltf", f.text(R"("scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+    "meshes":[{"primitives":[{"attributes":{"POSITION":0},"targets":[)" + targets + R"(]}],"weights":[)" + weights + "]}]"));
+  EXPECT_NEAR(load_mesh_file(file).mesh.positions[0].x, -1.0f + 40 * 0.001f, 1e-5f);
+  Budget small;
+  small.max_faces = 20;  // 60 vertex values; 40 targets of 3 vertices move 120
+  try {
+    load_mesh_file(file, small);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.reason.find("morph targets and skins move 63 vertex values or more, more than the budget of 60 (3 x "
+                            "--max-faces; raise it with --max-faces)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "tests/tools/io/expect_load_error.h"
 #include "tests/tools/io/temp_dir.h"
+#include "tools/io/input_error.h"
 #include "tools/io/mesh_loader.h"
 
 namespace pelt::io {
@@ -48,6 +49,33 @@ TEST(ObjExports, ContinuedLinesAndCommentsAfterAFace) {
                     "`x` is not a corner (v, v/vt, v//vn or v/vt/vn) (line 6)");
 }
 
+// Continued records are counted, checked and budgeted as the records they are (a review found
+// each of these wrong in the first version): faces continued over lines count against
+// --max-faces; a relative index after a continued vertex counts it; a comment ending in `\`
+// continues nothing; a `\` on the last line continues into nothing.
+TEST(ObjExports, ContinuedRecordsAreCheckedJoined) {
+  TempDir dir;
+  std::string faces = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+  for (int k = 0; k < 10; ++k) faces += "f 1 2 3 4 \\\n\n";
+  Budget small;
+  small.max_faces = 5;
+  try {
+    load_mesh_file(dir.write("many.obj", faces), small);
+    ADD_FAILURE() << "20 triangles under a budget of 5 were accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.reason.find("20 triangles, more than the budget of 5"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(load_mesh_file(dir.write("relative.obj", "v 0 0 \\\n  0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n"))
+                .mesh.triangle_count(),
+            1u);
+  EXPECT_EQ(load_mesh_file(dir.write("note.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+                                                 "f 1 2 3 # from C:\\tmp\\\nf 2 4 3\n"))
+                .mesh.triangle_count(),
+            2u);
+  EXPECT_EQ(load_mesh_file(dir.write("dangling.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 \\")).mesh.triangle_count(),
+            1u);
+}
+
 // Libraries: an absolute path (joined to the OBJ's folder before), several names on one record
 // (only the first was read), a name with a blank (split in two), and material names with
 // blanks (cut at the first).
@@ -65,6 +93,13 @@ TEST(ObjExports, MaterialLibrariesAreFoundWhereverTheRecordSays) {
   EXPECT_EQ(map_of("spaced.obj", "my lib.mtl"), dir.path() / "tex.png");
   EXPECT_EQ(map_of("two.obj", "other.mtl my\\ lib.mtl"), dir.path() / "tex.png");
   EXPECT_EQ(map_of("absolute.obj", (dir.path() / "my lib.mtl").string()), dir.path() / "tex.png");
+  // A record tinyobjloader reads nothing for (its name loaded before) does not put later ones
+  // out of step; `\` in a library's path is read as `/`; `#` belongs to a name.
+  dir.write("mats/b.mtl", "newmtl Material #2\nmap_Kd ../tex.png\n");
+  const LoadedMesh again = load_mesh_file(dir.write(
+      "again.obj", "mtllib other.mtl\nmtllib other.mtl\nmtllib mats\\b.mtl\n" + kQuad + "usemtl Material #2\n" + kFace));
+  EXPECT_TRUE(again.warnings.empty()) << ::testing::PrintToString(again.warnings);
+  EXPECT_EQ(again.color_map.path, dir.path() / "mats" / "../tex.png");
   // From another folder, the absolute path still finds it.
   std::filesystem::create_directories(dir.path() / "elsewhere");
   EXPECT_EQ(map_of("elsewhere/absolute.obj", (dir.path() / "my lib.mtl").string()), dir.path() / "tex.png");

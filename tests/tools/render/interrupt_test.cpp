@@ -56,7 +56,7 @@ TEST(Interrupt, StoppingAtOnceIsSaid) {
   });
   ASSERT_TRUE(WIFEXITED(twice.status));
   EXPECT_EQ(WEXITSTATUS(twice.status), 128 + SIGINT);
-  EXPECT_EQ(twice.err, "pelt: interrupted again: stopped at once; the frame in flight is not written\n");
+  EXPECT_EQ(twice.err, "pelt: interrupted again: stopped at once; what was in flight is not written\n");
 }
 
 }  // namespace

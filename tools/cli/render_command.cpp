@@ -224,10 +224,26 @@ int run_render(const RenderOptions& o) {
   const io::Quality quality = resolve_quality(scene, o.quality);
   const Plan plan = plan_render(o, scene, aov, pattern);
   const render::ProgressMode mode = render::progress_mode(o.quiet, fileno(stderr));
-  nlohmann::json stats_frames = nlohmann::json::array();
+  // Each frame's statistics as the file will hold them, kept only for --stats (a frame's JSON
+  // object took about 7 KB, and every frame of a long sequence was kept without --stats too), as
+  // text indented for its place in {"frames": [...]}: the same bytes as dumping the whole
+  // document, at a third of the memory.
+  std::vector<std::string> stats_frames;
+  const auto keep_stats = [&](const render::FrameStats& st) {
+    if (o.stats.empty()) return;
+    std::string text = "    ";
+    for (char c : st.to_json().dump(2)) {
+      text.push_back(c);
+      if (c == '\n') text.append("    ");
+    }
+    stats_frames.push_back(std::move(text));
+  };
   const auto write_stats = [&] {
-    if (!o.stats.empty())
-      io::write_text_atomic(o.stats, nlohmann::json{{"frames", stats_frames}}.dump(2) + "\n", "--stats");
+    if (o.stats.empty()) return;
+    std::string text = "{\n  \"frames\": [";
+    for (size_t i = 0; i < stats_frames.size(); ++i) text.append(i ? ",\n" : "\n").append(stats_frames[i]);
+    text.append(stats_frames.empty() ? "]\n}\n" : "\n  ]\n}\n");
+    io::write_text_atomic(o.stats, text, "--stats");
   };
 
   render::RenderSettings rs;
@@ -344,7 +360,7 @@ int run_render(const RenderOptions& o) {
     Slot& slot = *pending;
     pending = nullptr;
     if (write_error) std::rethrow_exception(write_error);
-    stats_frames.push_back(slot.st.to_json());
+    keep_stats(slot.st);
     last_done = slot.frame;
     progress.frame_done(slot.frame,
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - slot.start).count());

@@ -41,13 +41,27 @@ struct MemoryPart {
   std::string field;
   std::string what;
   uint64_t bytes = 0;
+  // What kind of thing it is, for the refusal to say when many objects' parts of one kind
+  // together outweigh the largest single part ("mesh", "fur geometry", "fur textures", ...).
+  std::string kind;
 };
+
+// What a process of `pelt render` holds before any scene: its code and shared libraries
+// (OpenImageIO's plug-ins, about 88 MiB resident) and the heap, thread stacks and allocator
+// arenas it starts with (about 44 MiB): measured as the peak resident set of a 16 x 16 render
+// of one small sphere (`/usr/bin/time -v`, 134 MiB; 2026-11-27).
+inline constexpr uint64_t kProcessBaselineBytes = uint64_t{136} << 20;
 
 struct MemoryEstimate {
   std::vector<MemoryPart> parts;  // objects in order (mesh, colour map, fur), then image, scratch
   uint64_t total = 0;             // saturating sum of the parts
 
-  const MemoryPart& largest() const;  // the first of the largest parts; parts must not be empty
+  // The first of the largest parts the scene makes (never the process's own footprint); parts
+  // must hold one.
+  const MemoryPart& largest() const;
+  // The parts SceneRenderer itself holds (SceneRenderer::memory_estimate's share): all but the
+  // rasterizer's per-frame set-ups and the process's own footprint.
+  uint64_t renderer_total() const;
 };
 
 // Estimates, from counts only, the bytes a render of `scene` with these loaded meshes
@@ -62,11 +76,16 @@ struct MemoryEstimate {
 //   shells x texture_size^2 x 4 x 4/3 (mips) plus the unmipped layers they are made
 //   from, and the fin texture likewise;
 //   the image buffers (image_bytes) and each worker's tile scratch as
-//   SceneRenderer::memory_estimate counts it.
+//   SceneRenderer::memory_estimate counts it;
+// then, after those parts (which SceneRenderer holds): the rasterizer's set-up of each draw
+// every frame (a clip position and a front-end vertex per vertex and draw, a set-up triangle
+// and its bin entries per triangle, as if none were culled) and the process's own footprint
+// (kProcessBaselineBytes). Without `fur_textures` (the depth and id AOVs, which draw no fur)
+// the strand textures are not counted.
 // Colour-map headers are read from disk (io::read_image_header). width or height <= 0
 // means the scene's image size; threads < 1 counts as one worker.
 MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
-                               int height, int threads, int spp);
+                               int height, int threads, int spp, bool fur_textures = true);
 
 // Refuses an estimate above budget.max_memory_bytes: io::InputError(scene file, the
 // largest part's field, reason with the estimate, the budget, --max-memory and the
@@ -76,7 +95,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
 uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
                              int height, int threads, const io::Budget& budget);
 uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
-                             int height, int threads, int spp, const io::Budget& budget);
+                             int height, int threads, int spp, const io::Budget& budget, bool fur_textures = true);
 
 // "1234567890 bytes (1.1 GiB)": exact for the record, rounded for the reader.
 std::string describe_bytes(uint64_t bytes);

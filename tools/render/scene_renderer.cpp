@@ -254,7 +254,8 @@ SceneRenderer::SceneRenderer(const io::Scene& scene, std::optional<std::vector<i
     meshes = io::load_scene_meshes(scene_, settings_.budget);
   }
   budget_estimate_ =
-      check_memory_budget(scene_, *meshes, width_, height_, settings_.threads, quality_.spp, settings_.budget);
+      check_memory_budget(scene_, *meshes, width_, height_, settings_.threads, quality_.spp, settings_.budget,
+                          aov_shows_fur(settings_.aov));  // describe-only too: it estimates the render
   build(std::move(*meshes));
 }
 

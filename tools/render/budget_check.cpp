@@ -86,6 +86,7 @@ MemoryPart mesh_part(const io::SceneObject& so, const Mesh& m, size_t i) {
   if (blur) per_vertex += 9 * sizeof(float);  // the three blurred normals, held while varyings are filled
   MemoryPart p;
   p.kind = "meshes";
+  p.object = int(i);
   p.field = object_field(i) + ".mesh";
   p.what = "mesh, " + std::to_string(v) + " vertices and " + std::to_string(f) + " triangles with varyings";
   p.bytes = sat_add(sat_mul(v, per_vertex), sat_mul(f, 3 * sizeof(uint32_t)));
@@ -129,10 +130,11 @@ MemoryPart map_part(const io::Scene& scene, size_t i, const char* key, const std
   p.field = object_field(i) + (src->named_by_mesh ? ".mesh" : ".material." + std::string(key));
   p.bytes = sat_add(image_texture_bytes(uint64_t(width) * uint64_t(height), file_bytes_per_texel), extra);
   p.kind = noun + "s";
+  p.object = int(i);
   return p;
 }
 
-void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, int threads, bool textures,
+void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, int threads, bool drawn,
                    std::vector<MemoryPart>& parts, std::vector<MemoryPart>& frame_parts) {
   const fur::FurParams& fp = *scene.objects[i].fur;
   std::string shells_field;
@@ -153,6 +155,7 @@ void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, in
 
   MemoryPart geo;
   geo.kind = "fur geometry";
+  geo.object = int(i);
   geo.field = shells_field;
   geo.what = "fur geometry, " + std::to_string(shells) + " shells: " + std::to_string(c.shell_vertices) +
              " vertices, " + std::to_string(c.shell_faces + c.fin_faces) + " shell and fin triangles";
@@ -182,6 +185,7 @@ void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, in
   const uint64_t shell_layers = uint64_t(std::max(shells, 0)), layers = shell_layers + (fins ? 1 : 0);
   MemoryPart tex;
   tex.kind = "fur strand textures";
+  tex.object = int(i);
   tex.field = object_field(i) + ".fur.texture_size";
   tex.what = "fur strand textures, " + std::to_string(layers) + " layers of " + std::to_string(fp.texture_size) +
              "^2 texels with mips";
@@ -189,19 +193,25 @@ void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, in
   tex.bytes = sat_add(sat_add(sat_mul(layers, mipmapped_rgba8(layer_texels)),
                               sat_mul(layer_texels, sat_add(sat_mul(shell_layers, 2), fins ? 6 : 0))),
                       sat_mul(builds, sat_mul(layer_texels, kBuildBytes)));
-  if (textures) parts.push_back(std::move(tex));
+  if (drawn) parts.push_back(std::move(tex));
 
   // The rasterizer's set-up of the shells' and the fins' draws (both over the fur's vertices).
   // Silhouette fins draw only the edges near the silhouette: a quarter of the fin triangles is
   // counted (7.6 % were drawn in a furry sphere's frame, more at grazing views).
   const uint64_t fin_drawn = fp.fins == fur::FinMode::all ? c.fin_faces : fins ? c.fin_faces / 4 : 0;
+  // Each draw sets up every fur vertex: shells and fins, or in the layer sort one draw per
+  // layer and per pair of layers.
+  const uint64_t layer_draws = uint64_t(std::max(shells, 1));
+  const uint64_t draws = scene.quality.sort == io::SortQuality::layer ? (fins ? 2 * layer_draws - 1 : layer_draws)
+                                                                       : (fins ? 2 : 1);
   MemoryPart raster;
   raster.kind = "rasterizer set-ups";
+  raster.object = int(i);
   raster.field = shells_field;
   raster.what = "rasterizer's set-up of the fur's " + std::to_string(c.shell_faces + fin_drawn) +
-                " triangles a frame";
-  raster.bytes = raster_bytes(fins ? 2 * c.shell_vertices : c.shell_vertices, c.shell_faces + fin_drawn);
-  frame_parts.push_back(std::move(raster));
+                " triangles in " + std::to_string(draws) + " draws a frame";
+  raster.bytes = raster_bytes(sat_mul(draws, c.shell_vertices), c.shell_faces + fin_drawn);
+  if (drawn) frame_parts.push_back(std::move(raster));
 }
 
 [[noreturn]] void refuse(const io::Scene& scene, const std::string& field, const std::string& reason) {
@@ -289,7 +299,7 @@ const MemoryPart& MemoryEstimate::largest() const {
 }
 
 MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
-                               int height, int threads, int spp, bool fur_textures) {
+                               int height, int threads, int spp, bool fur_drawn) {
   if (meshes.size() != scene.objects.size())
     throw std::invalid_argument("estimate_memory: one mesh per scene object expected");
   MemoryEstimate e;
@@ -304,7 +314,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
     frame_parts.push_back({object_field(i) + ".mesh",
                            "rasterizer's set-up of its " + std::to_string(m.triangle_count()) + " triangles a frame",
                            sat_add(raster_bytes(m.positions.size(), m.triangle_count()), kObjectBytes),
-                           "rasterizer set-ups"});
+                           "rasterizer set-ups", int(i)});
     const io::LoadedMesh& loaded = meshes[i].loaded;
     if (MemoryPart cm = map_part(scene, i, "color_map", "colour map", so.material.color_map, loaded.color_map, 0, "");
         !cm.field.empty())
@@ -315,7 +325,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
                                  tangents, ", and the tangent frames");
         !nm.field.empty())
       e.parts.push_back(std::move(nm));
-    if (so.fur) add_fur_parts(scene, meshes[i], i, threads, fur_textures, e.parts, frame_parts);
+    if (so.fur) add_fur_parts(scene, meshes[i], i, threads, fur_drawn, e.parts, frame_parts);
     if (!so.fur_length_map.empty()) {  // read as floats and sampled once, then freed
       const std::string field = object_field(i) + ".fur.length_map";
       const io::ImageHeader h = asked_by("in " + field + " of " + scene.file.string(),
@@ -325,7 +335,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
                          "length map " + so.fur_length_map.filename().string() + ", " + std::to_string(h.width) +
                              " x " + std::to_string(h.height) + " texels",
                          sat_mul(texels, 4 * sizeof(float) + uint64_t(std::min(h.channels, 4)) * h.bytes_per_channel),
-                         "maps"});
+                         "length maps", int(i)});
     }
   }
   const int w = effective_side(width, scene.image.width), h = effective_side(height, scene.image.height);
@@ -344,8 +354,8 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
 }
 
 uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
-                             int height, int threads, int spp, const io::Budget& budget, bool fur_textures) {
-  const MemoryEstimate e = estimate_memory(scene, meshes, width, height, threads, spp, fur_textures);
+                             int height, int threads, int spp, const io::Budget& budget, bool fur_drawn) {
+  const MemoryEstimate e = estimate_memory(scene, meshes, width, height, threads, spp, fur_drawn);
   if (e.total <= budget.max_memory_bytes) return e.total;
   const MemoryPart& big = e.largest();
   // As check_scene_budget: image buffers that one sample per pixel would fit in the budget are
@@ -357,21 +367,31 @@ uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::Scene
                                         effective_side(height, scene.image.height), 1) <= budget.max_memory_bytes;
   // Many objects' parts of one kind can outweigh the largest single part (216 furry spheres):
   // said, with how many parts, so the user looks at the scene's objects, not the image.
-  std::map<std::string, std::pair<uint64_t, std::set<std::string>>> by_kind;  // bytes, objects
+  // Named when that kind over all its objects is at least twice the largest part (the largest
+  // part and one more object of its kind are no news).
+  std::map<std::string, std::pair<uint64_t, std::set<int>>> by_kind;  // bytes, objects
   for (const MemoryPart& p : e.parts) {
-    if (p.field.rfind("objects[", 0) != 0) continue;
+    if (p.object < 0) continue;
     auto& [bytes, objects] = by_kind[p.kind];
     bytes = sat_add(bytes, p.bytes);
-    objects.insert(p.field.substr(0, p.field.find(']') + 1));
+    objects.insert(p.object);
   }
   std::string together;
-  uint64_t most = big.bytes;
+  uint64_t most = sat_mul(big.bytes, 2) - 1;
   for (const auto& [kind, sum] : by_kind)
     if (sum.second.size() > 1 && sum.first > most) {
       most = sum.first;
       together = "; together, the " + kind + " of " + std::to_string(sum.second.size()) + " objects take " +
                  describe_bytes(sum.first);
     }
+  // A budget below the process's own footprint refuses every render: said so, not blamed on
+  // the scene's largest part.
+  if (budget.max_memory_bytes < kProcessBaselineBytes)
+    throw io::InputError("", io::kMaxMemoryFlag,
+                         "this render needs an estimated " + describe_bytes(e.total) + ", of which pelt itself " +
+                             "(code, shared libraries, start-up heap) takes about " +
+                             describe_bytes(kProcessBaselineBytes) + " before any scene: a budget of " +
+                             describe_bytes(budget.max_memory_bytes) + " is too small for any render");
   refuse(scene, spp_made_it ? "quality.spp" : big.field,
          "this render needs an estimated " + describe_bytes(e.total) + ", " +
              io::over_budget(describe_bytes(budget.max_memory_bytes), io::kMaxMemoryFlag) +

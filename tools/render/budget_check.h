@@ -42,8 +42,11 @@ struct MemoryPart {
   std::string what;
   uint64_t bytes = 0;
   // What kind of thing it is, for the refusal to say when many objects' parts of one kind
-  // together outweigh the largest single part ("mesh", "fur geometry", "fur textures", ...).
+  // together outweigh the largest single part ("meshes", "fur geometry", "fur strand textures",
+  // "rasterizer set-ups", "image", "scratch", "process", ...), and the object it belongs to
+  // (-1: none).
   std::string kind;
+  int object = -1;
 };
 
 // What a process of `pelt render` holds before any scene: its code and shared libraries
@@ -53,7 +56,9 @@ struct MemoryPart {
 inline constexpr uint64_t kProcessBaselineBytes = uint64_t{136} << 20;
 
 struct MemoryEstimate {
-  std::vector<MemoryPart> parts;  // objects in order (mesh, colour map, fur), then image, scratch
+  // Objects in order (mesh, maps, fur), the image, the scratch: what SceneRenderer holds; then
+  // the rasterizer's per-frame set-ups, object by object, and the process itself.
+  std::vector<MemoryPart> parts;
   uint64_t total = 0;             // saturating sum of the parts
 
   // The first of the largest parts the scene makes (never the process's own footprint); parts
@@ -80,12 +85,13 @@ struct MemoryEstimate {
 // then, after those parts (which SceneRenderer holds): the rasterizer's set-up of each draw
 // every frame (a clip position and a front-end vertex per vertex and draw, a set-up triangle
 // and its bin entries per triangle, as if none were culled) and the process's own footprint
-// (kProcessBaselineBytes). Without `fur_textures` (the depth and id AOVs, which draw no fur)
-// the strand textures are not counted.
+// (kProcessBaselineBytes). The fur's vertices are set up once per draw: two (shells and fins)
+// or, in the layer sort, one per layer and per pair of layers. Without `fur_drawn` (the depth
+// and id AOVs, which draw no fur) neither the strand textures nor the fur's set-ups count.
 // Colour-map headers are read from disk (io::read_image_header). width or height <= 0
 // means the scene's image size; threads < 1 counts as one worker.
 MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
-                               int height, int threads, int spp, bool fur_textures = true);
+                               int height, int threads, int spp, bool fur_drawn = true);
 
 // Refuses an estimate above budget.max_memory_bytes: io::InputError(scene file, the
 // largest part's field, reason with the estimate, the budget, --max-memory and the
@@ -95,7 +101,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
 uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
                              int height, int threads, const io::Budget& budget);
 uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
-                             int height, int threads, int spp, const io::Budget& budget, bool fur_textures = true);
+                             int height, int threads, int spp, const io::Budget& budget, bool fur_drawn = true);
 
 // "1234567890 bytes (1.1 GiB)": exact for the record, rounded for the reader.
 std::string describe_bytes(uint64_t bytes);

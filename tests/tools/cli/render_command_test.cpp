@@ -551,16 +551,17 @@ TEST_F(RenderCommand, InfoReportsTheEstimateTheBudgetChecks) {
     ASSERT_NE(at, std::string::npos) << info.out;
     const double bytes = std::stod(info.out.substr(at + std::string("memory     about ").size()));  // "N bytes (..)"
     ASSERT_GT(bytes, 1000.0);
-    auto render_with = [&](double factor) {
+    // Exact: info's figure is the render's budget check to the byte.
+    auto render_with = [&](long long budget) {
       std::vector<std::string> r = {"-o", (dir.path() / "m/a.png").string(), "--frame", "0", "--max-memory",
-                                    std::to_string(static_cast<long long>(bytes * factor))};
+                                    std::to_string(budget)};
       r.insert(r.end(), size.begin(), size.end());
       return pelt(r);
     };
-    const Result under = render_with(0.97);
+    const Result under = render_with(static_cast<long long>(bytes) - 1);
     EXPECT_EQ(under.code, 2) << under.err;
     EXPECT_NE(under.err.find("this render needs an estimated"), std::string::npos) << under.err;
-    const Result over = render_with(1.03);
+    const Result over = render_with(static_cast<long long>(bytes));
     EXPECT_EQ(over.code, 0) << over.err;
   }
 }

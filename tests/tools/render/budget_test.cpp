@@ -207,7 +207,7 @@ TEST(MemoryEstimate, PartsFollowTheCounts) {
   EXPECT_EQ(e.total, sum);
   EXPECT_EQ(&e.largest(), &e.parts[3]);  // the process (most of a small scene) is never named
 
-  // More shells: more fur geometry and textures, nothing else changes.
+  // More shells: more fur geometry, textures and set-ups; the meshes do not change.
   const io::Scene s32 = dir.scene(two_objects(32, 256));
   const MemoryEstimate e32 = estimate_memory(s32, meshes, 0, 0, 2, 1);
   EXPECT_GT(e32.parts[2].bytes, e.parts[2].bytes * 19 / 10);
@@ -274,7 +274,7 @@ TEST(MemoryEstimate, TheFurMapsAreCounted) {
   RenderSettings rs;
   rs.threads = 1;
   const SceneRenderer r(both, meshes, rs);
-  EXPECT_GE(b.total, r.memory_estimate());
+  EXPECT_GE(b.renderer_total(), r.memory_estimate());
 }
 
 // Fur without fins builds no fin texture, coordinates, varyings or triangles: the estimate counts
@@ -304,7 +304,7 @@ TEST(MemoryEstimate, FurWithoutFinsCountsNoFins) {
   EXPECT_TRUE(without_fins.fur_geometry(0)->fin_indices.empty());
   EXPECT_TRUE(without_fins.fur_geometry(0)->fin_uvs.empty());
   EXPECT_LT(without_fins.memory_estimate(), with_fins.memory_estimate());
-  EXPECT_GE(estimate_memory(off, meshes, 0, 0, 1, 1).total, without_fins.memory_estimate());
+  EXPECT_GE(estimate_memory(off, meshes, 0, 0, 1, 1).renderer_total(), without_fins.memory_estimate());
 }
 
 // The box mapping copies vertices where its planes meet, which depends on how the object is
@@ -389,19 +389,56 @@ TEST(MemoryBudget, ManyObjectsTogetherAreNamed) {
                                                                                "take"});
 }
 
-// The depth and id AOVs draw no fur and generate no strand textures: not counted for them.
+// The depth and id AOVs draw no fur and generate no strand textures: neither the textures nor
+// the fur's set-ups are counted for them.
 TEST(MemoryEstimate, NoStrandTexturesForAovsWithoutFur) {
   SceneDir dir;
   const io::Scene s = dir.scene(two_objects(16, 256));
   const auto meshes = io::load_scene_meshes(s);
   const MemoryEstimate colour = estimate_memory(s, meshes, 0, 0, 1, 1);
-  const MemoryEstimate depth = estimate_memory(s, meshes, 0, 0, 1, 1, /*fur_textures=*/false);
-  ASSERT_EQ(depth.parts.size() + 1, colour.parts.size());
-  uint64_t textures = 0;
-  for (const MemoryPart& p : colour.parts)
+  const MemoryEstimate depth = estimate_memory(s, meshes, 0, 0, 1, 1, /*fur_drawn=*/false);
+  ASSERT_EQ(depth.parts.size() + 2, colour.parts.size());
+  uint64_t textures = 0, setups = 0;
+  for (const MemoryPart& p : colour.parts) {
     if (p.field == "objects[1].fur.texture_size") textures = p.bytes;
+    if (p.kind == "rasterizer set-ups" && p.field == "objects[1].fur.shells") setups = p.bytes;
+  }
   EXPECT_GT(textures, 0u);
-  EXPECT_EQ(depth.total + textures, colour.total);
+  EXPECT_GT(setups, 0u);
+  EXPECT_EQ(depth.total + textures + setups, colour.total);
+}
+
+// The layer sort draws the fur's vertices once per layer and per pair of layers.
+TEST(MemoryEstimate, TheLayerSortSetsTheFurUpPerLayer) {
+  SceneDir dir;
+  io::Scene s = dir.scene(two_objects(16, 64));
+  const auto meshes = io::load_scene_meshes(s);
+  auto fur_setups = [&](const io::Scene& scene) {
+    for (const MemoryPart& p : estimate_memory(scene, meshes, 0, 0, 1, 1).parts)
+      if (p.kind == "rasterizer set-ups" && p.field == "objects[1].fur.shells") return p;
+    return MemoryPart{};
+  };
+  const MemoryPart tile = fur_setups(s);
+  s.quality.sort = io::SortQuality::layer;
+  const MemoryPart layer = fur_setups(s);
+  EXPECT_NE(tile.what.find(" in 2 draws a frame"), std::string::npos) << tile.what;
+  EXPECT_NE(layer.what.find(" in 31 draws a frame"), std::string::npos) << layer.what;
+  // 29 more draws of the same vertices, 48 bytes each a vertex; the triangles are the same.
+  ASSERT_GT(layer.bytes, tile.bytes);
+  EXPECT_EQ((layer.bytes - tile.bytes) % (29 * 48), 0u);
+}
+
+// A budget below what pelt itself takes refuses every render, and says so.
+TEST(MemoryBudget, ABudgetBelowTheProcessItselfIsSaidToBe) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(two_objects(4, 16));
+  const auto meshes = io::load_scene_meshes(s);
+  io::Budget b;
+  b.max_memory_bytes = 100 << 20;
+  const io::InputError err = refusal([&] { check_memory_budget(s, meshes, 0, 0, 1, b); });
+  EXPECT_EQ(err.field, "--max-memory");
+  expect_reason_has(err, {"of which pelt itself (code, shared libraries, start-up heap) takes about",
+                          "is too small for any render"});
 }
 
 // Image buffers that one sample per pixel would fit in the budget are refused for their samples

@@ -15,10 +15,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/quality_options.h"
 #include "tools/io/builtin_meshes.h"
-#include "tools/cli/budget_options.h"
 #include "tools/io/input_error.h"
 #include "tools/io/output_file.h"
 #include "tools/render/frame_timing.h"

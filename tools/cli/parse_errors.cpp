@@ -6,6 +6,16 @@
 #include "tools/io/suggest.h"
 
 namespace pelt::cli {
+namespace {
+
+// "render, info, bench, tradeoff": the subcommands of `app`.
+std::string command_list(CLI::App& app) {
+  std::string list;
+  for (CLI::App* s : app.get_subcommands({})) list += (list.empty() ? "" : ", ") + s->get_name();
+  return list;
+}
+
+}  // namespace
 
 std::string explain_parse_error(CLI::App& app, int argc, char** argv, const CLI::ParseError& e) {
   // Only words CLI11 could not place are pelt's to name; any other refusal (a value out of
@@ -30,18 +40,14 @@ std::string explain_parse_error(CLI::App& app, int argc, char** argv, const CLI:
       std::vector<std::string> names;
       for (CLI::App* s : subs) names.push_back(s->get_name());
       const std::vector<std::string_view> candidates(names.begin(), names.end());
-      std::string list;
-      for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
       return "unknown command `" + word + "` for `" + path + "`" + io::did_you_mean(word, candidates) +
-             "; the commands are " + list;
+             "; the commands are " + command_list(*level);
     }
     level = next;
     path += " " + word;
   }
   if (required && std::string_view(e.what()).find("ubcommand") != std::string_view::npos) {
-    std::string list;
-    for (CLI::App* s : level->get_subcommands({})) list += (list.empty() ? "" : ", ") + s->get_name();
-    return "`" + path + "` needs a command: " + list + " (`" + path + " --help` says what each does)";
+    return "`" + path + "` needs a command: " + command_list(*level) + " (`" + path + " --help` says what each does)";
   }
   // An option the command does not have.
   std::vector<std::string> options;

@@ -179,21 +179,14 @@ Plan plan_render(const RenderOptions& o, const io::Scene& scene, render::Aov aov
   if (gif) {
     // GIF counts a frame's delay in hundredths of a second in 16 bits.
     const double fps = scene.animation ? scene.animation->fps : io::Animation{}.fps;
-    char shown[32];
-    std::snprintf(shown, sizeof shown, "%g", fps);
-    if (fps < 100.0 / 65535.0)
+    if (const std::optional<std::string> refusal = io::gif_fps_refusal(fps))
       throw io::InputError(scene.file.string(), "animation.fps",
-                           std::string("a GIF frame lasts at most 655.35 s, so a GIF needs at least 0.0016 frames per "
-                                       "second; got ") + shown);
-    if (fps > 100.0)
-      throw io::InputError(scene.file.string(), "animation.fps",
-                           std::string("a GIF frame lasts at least 1/100 s, so a GIF plays at most 100 frames per "
-                                       "second; got ") + shown + " (write a PNG sequence, -o frame_####.png, instead)");
+                           *refusal + (fps > 100.0 ? " (write a PNG sequence, -o frame_####.png, instead)" : ""));
     if (fps > 50.0)  // a warning, which --quiet does not silence
       std::fprintf(stderr,
-                   "pelt: warning: %s (animation.fps): %s frames per second is a GIF delay of 1/100 s, which most web "
+                   "pelt: warning: %s (animation.fps): %g frames per second is a GIF delay of 1/100 s, which most web "
                    "browsers play as 1/10 s; 50 fps or fewer plays as asked everywhere\n",
-                   scene.file.string().c_str(), shown);
+                   scene.file.string().c_str(), fps);
     if (pattern.has_frame_field())
       throw io::InputError(o.output, "-o", "a GIF holds every frame in one file; remove the `#` run");
     if (render::per_pixel_value(aov))

@@ -138,6 +138,10 @@ int run_tradeoff(const TradeoffOptions& o) {
   const std::vector<tradeoff::Setting> plan = tradeoff::plan_sweep(scene.quality, knobs);
   // Before the probe's temporary: a signal ends the run at once, temporaries removed (render/interrupt.h).
   const render::InterruptGuard interrupt(render::InterruptGuard::Stop::now);
+  // With --images, each row's image, in the plan's order.
+  std::vector<fs::path> row_images;
+  if (o.images)
+    for (const tradeoff::Setting& s : plan) row_images.push_back(image_path(dir, s));
   // Every row's budget (pixels, shells, memory, the normal blur's pairs) and every file the
   // sweep writes are checked before the reference, which can take minutes: a row refused when the
   // sweep reached it, or a plot or image that could not be written, failed after it. Each row is
@@ -160,8 +164,7 @@ int run_tradeoff(const TradeoffOptions& o) {
     }
     std::vector<std::pair<fs::path, std::string>> outputs{{dir / "tradeoff.csv", "-o"}, {dir / "tradeoff.md", "-o"}};
     if (!o.no_plot) outputs.push_back({dir / "tradeoff.png", "-o"});
-    if (o.images)
-      for (const tradeoff::Setting& s : plan) outputs.push_back({image_path(dir, s), "--images"});
+    for (const fs::path& image : row_images) outputs.push_back({image, "--images"});
     io::OutputNames names(inputs, "tradeoff");
     for (const auto& [path, option] : outputs) names.add(path, option);
     for (const auto& [path, option] : outputs) io::prepare_output(path, option);
@@ -265,8 +268,8 @@ int run_tradeoff(const TradeoffOptions& o) {
   io::write_text_atomic(dir / "tradeoff.md", markdown, "-o");
   if (o.images) {
     for (size_t i = 0; i < rows.size(); ++i)
-      io::write_image_atomic(image_path(dir, plan[i]), images[i].width,
-                             images[i].height, 4, io::PixelType::u8, images[i].rgba.data());
+      io::write_image_atomic(row_images[i], images[i].width, images[i].height, 4, io::PixelType::u8,
+                             images[i].rgba.data());
   }
   std::fwrite(table.data(), 1, table.size(), stdout);
   std::fflush(stdout);
@@ -274,9 +277,7 @@ int run_tradeoff(const TradeoffOptions& o) {
   // Outputs an earlier run left in the folder stay (pelt removes no file it did not write this
   // run), beside the new CSV: the user is told which do not show this sweep. The row images
   // are counted for the folder's own files only.
-  std::set<fs::path> drawn;
-  if (o.images)
-    for (const tradeoff::Setting& s : plan) drawn.insert(image_path(dir, s));
+  const std::set<fs::path> drawn(row_images.begin(), row_images.end());
   auto stale_outputs = [&](bool plot_written) {
     std::string note;
     std::error_code ec;

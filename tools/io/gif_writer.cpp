@@ -1,5 +1,6 @@
 #include "tools/io/gif_writer.h"
 
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -20,15 +21,25 @@ struct AnimatedGifWriter::Impl {
   bool committed = false;
 };
 
+std::optional<std::string> gif_fps_refusal(double fps) {
+  char shown[32];
+  std::snprintf(shown, sizeof shown, "%g", fps);
+  if (!(fps >= 100.0 / 65535.0))
+    return std::string("a GIF frame lasts at most 655.35 s, so a GIF needs at least 0.0016 frames per second; got ") +
+           shown;
+  // OIIO writes int(100 / fps): 0 above 100 fps, which viewers play at their own pace.
+  if (fps > 100.0)
+    return std::string("a GIF frame lasts at least 1/100 s, so a GIF plays at most 100 frames per second; got ") +
+           shown;
+  return std::nullopt;
+}
+
 AnimatedGifWriter::AnimatedGifWriter(const std::filesystem::path& path, int width, int height, double fps)
     : impl_(std::make_unique<Impl>()) {
   const std::string file = path.string();
   if (width <= 0 || height <= 0 || width > 65535 || height > 65535)
     throw InputError(file, "", "GIF frames must be 1..65535 pixels on each side");
-  // OIIO writes int(100 / fps): 0 above 100 fps, which viewers play at their own pace.
-  if (!(fps >= 100.0 / 65535.0 && fps <= 100.0))
-    throw InputError(file, "", "a GIF's frame delay is whole hundredths of a second in 16 bits, so its frames per "
-                               "second must lie in [0.0016, 100]; got " + std::to_string(fps));
+  if (const std::optional<std::string> refusal = gif_fps_refusal(fps)) throw InputError(file, "", *refusal);
   Impl& m = *impl_;
   m.path = path;
   m.file = std::make_unique<AtomicOutput>(path);

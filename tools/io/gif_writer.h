@@ -6,14 +6,20 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
+#include <string>
 
 namespace pelt::io {
 
+// Why a GIF cannot be shown at `fps` frames per second, or nullopt when it can: GIF stores a
+// frame's delay in whole hundredths of a second in 16 bits (100 / fps, truncated), so fps must
+// lie in [100 / 65535, 100]. The writer refuses such an fps, and `pelt render` before any frame.
+std::optional<std::string> gif_fps_refusal(double fps);
+
 class AnimatedGifWriter {
  public:
-  // Opens the temporary for `width` x `height` frames shown `fps` frames per second
-  // (GIF stores a delay of whole 1/100 s in 16 bits: 100 / fps, truncated, so fps must lie
-  // in [100 / 65535, 100]). Throws InputError(path, "", reason) for another fps or when the
+  // Opens the temporary for `width` x `height` frames shown `fps` frames per second. Throws
+  // InputError(path, "", reason) for an fps a GIF cannot hold (gif_fps_refusal) or when the
   // file cannot be created.
   AnimatedGifWriter(const std::filesystem::path& path, int width, int height, double fps);
   ~AnimatedGifWriter();

@@ -239,18 +239,20 @@ class GltfReader {
     }
   }
 
-  uint32_t index_at(const View& v, size_t i) const {
+  // Component k of element i as an unsigned integer (indices, joints): the callers have
+  // checked the type is UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT.
+  static uint32_t index_at(const View& v, size_t i, int k = 0) {
     const uint8_t* p = v.data + i * v.stride;
     switch (v.component_type) {
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return p[0];
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return p[k];
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
         uint16_t s;
-        std::memcpy(&s, p, 2);
+        std::memcpy(&s, p + 2 * k, 2);
         return s;
       }
       default: {
         uint32_t u;
-        std::memcpy(&u, p, 4);
+        std::memcpy(&u, p + 4 * k, 4);
         return u;
       }
     }
@@ -429,7 +431,7 @@ class GltfReader {
           throw InputError(file_, set.weights_where + "[" + std::to_string(i) + "]",
                            "a joint weight must be finite and >= 0");
         if (w == 0.0) continue;
-        const uint32_t j = joint_at(set.joints, i, k);
+        const uint32_t j = index_at(set.joints, i, k);
         if (j >= joints.size())
           throw InputError(file_, set.joints_where + "[" + std::to_string(i) + "]",
                            "joint " + std::to_string(j) + " out of range (the skin has " +
@@ -441,14 +443,6 @@ class GltfReader {
       throw InputError(file_, sets[0].weights_where + "[" + std::to_string(i) + "]",
                        "the vertex has no joint weight, so no joint places it");
     return out / total;
-  }
-
-  static uint32_t joint_at(const View& v, size_t i, int k) {
-    const uint8_t* p = v.data + i * v.stride;
-    if (v.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) return p[k];
-    uint16_t s;
-    std::memcpy(&s, p + 2 * k, 2);
-    return s;
   }
 
   void add_mesh(int node, const glm::dmat4& world) {

@@ -224,6 +224,9 @@ bool names_something(const std::string& line, size_t i) {
 // before a trailing comment (but in a name), is `\` (the OBJ specification's continuation). A
 // comment line never goes on.
 bool continues(const std::string& line) {
+  // Every line of the file passes here: without a `\` or a `#` in it (nearly every line) the
+  // answer needs no copy of the record's text.
+  if (line.find_first_of("\\#") == std::string::npos) return false;
   const size_t i = line.find_first_not_of(" \t");
   if (i == std::string::npos || line[i] == '#') return false;
   const std::string text = record_text(line, i, 0, names_something(line, i));

@@ -205,7 +205,7 @@ void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, in
   const uint64_t draws = scene.quality.sort == io::SortQuality::layer ? (fins ? 2 * layer_draws - 1 : layer_draws)
                                                                        : (fins ? 2 : 1);
   MemoryPart raster;
-  raster.kind = "rasterizer set-ups";
+  raster.kind = kSetupsKind;
   raster.object = int(i);
   raster.field = shells_field;
   raster.what = "rasterizer's set-up of the fur's " + std::to_string(c.shell_faces + fin_drawn) +
@@ -287,14 +287,14 @@ void check_scene_budget(const io::Scene& scene, int width, int height, int spp, 
 uint64_t MemoryEstimate::renderer_total() const {
   uint64_t sum = 0;
   for (const MemoryPart& p : parts)
-    if (p.kind != "rasterizer set-ups" && p.kind != "process") sum = sat_add(sum, p.bytes);
+    if (p.kind != kSetupsKind && p.kind != kProcessKind) sum = sat_add(sum, p.bytes);
   return sum;
 }
 
 const MemoryPart& MemoryEstimate::largest() const {
   // The process's own footprint is no part of the scene a user could change: never named.
   return *std::max_element(parts.begin(), parts.end(), [](const MemoryPart& a, const MemoryPart& b) {
-    return (a.kind == "process" ? 0 : a.bytes) < (b.kind == "process" ? 0 : b.bytes);
+    return (a.kind == kProcessKind ? 0 : a.bytes) < (b.kind == kProcessKind ? 0 : b.bytes);
   });
 }
 
@@ -314,7 +314,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
     frame_parts.push_back({object_field(i) + ".mesh",
                            "rasterizer's set-up of its " + std::to_string(m.triangle_count()) + " triangles a frame",
                            sat_add(raster_bytes(m.positions.size(), m.triangle_count()), kObjectBytes),
-                           "rasterizer set-ups", int(i)});
+                           std::string(kSetupsKind), int(i)});
     const io::LoadedMesh& loaded = meshes[i].loaded;
     if (MemoryPart cm = map_part(scene, i, "color_map", "colour map", so.material.color_map, loaded.color_map, 0, "");
         !cm.field.empty())
@@ -348,7 +348,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
                      sat_mul(workers, uint64_t(raster::Renderer::worker_scratch_bytes())), "scratch"});
   for (MemoryPart& p : frame_parts) e.parts.push_back(std::move(p));
   e.parts.push_back({"", "pelt process itself (code, shared libraries, start-up heap)", kProcessBaselineBytes,
-                     "process"});
+                     std::string(kProcessKind)});
   for (const MemoryPart& p : e.parts) e.total = sat_add(e.total, p.bytes);
   return e;
 }

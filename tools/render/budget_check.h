@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "tools/io/budget.h"
@@ -54,6 +55,10 @@ struct MemoryPart {
 // arenas it starts with (about 44 MiB): measured as the peak resident set of a 16 x 16 render
 // of one small sphere (`/usr/bin/time -v`, 134 MiB; 2026-11-27).
 inline constexpr uint64_t kProcessBaselineBytes = uint64_t{136} << 20;
+
+// The kinds of the parts SceneRenderer does not hold (MemoryEstimate::renderer_total).
+inline constexpr std::string_view kSetupsKind = "rasterizer set-ups";
+inline constexpr std::string_view kProcessKind = "process";
 
 struct MemoryEstimate {
   // Objects in order (mesh, maps, fur), the image, the scratch: what SceneRenderer holds; then

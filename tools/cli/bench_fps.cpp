@@ -17,6 +17,7 @@
 
 #include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/simd_option.h"
 #include "tools/cli/quality_options.h"
 #include "tools/io/builtin_meshes.h"
 #include "tools/io/input_error.h"
@@ -332,6 +333,7 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
                     {"width", o.width},
                     {"height", o.height},
                     {"threads", r.threads},
+                    {"simd", simd_in_use()},
                     {"match_llvmpipe", o.match_llvmpipe},
                     {"framebuffer", o.framebuffer},
                     {"sort", io::knob_value(quality, "sort")},
@@ -377,9 +379,9 @@ int run_fps(const Options& o) {
   const render::InterruptGuard interrupt(render::InterruptGuard::Stop::now);
   if (!o.json.empty()) io::prepare_output(o.json, "--json");  // before minutes of frames, not after
   std::vector<Result> results;
-  std::printf("pelt bench fps: %dx%d %s, %d frames after %d warm-up, %s, %d shells, fins %s (%s quads), sort %s, "
-              "filter %s\n",
-              o.width, o.height, o.rgba8() ? "RGBA8" : "float RGBA", o.frames, o.warmup,
+  std::printf("pelt bench fps: %dx%d %s, SIMD %s, %d frames after %d warm-up, %s, %d shells, fins %s (%s quads), "
+              "sort %s, filter %s\n",
+              o.width, o.height, o.rgba8() ? "RGBA8" : "float RGBA", simd_in_use().c_str(), o.frames, o.warmup,
               o.match_llvmpipe ? "the llvmpipe harness's scene (--match-llvmpipe)" : "pelt's own fur", *quality.shells,
               io::knob_value(quality, "fins").c_str(), io::knob_value(quality, "fin_quads").c_str(),
               io::knob_value(quality, "sort").c_str(), io::knob_value(quality, "filter").c_str());
@@ -456,6 +458,7 @@ Run add_bench_fps(CLI::App& bench) {
                   "Also draw every frame with these knobs changed, e.g. filter=bilinear_mip,fins=off, and report "
                   "the per-frame time ratio");
   sub->add_option("--json", o->json, "Also write the results as JSON");
+  add_simd_option(*sub);
   return [o] { return run_fps(*o); };
 }
 

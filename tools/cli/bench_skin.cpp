@@ -15,6 +15,7 @@
 
 #include "tools/bench/skin_meshes.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/simd_option.h"
 #include "tools/cli/budget_options.h"
 #include "tools/io/input_error.h"
 #include "tools/io/output_file.h"
@@ -171,9 +172,9 @@ std::string thousands(uint64_t n) {
 
 void print_table(const std::vector<bench::SkinBenchMesh>& meshes, const std::vector<Measurement>& ms,
                  const SkinBenchOptions& o) {
-  std::printf("pelt bench skin: %dx%d, %d thread%s, median of %d frames after %d warm-up, a mesh's columns "
+  std::printf("pelt bench skin: %dx%d, %d thread%s, SIMD %s, median of %d frames after %d warm-up, a mesh's columns "
               "interleaved frame by frame\n(ours in ms, [min-max]; the paper's Table 1 in s)\n\n",
-              o.width, o.height, o.threads, o.threads == 1 ? "" : "s", o.frames, o.warmup);
+              o.width, o.height, o.threads, o.threads == 1 ? "" : "s", simd_in_use().c_str(), o.frames, o.warmup);
   std::printf("%-12s | %-19s | %-30s | %-30s | %-30s | %s\n", "Model Name", "No. of triangle",
               "Rendering Time: skin", "Blinn", "Lambert", "skin/Lambert");
   std::printf("%-12s | %-19s | %-30s | %-30s | %-30s | %s\n", "", "ours (paper)", "ours ms [min-max] (paper)",
@@ -225,6 +226,7 @@ void write_json_atomic(const std::string& path, const std::vector<Measurement>& 
                     {"width", o.width},
                     {"height", o.height},
                     {"threads", o.threads},
+                    {"simd", simd_in_use()},
                     {"ms_median", m.ms_median},
                     {"ms_min", m.ms_min},
                     {"ms_max", m.ms_max},
@@ -267,6 +269,7 @@ Run add_bench_skin(CLI::App& bench) {
   sub->add_option("--json", o->json, "Also write the measurements as a JSON list to FILE");
   sub->add_option("--head", o->head,
                   "The head scan LeePerrySmith.glb (default: found under tools/data/ of the checkout)");
+  add_simd_option(*sub);
   return [o] { return run_bench_skin(*o); };
 }
 

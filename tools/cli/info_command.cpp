@@ -6,6 +6,7 @@
 
 #include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/simd_option.h"
 #include "tools/cli/quality_options.h"
 #include "tools/io/scene.h"
 #include "tools/render/animation.h"
@@ -83,6 +84,7 @@ int run_info(const InfoOptions& o) {
   std::printf("image      %d x %d, %d frame(s)%s\n", r.width(), r.height(), r.frame_count(),
               scene.animation ? "" : " (still)");
   std::printf("quality    %s\n", io::describe(r.quality()).c_str());
+  std::printf("simd       %s (this CPU runs %s)\n", simd_in_use().c_str(), simd_runnable().c_str());
   std::printf("lights     %zu\n", scene.lights.size());
   std::printf("objects    %zu\n", scene.objects.size());
   for (size_t i = 0; i < scene.objects.size(); ++i) {
@@ -161,6 +163,7 @@ Run add_info_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("info", "Show what a scene will compute, without rendering");
   sub->add_option("scene", o->path, "Scene file (JSON, version 1)")->required();
   add_image_options(*sub, o->width, o->height, o->threads);
+  add_simd_option(*sub);
   add_quality_options(*sub, o->quality);
   add_budget_options(*sub, o->budget);
   return [o] { return run_info(*o); };

@@ -18,6 +18,7 @@
 #include "raster/parallel.h"
 #include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/simd_option.h"
 #include "tools/cli/quality_options.h"
 #include "tools/io/gif_writer.h"
 #include "tools/io/image_backend.h"
@@ -233,7 +234,7 @@ int run_render(const RenderOptions& o) {
   };
   const auto write_stats = [&] {
     if (o.stats.empty()) return;
-    std::string text = "{\n  \"frames\": [";
+    std::string text = "{\n  \"simd\": \"" + simd_in_use() + "\",\n  \"frames\": [";
     for (size_t i = 0; i < stats_frames.size(); ++i) text.append(i ? ",\n" : "\n").append(stats_frames[i]);
     text.append(stats_frames.empty() ? "]\n}\n" : "\n  ]\n}\n");
     io::write_text_atomic(o.stats, text, "--stats");
@@ -417,6 +418,7 @@ Run add_render_command(CLI::App& app) {
                   "Output: .png, .exr, .tif with `#` for the frame number (out/frame_####.png), or .gif")
       ->required();
   add_image_options(*sub, o->width, o->height, o->threads);
+  add_simd_option(*sub);
   sub->add_option("--png-compression", o->png_compression,
                   "PNG zlib level: 0 (fastest) to 9 (smallest) (default: " +
                       std::to_string(io::kDefaultPngCompression) + ")")

@@ -16,6 +16,7 @@
 
 #include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/simd_option.h"
 #include "tools/cli/quality_options.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
@@ -332,6 +333,7 @@ Run add_tradeoff_command(CLI::App& app) {
   sub->add_option("--runs", o->runs, "Timed frames per setting and pass, after one warm-up each (at least 5)")
       ->check(CLI::Range(5, 1000));
   add_image_options(*sub, o->width, o->height, o->threads);
+  add_simd_option(*sub);
   std::string knob_names;
   for (std::string_view k : io::kKnobs) knob_names += (knob_names.empty() ? "" : ",") + std::string(k);
   CLI::Option* knobs =

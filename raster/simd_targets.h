@@ -1,0 +1,45 @@
+// Which Highway target the kernels dispatch to, by pelt's names. Every kernel dispatches
+// dynamically to the best target that was compiled and that the CPU supports; a farm whose
+// nodes differ (AVX-512 on some, AVX2 on others) pins one target for all of them, since the
+// targets' float arithmetic differs in the last bits and a sequence would flicker where
+// shards meet (README, Design: SIMD).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pelt::raster {
+
+// pelt's names, best first: "avx512" (Highway's AVX3), "avx2", "sse4", "scalar" (Highway's
+// portable fallback, one lane: how a kernel runs on a CPU below SSE4).
+struct SimdTarget {
+  const char* name;   // pelt's name, as --simd takes it
+  int64_t hwy_bit;    // the HWY_* bit
+  int lanes;          // float lanes in a vector
+  // Highway's MulAdd is one fused operation on AVX2 and AVX-512 and a multiply then an add
+  // below: targets that agree on this draw the same bytes (README, Design: SIMD).
+  bool fused_multiply_add;
+};
+
+// The targets this build compiled, best first.
+const std::vector<SimdTarget>& compiled_simd_targets();
+
+// The compiled targets this CPU can run, best first, whatever is pinned.
+const std::vector<SimdTarget>& runnable_simd_targets();
+
+// The target the kernels dispatch to now.
+SimdTarget active_simd_target();
+
+// Pins `name` ("auto" undoes nothing and pins nothing): every better target is disabled, so
+// each kernel dispatches to it. Call before any kernel runs. Returns "" on success, else why
+// not (an unknown name, or one this build or CPU cannot run), naming what can be asked for.
+std::string pin_simd_target(const std::string& name);
+
+// Why `name` cannot be pinned when the CPU runs `runnable` ("" when it can, and for "auto").
+std::string simd_pin_refusal(const std::string& name, const std::vector<SimdTarget>& runnable);
+
+// "auto|avx512|avx2|sse4|scalar": the names --simd takes.
+std::string simd_target_choices();
+
+}  // namespace pelt::raster

@@ -7,6 +7,21 @@
 namespace pelt::raster {
 namespace {
 
+// The mask pin_simd_target set (0: none, dispatch free to choose), restored by SimdTargetScope.
+int64_t g_pinned_mask = 0;
+
+// The targets dispatch may choose when `name` (a runnable target) is pinned: it and those
+// below it; every lower bit is a better target.
+int64_t mask_for(const std::string& name) {
+  int64_t wanted = 0;
+  for (const SimdTarget& t : runnable_simd_targets())
+    if (name == t.name) wanted = t.hwy_bit;
+  int64_t keep = HWY_SCALAR;
+  for (const SimdTarget& t : runnable_simd_targets())
+    if (t.hwy_bit >= wanted) keep |= t.hwy_bit;
+  return keep;
+}
+
 // Every x86 target pelt's kernels may be compiled for, best first; the list is filtered by
 // HWY_TARGETS, so a build that leaves one out (PELT_HWY_DISABLED_TARGETS) does not offer it.
 constexpr SimdTarget kKnown[] = {
@@ -73,20 +88,18 @@ std::string simd_pin_refusal(const std::string& name, const std::vector<SimdTarg
 
 std::string pin_simd_target(const std::string& name) {
   const std::vector<SimdTarget>& runnable = runnable_simd_targets();
-  if (std::string refusal = simd_pin_refusal(name, runnable); !refusal.empty() || name == "auto") return refusal;
-  const SimdTarget* wanted = nullptr;
-  for (const SimdTarget& t : runnable)
-    if (name == t.name) wanted = &t;
-  // Dispatch sees only the wanted target and those below it (every lower bit is a better
-  // target), through SetSupportedTargetsForTest and not DisableTargets: in Debian's Highway
-  // 1.0.3 every later call of SupportedTargets() resets dispatch to the CPU's best target while
-  // no test mask is set (it updates the chosen target from the CPU's bits before masking them),
-  // so reporting the target, as `bench fps` does before its frames, undid the pin.
-  int64_t keep = HWY_SCALAR;
-  for (const SimdTarget& t : runnable)
-    if (t.hwy_bit >= wanted->hwy_bit) keep |= t.hwy_bit;
-  hwy::SetSupportedTargetsForTest(keep);
+  if (std::string refusal = simd_pin_refusal(name, runnable); !refusal.empty()) return refusal;
+  // Through SetSupportedTargetsForTest and not DisableTargets: in Debian's Highway 1.0.3 every
+  // later call of SupportedTargets() resets dispatch to the CPU's best target while no test
+  // mask is set (it updates the chosen target from the CPU's bits before masking them), so
+  // reporting the target, as `bench fps` does before its frames, undid the pin.
+  g_pinned_mask = name == "auto" ? 0 : mask_for(name);
+  hwy::SetSupportedTargetsForTest(g_pinned_mask);
   return "";
 }
+
+SimdTargetScope::SimdTargetScope(const std::string& name) { hwy::SetSupportedTargetsForTest(mask_for(name)); }
+
+SimdTargetScope::~SimdTargetScope() { hwy::SetSupportedTargetsForTest(g_pinned_mask); }
 
 }  // namespace pelt::raster

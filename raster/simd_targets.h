@@ -31,13 +31,24 @@ const std::vector<SimdTarget>& runnable_simd_targets();
 // The target the kernels dispatch to now.
 SimdTarget active_simd_target();
 
-// Pins `name` ("auto" undoes nothing and pins nothing): every better target is disabled, so
-// each kernel dispatches to it. Call before any kernel runs. Returns "" on success, else why
-// not (an unknown name, or one this build or CPU cannot run), naming what can be asked for.
+// Pins `name`: every better target is disabled, so each kernel dispatches to it ("auto": no
+// pin, or none any more). Not while kernels run. Returns "" on success, else why not (an
+// unknown name, or one this build or CPU cannot run), naming what can be asked for.
 std::string pin_simd_target(const std::string& name);
 
 // Why `name` cannot be pinned when the CPU runs `runnable` ("" when it can, and for "auto").
 std::string simd_pin_refusal(const std::string& name, const std::vector<SimdTarget>& runnable);
+
+// Holds dispatch to another target while it lives (`bench fps --versus simd=sse4` draws every
+// other frame so), then back to the pin (or to the best target without one). `name` must be
+// one simd_pin_refusal accepts. Not for use while kernels run on other threads.
+class SimdTargetScope {
+ public:
+  explicit SimdTargetScope(const std::string& name);
+  ~SimdTargetScope();
+  SimdTargetScope(const SimdTargetScope&) = delete;
+  SimdTargetScope& operator=(const SimdTargetScope&) = delete;
+};
 
 // "auto|avx512|avx2|sse4|scalar": the names --simd takes.
 std::string simd_target_choices();

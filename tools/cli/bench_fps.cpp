@@ -15,6 +15,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "raster/simd_targets.h"
 #include "tools/cli/budget_options.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/simd_option.h"
@@ -201,13 +202,21 @@ io::Quality bench_quality(const Options& o) {
   return q;
 }
 
+// What --versus draws each frame with besides the run's setting.
+struct VersusSetting {
+  io::Quality quality;
+  std::string simd;  // another SIMD target ("": the run's own)
+};
+
 // The knobs of --versus applied to the run's quality `base`: "knob=value" pairs separated by
-// commas, knob names as in `pelt tradeoff` (e.g. "filter=bilinear_mip,fins=off"). Throws
+// commas, knob names as in `pelt tradeoff` (e.g. "filter=bilinear_mip,fins=off"), and `simd`
+// for another SIMD target (e.g. "simd=avx2": the price of the vector width). Throws
 // io::InputError naming --versus for a malformed pair, an unknown knob or value, a knob given
 // twice, or a setting that changes nothing (a comparison of a run with itself, or of skin
 // knobs in scenes without skin).
-io::Quality versus_quality(const std::string& spec, const io::Quality& base, bool match_llvmpipe) {
-  io::Quality q = base;
+VersusSetting versus_setting(const std::string& spec, const io::Quality& base, bool match_llvmpipe) {
+  VersusSetting v{base, ""};
+  io::Quality& q = v.quality;
   std::vector<std::string> seen;
   // getline finds no item after a last comma: an empty one, refused as the others are.
   if (!spec.empty() && spec.back() == ',') throw io::InputError("", "--versus", "`" + spec + "` has an empty item");
@@ -221,21 +230,29 @@ io::Quality versus_quality(const std::string& spec, const io::Quality& base, boo
     if (std::find(seen.begin(), seen.end(), knob) != seen.end())
       throw io::InputError("", "--versus", "knob `" + knob + "` given twice");
     seen.push_back(knob);
+    if (knob == "simd") {
+      if (value == "auto") throw io::InputError("", "--versus", "simd=auto: name a target (" + simd_runnable() + ")");
+      if (std::string e = raster::simd_pin_refusal(value, raster::runnable_simd_targets()); !e.empty())
+        throw io::InputError("", "--versus", "simd=" + value + ": " + e);
+      if (value != simd_in_use()) v.simd = value;
+      continue;
+    }
     if (auto e = io::set_knob(q, knob, value)) throw io::InputError("", "--versus", *e);
   }
   if (seen.empty()) throw io::InputError("", "--versus", "no knob=value given (e.g. filter=bilinear_mip)");
-  if (q == base) throw io::InputError("", "--versus", "`" + spec + "` is the run's own setting: nothing to compare");
+  if (q == base && v.simd.empty())
+    throw io::InputError("", "--versus", "`" + spec + "` is the run's own setting: nothing to compare");
   // The benchmark's scenes are fur on a lambert base: the skin's knobs draw the same frame.
   io::Quality fur_knobs = q;
   fur_knobs.multiple_scattering = base.multiple_scattering;
   fur_knobs.single_scattering = base.single_scattering;
-  if (fur_knobs == base)
+  if (fur_knobs == base && v.simd.empty())
     throw io::InputError("", "--versus", "`" + spec + "` changes only skin knobs, and the benchmark's scenes have no "
                                          "skin: the same frame, nothing to compare");
   if (match_llvmpipe && q.fin_quads == io::FinQuads::merged)
     throw io::InputError("", "--versus", "merged fins are not drawn with --match-llvmpipe (the harness's fins are "
                                          "one quad per pair of layers)");
-  return q;
+  return v;
 }
 
 // The knobs whose value in `other` differs from the run's, with that value, in kKnobs order.
@@ -246,15 +263,22 @@ std::vector<std::pair<std::string, std::string>> differing_knobs(const io::Quali
   return knobs;
 }
 
+// The knobs whose value differs, the SIMD target last.
+std::vector<std::pair<std::string, std::string>> differing_knobs(const io::Quality& run, const VersusSetting& other) {
+  std::vector<std::pair<std::string, std::string>> knobs = differing_knobs(run, other.quality);
+  if (!other.simd.empty()) knobs.emplace_back("simd", other.simd);
+  return knobs;
+}
+
 // One line of the setting that differs: "filter=bilinear_mip fins=off".
-std::string versus_label(const io::Quality& run, const io::Quality& other) {
+std::string versus_label(const io::Quality& run, const VersusSetting& other) {
   std::string label;
   for (const auto& [knob, value] : differing_knobs(run, other)) label += (label.empty() ? "" : " ") + knob + "=" + value;
   return label;
 }
 
 Result run_one(const PaperTable& t, int threads, const Options& o, const io::Quality& q,
-               const io::Quality* versus) {
+               const VersusSetting* versus) {
   const io::Scene scene = bench_scene(t, o.match_llvmpipe);
   std::vector<io::SceneMesh> meshes(1);
   meshes[0].loaded.mesh = io::make_builtin_mesh(t.mesh);
@@ -279,7 +303,7 @@ Result run_one(const PaperTable& t, int threads, const Options& o, const io::Qua
     std::vector<io::SceneMesh> other_meshes(1);
     other_meshes[0].loaded.mesh = m;
     render::RenderSettings vs = rs;
-    vs.quality = *versus;
+    vs.quality = versus->quality;
     other.emplace(scene, std::move(other_meshes), vs);
   }
   render::SceneRenderer r(scene, std::move(meshes), rs);
@@ -291,7 +315,11 @@ Result run_one(const PaperTable& t, int threads, const Options& o, const io::Qua
     auto draw = [&] { r.render(f, img, st, &cam); };
     double ms = 0.0, other_ms = 0.0;
     if (other)
-      std::tie(ms, other_ms) = render::time_side_by_side(f, draw, [&] { other->render(f, img, other_st, &cam); });
+      std::tie(ms, other_ms) = render::time_side_by_side(f, draw, [&] {
+        std::optional<raster::SimdTargetScope> target;
+        if (!versus->simd.empty()) target.emplace(versus->simd);
+        other->render(f, img, other_st, &cam);
+      });
     else
       ms = render::time_ms(draw);
     if (f >= o.warmup) {
@@ -310,7 +338,7 @@ Result run_one(const PaperTable& t, int threads, const Options& o, const io::Qua
 
 // --versus's figures for JSON, or null without it: the other setting's knobs and FPS, and the
 // per-frame ratio of its time to the run's (median and quartiles).
-nlohmann::json versus_json(const Result& r, const io::Quality& run, const io::Quality* versus) {
+nlohmann::json versus_json(const Result& r, const io::Quality& run, const VersusSetting* versus) {
   if (!versus || r.versus_ratio.empty()) return nlohmann::json();
   nlohmann::json knobs = nlohmann::json::object();
   for (const auto& [knob, value] : differing_knobs(run, *versus)) knobs[knob] = value;
@@ -323,7 +351,7 @@ nlohmann::json versus_json(const Result& r, const io::Quality& run, const io::Qu
 }
 
 void write_json(const std::string& path, const std::vector<Result>& results, const Options& o,
-                const io::Quality& quality, const io::Quality* versus) {
+                const io::Quality& quality, const VersusSetting* versus) {
   nlohmann::json list = nlohmann::json::array();
   for (const Result& r : results) {
     const fur::FurCounts& c = r.counts;
@@ -359,8 +387,8 @@ void write_json(const std::string& path, const std::vector<Result>& results, con
 int run_fps(const Options& o) {
   check_default_pixel_budget(o.width, o.height);
   const io::Quality quality = bench_quality(o);
-  std::optional<io::Quality> versus;
-  if (o.versus) versus = versus_quality(*o.versus, quality, o.match_llvmpipe);
+  std::optional<VersusSetting> versus;
+  if (o.versus) versus = versus_setting(*o.versus, quality, o.match_llvmpipe);
   std::vector<const PaperTable*> tables;
   for (const std::string& s : o.scenes) {
     const PaperTable* t = nullptr;

@@ -153,6 +153,27 @@ TEST(BenchFps, VersusDrawsEachFrameBothWays) {
   EXPECT_NE(r.out.find("over 2 frames drawn both ways"), std::string::npos) << r.out;
 }
 
+// `simd=T` draws the second frame with every kernel on target T (raster::SimdTargetScope, whose
+// switch tests/tools/cli/simd_option_test.cpp checks): the price of the vector width, paired.
+TEST(BenchFps, VersusAnotherSimdTarget) {
+  const nlohmann::json both = run_json({"--versus", "simd=scalar,fins=off"});
+  ASSERT_EQ(both.size(), 1u);
+  EXPECT_NE(both[0]["simd"], "scalar");  // the run keeps the best target
+  const nlohmann::json& v = both[0]["versus"];
+  ASSERT_TRUE(v.is_object()) << both.dump();
+  EXPECT_EQ(v["knobs"], (nlohmann::json{{"fins", "off"}, {"simd", "scalar"}}));
+  EXPECT_GT(v["time_ratio_median"].get<double>(), 0.0);
+  const nlohmann::json pinned = run_json({"--simd", "sse4", "--versus", "simd=scalar"});
+  ASSERT_EQ(pinned.size(), 1u);
+  EXPECT_EQ(pinned[0]["simd"], "sse4");
+  EXPECT_EQ(pinned[0]["versus"]["knobs"], (nlohmann::json{{"simd", "scalar"}}));
+
+  expect_refused({"--simd", "sse4", "--versus", "simd=sse4"}, "--versus: `simd=sse4` is the run's own setting");
+  expect_refused({"--versus", "simd=auto"}, "--versus: simd=auto: name a target (");
+  expect_refused({"--versus", "simd=neon"}, "--versus: simd=neon: `neon` is not a SIMD target of this build");
+  expect_refused({"--versus", "simd=sse4,simd=scalar"}, "--versus: knob `simd` given twice");
+}
+
 TEST(BenchFps, AMalformedVersusNamesItsFlag) {
   for (const auto& [spec, message] :
        {std::pair{"filter", "--versus: `filter` is not knob=value"},

@@ -48,6 +48,24 @@ std::map<std::string, Render> render_all(const std::string& target) {
   return out;
 }
 
+// A shipped scene's frame 0 drawn in this process, its float colour: with dispatch as it stands
+// (held = 0), or held to the targets of `held` while it draws.
+std::vector<float> draw_here(const std::string& scene, int width, int height, int64_t held = 0) {
+  const io::Scene parsed = io::load_scene(source_dir() / "tools/scenes" / (scene + ".json"));
+  render::RenderSettings rs;
+  rs.width = width;
+  rs.height = height;
+  rs.threads = 2;
+  render::FrameImage img;
+  render::FrameStats st;
+  if (held) hwy::SetSupportedTargetsForTest(held);
+  render::SceneRenderer(parsed, rs).render(0, img, st);
+  if (held) hwy::SetSupportedTargetsForTest(0);
+  return img.color;
+}
+
+int64_t held_to(const raster::SimdTarget& t) { return t.hwy_bit | HWY_SCALAR; }
+
 float max_difference(const io::ImageRGBA& a, const io::ImageRGBA& b) {
   float most = 0;
   for (size_t i = 0; i < a.rgba.size(); ++i) most = std::max(most, std::abs(a.rgba[i] - b.rgba[i]));
@@ -66,20 +84,11 @@ TEST(SimdOption, EveryKernelTakesThePinAndTargetsOfOneArithmeticDrawTheSameBytes
   for (const raster::SimdTarget& t : targets) {
     renders.push_back(render_all(t.name));
     for (const char* scene : kScenes) {
-      const io::Scene parsed = io::load_scene(source_dir() / "tools/scenes" / (std::string(scene) + ".json"));
-      render::RenderSettings rs;
-      rs.width = 96;
-      rs.height = 72;
-      rs.threads = 2;
-      render::FrameImage img;
-      render::FrameStats st;
-      hwy::SetSupportedTargetsForTest(t.hwy_bit | HWY_SCALAR);
-      render::SceneRenderer(parsed, rs).render(0, img, st);
-      hwy::SetSupportedTargetsForTest(0);
+      const std::vector<float> here = draw_here(scene, 96, 72, held_to(t));
       const io::ImageRGBA& got = renders.back().at(scene).image;
-      ASSERT_EQ(got.rgba.size(), img.color.size()) << scene << " " << t.name;
+      ASSERT_EQ(got.rgba.size(), here.size()) << scene << " " << t.name;
       size_t differ = 0;
-      for (size_t i = 0; i < img.color.size(); ++i) differ += got.rgba[i] != img.color[i];
+      for (size_t i = 0; i < here.size(); ++i) differ += got.rgba[i] != here[i];
       EXPECT_EQ(differ, 0u) << scene << ": --simd " << t.name << " against every kernel on " << t.name;
     }
   }
@@ -114,31 +123,45 @@ TEST(SimdOption, EveryKernelTakesThePinAndTargetsOfOneArithmeticDrawTheSameBytes
 // targets, which in Highway 1.0.3 could reset dispatch to the best one): pinned in this
 // process, a frame matches the one drawn with dispatch held to that target.
 TEST(SimdOption, APinHoldsAfterItIsReported) {
-  const io::Scene scene = io::load_scene(source_dir() / "tools/scenes/box_fur.json");
-  render::RenderSettings rs;
-  rs.width = 64;
-  rs.height = 48;
-  rs.threads = 2;
-  const auto draw = [&] {
-    render::FrameImage img;
-    render::FrameStats st;
-    render::SceneRenderer(scene, rs).render(0, img, st);
-    return img.color;
-  };
+  const auto draw = [] { return draw_here("box_fur", 64, 48); };
   int pinned = 0;
   for (const raster::SimdTarget& t : raster::runnable_simd_targets()) {
     if (t.fused_multiply_add) continue;  // the best target's family: a lost pin would not show
-    hwy::SetSupportedTargetsForTest(t.hwy_bit | HWY_SCALAR);
-    const std::vector<float> want = draw();
-    hwy::SetSupportedTargetsForTest(0);
+    const std::vector<float> want = draw_here("box_fur", 64, 48, held_to(t));
     ASSERT_EQ(raster::pin_simd_target(t.name), "");
     EXPECT_STREQ(raster::active_simd_target().name, t.name);
     EXPECT_TRUE(draw() == want) << "pinned to " << t.name << ", the frame is another target's";
-    hwy::SetSupportedTargetsForTest(0);
-    hwy::DisableTargets(0);
+    ASSERT_EQ(raster::pin_simd_target("auto"), "");
+    hwy::DisableTargets(0);  // a DisableTargets pin (which the test must catch) undone too
     ++pinned;
   }
   EXPECT_EQ(pinned, 2);  // sse4 and scalar, compiled for every x86-64 CPU
+}
+
+// `bench fps --versus simd=T` draws its second frames inside a SimdTargetScope: every kernel on
+// T while it lives, then back to the pin.
+TEST(SimdOption, AScopeHoldsItsTargetThenRestoresThePin) {
+  const auto draw = [] { return draw_here("box_fur", 64, 48); };
+  std::vector<float> sse4;
+  for (const raster::SimdTarget& t : raster::runnable_simd_targets())
+    if (std::string(t.name) == "sse4") sse4 = draw_here("box_fur", 64, 48, held_to(t));
+  ASSERT_FALSE(sse4.empty());
+  const std::vector<float> best = draw();
+  // Every x86-64 CPU of the last decade has AVX2, whose fused MulAdd makes the frames differ.
+  ASSERT_FALSE(sse4 == best) << "the frames of the two arithmetics must differ for this test to see a switch";
+  {
+    raster::SimdTargetScope scope("sse4");
+    EXPECT_TRUE(draw() == sse4);
+  }
+  EXPECT_TRUE(draw() == best) << "no pin: the scope must give dispatch back its choice";
+  ASSERT_EQ(raster::pin_simd_target("sse4"), "");
+  {
+    raster::SimdTargetScope scope(raster::runnable_simd_targets().front().name);
+    EXPECT_TRUE(draw() == best);
+  }
+  EXPECT_TRUE(draw() == sse4) << "pinned to sse4: the scope must restore the pin";
+  ASSERT_EQ(raster::pin_simd_target("auto"), "");
+  EXPECT_TRUE(draw() == best) << "`auto` must undo the pin";
 }
 
 TEST(SimdOption, ThePinIsReported) {

@@ -119,6 +119,25 @@ TEST(SimdOption, EveryKernelTakesThePinAndTargetsOfOneArithmeticDrawTheSameBytes
   }
 }
 
+// Coverage, depth and the fragment count are integer or exactly specified arithmetic (fixed-point
+// edges, depth in float without fusing): every target draws the same bytes, FMA or not.
+TEST(SimdOption, EveryTargetCoversAndDepthTestsTheSamePixels) {
+  const TempDir dir;
+  std::map<std::string, std::string> first;
+  for (const raster::SimdTarget& t : raster::runnable_simd_targets())
+    for (const char* aov : {"overdraw", "depth", "id"}) {
+      const fs::path path = dir.path() / (std::string(aov) + "_" + t.name + ".exr");
+      const Result r = run_pelt({"render", (source_dir() / "tools/scenes/teapot2_fur.json").string(), "--frame", "3",
+                                 "--width", "96", "--height", "72", "--simd", t.name, "--aov", aov, "-q", "-o",
+                                 path.string()},
+                                dir.path());
+      ASSERT_EQ(r.code, 0) << r.err;
+      const std::string bytes = read_text(path);
+      if (!first.count(aov)) first[aov] = bytes;
+      EXPECT_TRUE(bytes == first[aov]) << aov << " on " << t.name;
+    }
+}
+
 // The pin holds after the target is reported (active_simd_target asks Highway for its
 // targets, which in Highway 1.0.3 could reset dispatch to the best one): pinned in this
 // process, a frame matches the one drawn with dispatch held to that target.

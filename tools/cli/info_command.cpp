@@ -74,6 +74,9 @@ int run_info(const InfoOptions& o) {
   rs.quality = resolve_quality(file_scene, o.quality);
   rs.budget = o.budget;
   rs.describe_only = true;
+  // A still is one image; an animation's frames as files (a GIF's extra is said below).
+  rs.output = file_scene.animation && file_scene.animation->frames > 1 ? render::ImageOutput::sequence
+                                                                       : render::ImageOutput::still;
   const std::unique_ptr<render::SceneRenderer> owned = naming_flag_origin(
       file_scene, o.quality, o.width, o.height, [&] { return std::make_unique<render::SceneRenderer>(file_scene, rs); });
   const render::SceneRenderer& r = *owned;
@@ -151,8 +154,16 @@ int run_info(const InfoOptions& o) {
   std::printf("triangles  %llu before fur, %llu after\n", static_cast<unsigned long long>(r.base_triangles()),
               static_cast<unsigned long long>(r.base_triangles() + r.fur_triangles()));
   std::printf("memory     about %s at the peak of `pelt render` on %d thread%s (what --max-memory is checked "
-              "against)\n",
+              "against)",
               render::describe_bytes(r.budget_estimate()).c_str(), rs.threads, rs.threads == 1 ? "" : "s");
+  if (rs.output == render::ImageOutput::sequence) {
+    const int spp = r.quality().spp;
+    const uint64_t gif = r.budget_estimate() + render::image_bytes(r.width(), r.height(), spp, render::ImageOutput::gif) -
+                         render::image_bytes(r.width(), r.height(), spp, render::ImageOutput::sequence);
+    std::printf(";\n           %s written as one GIF; one frame alone (--frame) less",
+                render::describe_bytes(gif).c_str());
+  }
+  std::printf("\n");
   return 0;
 }
 

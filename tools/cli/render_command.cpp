@@ -247,6 +247,9 @@ int run_render(const RenderOptions& o) {
   rs.quality = quality;
   rs.budget = o.budget;
   rs.aov = aov;
+  rs.output = plan.kind == render::OutputKind::gif ? render::ImageOutput::gif
+              : plan.frames.size() == 1           ? render::ImageOutput::still
+                                                  : render::ImageOutput::sequence;
   const auto make_renderer = [&](const render::RenderSettings& settings) {
     return naming_flag_origin(scene, o.quality, o.width, o.height,
                               [&] { return std::make_unique<render::SceneRenderer>(scene, settings); });

@@ -244,28 +244,32 @@ std::string describe_bytes(uint64_t bytes) {
   return std::to_string(bytes) + " bytes (" + rounded + ")";
 }
 
-uint64_t image_bytes(int width, int height, int spp) {
+uint64_t image_bytes(int width, int height, int spp, ImageOutput output) {
   const uint64_t px = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0));
-  // Two float RGBA images (one written while the next renders), the 8-bit RGBA written to the file.
-  uint64_t per_pixel = 2 * 4 * sizeof(float) + 4;
+  // The float RGBA images (a sequence writes one while the next renders), the 8-bit RGBA written
+  // to the file.
+  uint64_t per_pixel = (output == ImageOutput::still ? 1 : 2) * 4 * sizeof(float) + 4;
+  if (output == ImageOutput::gif) per_pixel += kGifBytesPerPixel;
   if (spp > 1) per_pixel += 4 * sizeof(float) + 4 * sizeof(double);  // one sample's image, the sum
   return sat_mul(px, per_pixel);
 }
 
-void check_scene_budget(const io::Scene& scene, int width, int height, int spp, const io::Budget& budget) {
+void check_scene_budget(const io::Scene& scene, int width, int height, int spp, const io::Budget& budget,
+                        ImageOutput output) {
   const int w = effective_side(width, scene.image.width), h = effective_side(height, scene.image.height);
   const uint64_t px = uint64_t(std::max(w, 0)) * uint64_t(std::max(h, 0));
   if (px > budget.max_pixels)
     refuse(scene, "image.width",
            "the image is " + std::to_string(w) + " x " + std::to_string(h) + " = " + std::to_string(px) +
                " pixels, " + io::over_budget(std::to_string(budget.max_pixels) + " pixels", io::kMaxPixelsFlag));
-  const uint64_t image = image_bytes(w, h, spp);
+  const uint64_t image = image_bytes(w, h, spp, output);
   if (image > budget.max_memory_bytes) {
-    const bool spp_made_it = spp > 1 && image_bytes(w, h, 1) <= budget.max_memory_bytes;
+    const bool spp_made_it = spp > 1 && image_bytes(w, h, 1, output) <= budget.max_memory_bytes;
     refuse(scene, spp_made_it ? "quality.spp" : "image.width",
            "the " + std::to_string(w) + " x " + std::to_string(h) + " image" +
-               (spp > 1 ? " at " + std::to_string(spp) + " samples per pixel" : std::string()) + " needs " +
-               describe_bytes(image) + " of buffers, " +
+               (spp > 1 ? " at " + std::to_string(spp) + " samples per pixel" : std::string()) +
+               (output == ImageOutput::gif ? " written as a GIF" : "") + " needs " + describe_bytes(image) +
+               " of buffers, " +
                io::over_budget(describe_bytes(budget.max_memory_bytes), io::kMaxMemoryFlag));
   }
   for (size_t i = 0; i < scene.objects.size(); ++i) {
@@ -299,7 +303,7 @@ const MemoryPart& MemoryEstimate::largest() const {
 }
 
 MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
-                               int height, int threads, int spp, bool fur_drawn) {
+                               int height, int threads, int spp, bool fur_drawn, ImageOutput output) {
   if (meshes.size() != scene.objects.size())
     throw std::invalid_argument("estimate_memory: one mesh per scene object expected");
   MemoryEstimate e;
@@ -341,8 +345,9 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
   const int w = effective_side(width, scene.image.width), h = effective_side(height, scene.image.height);
   e.parts.push_back({"image.width",
                      "image buffers, " + std::to_string(w) + " x " + std::to_string(h) +
-                         (spp > 1 ? " at " + std::to_string(spp) + " samples per pixel" : std::string()),
-                     image_bytes(w, h, spp), "image"});
+                         (spp > 1 ? " at " + std::to_string(spp) + " samples per pixel" : std::string()) +
+                         (output == ImageOutput::gif ? ", and the GIF encoder's" : ""),
+                     image_bytes(w, h, spp, output), "image"});
   const uint64_t workers = uint64_t(std::max(threads, 1));
   e.parts.push_back({"--threads", "tile scratch of " + std::to_string(workers) + " worker(s)",
                      sat_mul(workers, uint64_t(raster::Renderer::worker_scratch_bytes())), "scratch"});
@@ -354,8 +359,9 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
 }
 
 uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
-                             int height, int threads, int spp, const io::Budget& budget, bool fur_drawn) {
-  const MemoryEstimate e = estimate_memory(scene, meshes, width, height, threads, spp, fur_drawn);
+                             int height, int threads, int spp, const io::Budget& budget, bool fur_drawn,
+                             ImageOutput output) {
+  const MemoryEstimate e = estimate_memory(scene, meshes, width, height, threads, spp, fur_drawn, output);
   if (e.total <= budget.max_memory_bytes) return e.total;
   const MemoryPart& big = e.largest();
   // As check_scene_budget: image buffers that one sample per pixel would fit in the budget are
@@ -364,7 +370,7 @@ uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::Scene
   const bool spp_made_it =
       big.field == "image.width" && spp > 1 &&
       e.total - big.bytes + image_bytes(effective_side(width, scene.image.width),
-                                        effective_side(height, scene.image.height), 1) <= budget.max_memory_bytes;
+                                        effective_side(height, scene.image.height), 1, output) <= budget.max_memory_bytes;
   // Many objects' parts of one kind can outweigh the largest single part (216 furry spheres):
   // said, with how many parts, so the user looks at the scene's objects, not the image.
   // Named when that kind over all its objects is at least twice the largest part (the largest

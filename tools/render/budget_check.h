@@ -18,6 +18,20 @@
 
 namespace pelt::render {
 
+// What `pelt render` writes, which sets the image buffers it holds.
+enum class ImageOutput {
+  still,     // one frame: one float RGBA image
+  sequence,  // frames as files: one is written while the next renders, two float RGBA images
+  gif,       // a sequence into one GIF: and the GIF encoder's buffers (kGifBytesPerPixel)
+};
+
+// What an animated GIF's writing holds beside a sequence's buffers, per pixel of a frame: the
+// frame's 8-bit RGBA and RGB copies (7 bytes) and OpenImageIO's GIF encoder. Measured as the
+// peak resident set of `pelt render tools/scenes/bunny_wind.json --threads 1` to out.gif against
+// out_####.png (`/usr/bin/time -v`, 2026-11-27): +32.2 MB at 1024 x 768 (6 frames), +7.8 MB at
+// 512 x 384 (30 frames), 40-41 bytes a pixel whatever the frame count; rounded up.
+inline constexpr uint64_t kGifBytesPerPixel = 44;
+
 // Checks what the scene asks for before any mesh is loaded:
 //   image.width   width x height against budget.max_pixels, and the image buffers alone
 //                 (image_bytes) against budget.max_memory_bytes (`quality.spp` when only
@@ -29,12 +43,12 @@ namespace pelt::render {
 // caller applies the command line's quality flags to scene.quality first; spp is the
 // samples per pixel the render will take. Throws io::InputError(scene file, field,
 // reason) whose reason gives the requested number, the budget and the flag raising it.
-void check_scene_budget(const io::Scene& scene, int width, int height, int spp, const io::Budget& budget);
+void check_scene_budget(const io::Scene& scene, int width, int height, int spp, const io::Budget& budget,
+                        ImageOutput output = ImageOutput::sequence);
 
-// Bytes of the image buffers of a render: two float RGBA colour images (`pelt render` writes
-// one frame while the next renders), the 8-bit encoding for the file, and with spp > 1 one
-// sample's image and a double accumulator.
-uint64_t image_bytes(int width, int height, int spp);
+// Bytes of the image buffers of a render: the float RGBA colour images `output` needs, the
+// 8-bit encoding for the file, and with spp > 1 one sample's image and a double accumulator.
+uint64_t image_bytes(int width, int height, int spp, ImageOutput output = ImageOutput::sequence);
 
 // One part of a memory estimate: where it comes from (a scene field path, or `--threads`
 // for the per-worker scratch), what it is, and its bytes.
@@ -96,7 +110,8 @@ struct MemoryEstimate {
 // Colour-map headers are read from disk (io::read_image_header). width or height <= 0
 // means the scene's image size; threads < 1 counts as one worker.
 MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
-                               int height, int threads, int spp, bool fur_drawn = true);
+                               int height, int threads, int spp, bool fur_drawn = true,
+                               ImageOutput output = ImageOutput::sequence);
 
 // Refuses an estimate above budget.max_memory_bytes: io::InputError(scene file, the
 // largest part's field, reason with the estimate, the budget, --max-memory and the
@@ -106,7 +121,8 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
 uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
                              int height, int threads, const io::Budget& budget);
 uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
-                             int height, int threads, int spp, const io::Budget& budget, bool fur_drawn = true);
+                             int height, int threads, int spp, const io::Budget& budget, bool fur_drawn = true,
+                             ImageOutput output = ImageOutput::sequence);
 
 // "1234567890 bytes (1.1 GiB)": exact for the record, rounded for the reader.
 std::string describe_bytes(uint64_t bytes);

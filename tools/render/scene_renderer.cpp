@@ -248,14 +248,14 @@ SceneRenderer::SceneRenderer(const io::Scene& scene, std::optional<std::vector<i
   // Budgets: what the scene file asks for before any mesh is read, the loaders check faces
   // and texture sizes as they read headers, and the memory estimate is checked from the
   // loaded counts before anything else is allocated.
-  check_scene_budget(scene_, width_, height_, quality_.spp, settings_.budget);
+  check_scene_budget(scene_, width_, height_, quality_.spp, settings_.budget, settings_.output);
   if (!meshes) {
     StageTimer t(setup_stats_, "meshes");
     meshes = io::load_scene_meshes(scene_, settings_.budget);
   }
   budget_estimate_ =
       check_memory_budget(scene_, *meshes, width_, height_, settings_.threads, quality_.spp, settings_.budget,
-                          aov_shows_fur(settings_.aov));  // describe-only too: it estimates the render
+                          aov_shows_fur(settings_.aov), settings_.output);  // describe-only too: it estimates the render
   build(std::move(*meshes));
 }
 

@@ -15,6 +15,7 @@
 #include "tools/io/quality.h"
 #include "tools/io/scene.h"
 #include "tools/render/animation.h"
+#include "tools/render/budget_check.h"
 #include "tools/render/frame_stats.h"
 #include "tools/render/fur_object.h"
 #include "tools/render/material_shader.h"
@@ -51,6 +52,9 @@ struct RenderSettings {
   // minutes is estimated instead of run (the normal blur's searches: its pairs are counted on
   // 64 sampled vertices and checked against the budget); render() refuses to draw.
   bool describe_only = false;
+  // What the frames are written as, for the image buffers the memory estimate counts (a
+  // sequence's two by default: `pelt render` says when it writes a still or a GIF).
+  ImageOutput output = ImageOutput::sequence;
 };
 
 // The scene as a quality setting draws it: `shells` and `fins` replace every fur block's,

@@ -540,29 +540,44 @@ TEST_F(RenderCommand, InfoPrintsTheBlurPairsTheBudgetChecks) {
 // figure refuses the render, one a little over lets it run.
 // ... at the render's own size and threads, which info takes as render does (until 2026-11-27 it
 // estimated the scene's size on every core only).
+// Of an animation, info gives the figure for its frames as files and for one GIF; a still (one
+// frame) holds one float image less, 16 bytes a pixel.
 TEST_F(RenderCommand, InfoReportsTheEstimateTheBudgetChecks) {
-  for (const std::vector<std::string>& size :
-       {std::vector<std::string>{}, std::vector<std::string>{"--width", "300", "--height", "200", "--threads", "1"}}) {
+  for (const auto& [size, pixels] :
+       {std::pair{std::vector<std::string>{}, 48LL * 36},
+        std::pair{std::vector<std::string>{"--width", "300", "--height", "200", "--threads", "1"}, 300LL * 200}}) {
     std::vector<std::string> args = {"info", scene.string()};
     args.insert(args.end(), size.begin(), size.end());
     const Result info = run_pelt(args, dir.path());
     ASSERT_EQ(info.code, 0) << info.err;
     const size_t at = info.out.find("memory     about ");
     ASSERT_NE(at, std::string::npos) << info.out;
-    const double bytes = std::stod(info.out.substr(at + std::string("memory     about ").size()));  // "N bytes (..)"
-    ASSERT_GT(bytes, 1000.0);
-    // Exact: info's figure is the render's budget check to the byte.
-    auto render_with = [&](long long budget) {
-      std::vector<std::string> r = {"-o", (dir.path() / "m/a.png").string(), "--frame", "0", "--max-memory",
-                                    std::to_string(budget)};
+    const long long bytes = std::stoll(info.out.substr(at + std::string("memory     about ").size()));  // "N bytes (..)"
+    ASSERT_GT(bytes, 1000);
+    const size_t gif_at = info.out.find(") written as one GIF");
+    ASSERT_NE(gif_at, std::string::npos) << info.out;
+    const size_t gif_from = info.out.rfind("           ", gif_at) + 11;
+    const long long gif = std::stoll(info.out.substr(gif_from));
+    EXPECT_EQ(gif - bytes, pixels * 44) << info.out;  // render::kGifBytesPerPixel
+    // Exact: info's figures are the render's budget checks to the byte.
+    auto render_with = [&](const std::vector<std::string>& output, long long budget) {
+      std::vector<std::string> r = output;
+      r.insert(r.end(), {"--max-memory", std::to_string(budget)});
       r.insert(r.end(), size.begin(), size.end());
       return pelt(r);
     };
-    const Result under = render_with(static_cast<long long>(bytes) - 1);
-    EXPECT_EQ(under.code, 2) << under.err;
-    EXPECT_NE(under.err.find("this render needs an estimated"), std::string::npos) << under.err;
-    const Result over = render_with(static_cast<long long>(bytes));
-    EXPECT_EQ(over.code, 0) << over.err;
+    const std::vector<std::string> frames = {"-o", (dir.path() / "m/a_#.png").string(), "--frames", "0:1"};
+    const std::vector<std::string> one_gif = {"-o", (dir.path() / "m/a.gif").string(), "--frames", "0:1"};
+    const std::vector<std::string> still = {"-o", (dir.path() / "m/a.png").string(), "--frame", "0"};
+    for (const auto& [output, need] : {std::pair{frames, bytes}, std::pair{one_gif, gif},
+                                       std::pair{still, bytes - pixels * 16}}) {
+      const Result under = render_with(output, need - 1);
+      EXPECT_EQ(under.code, 2) << output[1] << " " << under.err;
+      EXPECT_NE(under.err.find("this render needs an estimated " + std::to_string(need) + " bytes"), std::string::npos)
+          << under.err;
+      const Result over = render_with(output, need);
+      EXPECT_EQ(over.code, 0) << output[1] << " " << over.err;
+    }
   }
 }
 

@@ -86,6 +86,27 @@ TEST(SceneBudget, ImageBuffersAgainstTheMemoryBudget) {
   EXPECT_EQ(e.field, "image.width");
 }
 
+// A still renders into one float image; a GIF adds its encoder's buffers to a sequence's. The
+// budget that a sequence's buffers exceed by a byte takes a still, and refuses a GIF naming it.
+TEST(SceneBudget, AStillHoldsOneImageAndAGifItsEncoderToo) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(two_objects());
+  EXPECT_EQ(image_bytes(100, 50, 1, ImageOutput::still), 5000u * 20);
+  EXPECT_EQ(image_bytes(100, 50, 1, ImageOutput::sequence), 5000u * 36);
+  EXPECT_EQ(image_bytes(100, 50, 1, ImageOutput::gif), 5000u * (36 + kGifBytesPerPixel));
+  EXPECT_EQ(image_bytes(100, 50, 4, ImageOutput::still), 5000u * (20 + 48));
+  io::Budget b;
+  b.max_memory_bytes = image_bytes(100, 50, 1) - 1;
+  EXPECT_NO_THROW(check_scene_budget(s, 0, 0, 1, b, ImageOutput::still));
+  EXPECT_THROW(check_scene_budget(s, 0, 0, 1, b, ImageOutput::sequence), io::InputError);
+  b.max_memory_bytes = image_bytes(100, 50, 1);
+  expect_reason_has(refusal([&] { check_scene_budget(s, 0, 0, 1, b, ImageOutput::gif); }),
+                    {"image written as a GIF needs", describe_bytes(image_bytes(100, 50, 1, ImageOutput::gif))});
+  const MemoryEstimate seq = estimate_memory(s, io::load_scene_meshes(s), 0, 0, 1, 1);
+  const MemoryEstimate gif = estimate_memory(s, io::load_scene_meshes(s), 0, 0, 1, 1, true, ImageOutput::gif);
+  EXPECT_EQ(gif.total - seq.total, 5000u * kGifBytesPerPixel);
+}
+
 TEST(SceneBudget, ShellsAtTheLimitAcceptedOneLessRefused) {
   SceneDir dir;
   io::Scene s = dir.scene(two_objects(16));

@@ -287,10 +287,12 @@ int run_render(const RenderOptions& o) {
   // The frames' reports count their own time; what the scene cost once (meshes, maps, fur, the
   // normal blur: the first frame's set-up stages in --stats) is said before them.
   if (mode != render::ProgressMode::quiet)
-    std::fprintf(stderr, "pelt: scene set up in %s (meshes, maps, fur, blurred normals: once, before the frames)\n",
+    std::fprintf(stderr,
+                 "pelt: scene set up in %s (meshes, maps, fur, blurred normals: once, before the frames); SIMD %s\n",
                  render::format_duration(
                      std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count())
-                     .c_str());
+                     .c_str(),
+                 simd_in_use().c_str());
   // Installed before any temporary is created (the writability probes below, the GIF's): a
   // signal that found a temporary but not yet the handler would end the process by the default
   // action and leave the temporary behind. (Installed after the probes, a second Ctrl-C in the

@@ -5,19 +5,18 @@
 namespace pelt::cli {
 
 void add_simd_option(CLI::App& sub) {
+  // Checked by the validator, pinned by the callback CLI11 calls once the value passed it.
   sub.add_option_function<std::string>(
-         "--simd", [](const std::string&) {},
+         "--simd", [](const std::string& name) { raster::pin_simd_target(name); },
          "SIMD target of every kernel (default: auto, the best this CPU runs): " + raster::simd_target_choices() +
              "; pin one on a farm of mixed CPUs, so every node draws the same bytes")
-      ->check(CLI::Validator([](std::string& name) { return raster::pin_simd_target(name); }, "TARGET", "simd"));
+      ->check(CLI::Validator(
+          [](std::string& name) { return raster::simd_pin_refusal(name, raster::runnable_simd_targets()); }, "TARGET",
+          "simd"));
 }
 
-std::string simd_in_use() { return raster::active_simd_target().name; }
+std::string simd_in_use() { return raster::dispatched_simd_target(); }
 
-std::string simd_runnable() {
-  std::string out;
-  for (const raster::SimdTarget& t : raster::runnable_simd_targets()) out += std::string(out.empty() ? "" : ", ") + t.name;
-  return out;
-}
+std::string simd_runnable() { return raster::simd_target_names(raster::runnable_simd_targets()); }
 
 }  // namespace pelt::cli

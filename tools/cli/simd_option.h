@@ -11,13 +11,14 @@ namespace pelt::cli {
 
 // Registers --simd on `sub`. The target is pinned as the option is parsed, before any kernel
 // runs; a name this build or CPU cannot run is a CLI::ValidationError naming what can be asked
-// for (pelt exits 2).
+// for (pelt exits 2), and pins nothing.
 void add_simd_option(CLI::App& sub);
 
-// The target in use, as --simd names it ("avx512", ...), for the commands' reports.
+// The target kernels run on (a probe kernel dispatched now), as --simd names it ("avx512", ...),
+// for the commands' reports.
 std::string simd_in_use();
 
-// Every target this build and CPU can run, best first: "avx512, avx2, sse4, scalar".
+// Every target this build and CPU can run, best first: "avx512, avx2, sse4, portable".
 std::string simd_runnable();
 
 }  // namespace pelt::cli

@@ -255,8 +255,8 @@ int run_tradeoff(const TradeoffOptions& o) {
   // Composed as a string: a fixed buffer would cut the text short without a word as it grows.
   const std::string about =
       "`pelt tradeoff " + fs::path(o.scene).filename().string() + "`: " + std::to_string(reference.width) + "x" +
-      std::to_string(reference.height) + ", " + std::to_string(threads) +
-      " thread(s). Every row but the reference is timed twice, on the way through the sweep and again on the way "
+      std::to_string(reference.height) + ", " + std::to_string(threads) + " thread(s), SIMD " + simd_in_use() +
+      ". Every row but the reference is timed twice, on the way through the sweep and again on the way "
       "back, each time " + std::to_string(o.runs) +
       " frames after one warm-up frame; its time is the faster pass's median, its range covers both. On the way back "
       "each of a row's frames is drawn right beside one of the default's, taking turns at going first: `vs default, "
@@ -306,7 +306,7 @@ int run_tradeoff(const TradeoffOptions& o) {
       tradeoff::make_plot(dir / "tradeoff.csv", dir / "tradeoff.png",
                           "pelt tradeoff " + fs::path(o.scene).filename().string() + " (" +
                               std::to_string(reference.width) + "x" + std::to_string(reference.height) + ", " +
-                              std::to_string(threads) + " thread(s))",
+                              std::to_string(threads) + " thread(s), " + simd_in_use() + ")",
                           front);
   if (!plot.made) {
     std::fprintf(stderr,

@@ -12,6 +12,9 @@
 #     --frames N      timed frames a run (default 30; the harness also runs at least 2 s)
 #     --width W --height H   image size (default 1024x768)
 #     --pelt PATH     the pelt binary (default: build/pelt beside this script's repository)
+#     --simd T        pelt's SIMD target (pelt --simd; default: the best this CPU runs). llvmpipe
+#                     draws with 256-bit vectors on any CPU, so `--simd avx2` compares the two at
+#                     one vector width; each round names the target pelt ran on.
 # Exit 2 on a bad argument or a harness that cannot be built or run (its output is shown).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -24,10 +27,10 @@ positive() {  # positive NAME VALUE
   [[ $2 =~ ^[1-9][0-9]*$ ]] || fail "$1: \`$2\` is not a positive integer"
 }
 
-[[ $# -ge 1 ]] || fail "usage: tools/bench/against_llvmpipe.sh HARNESS_DIR [--scenes box,teapot,teapot2] [--threads N] [--rounds N] [--frames N] [--width W] [--height H] [--pelt PATH]"
+[[ $# -ge 1 ]] || fail "usage: tools/bench/against_llvmpipe.sh HARNESS_DIR [--scenes box,teapot,teapot2] [--threads N] [--rounds N] [--frames N] [--width W] [--height H] [--pelt PATH] [--simd T]"
 harness=$1
 shift
-scenes=box threads=2 rounds=3 frames=30 width=1024 height=768 pelt="$root/build/pelt"
+scenes=box threads=2 rounds=3 frames=30 width=1024 height=768 pelt="$root/build/pelt" simd=auto
 while [[ $# -gt 0 ]]; do
   [[ $# -ge 2 ]] || fail "$1: needs a value"
   case $1 in
@@ -38,6 +41,7 @@ while [[ $# -gt 0 ]]; do
     --width) positive "$1" "$2"; width=$2 ;;
     --height) positive "$1" "$2"; height=$2 ;;
     --pelt) pelt=$2 ;;
+    --simd) [[ -n $2 ]] || fail "--simd: needs a target"; simd=$2 ;;
     *) fail "unknown option \`$1\`" ;;
   esac
   shift 2
@@ -58,17 +62,19 @@ fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
-# pelt's median FPS of one run (its --json fps_median).
+# pelt's median FPS of one run (its --json fps_median) and the SIMD target it ran on ("simd").
 pelt_fps() {
   "$pelt" bench fps --match-llvmpipe --scenes "$1" --threads "$threads" --width "$width" --height "$height" \
-    --frames "$frames" --warmup 5 --json "$tmp/pelt.json" >"$tmp/pelt.out" 2>&1 || {
+    --frames "$frames" --warmup 5 --simd "$simd" --json "$tmp/pelt.json" >"$tmp/pelt.out" 2>&1 || {
     cat "$tmp/pelt.out" >&2
     fail "pelt bench fps failed on $1"
   }
-  local fps
+  local fps target
   fps=$(sed -n 's/^ *"fps_median": *\([0-9.eE+-]*\),*$/\1/p' "$tmp/pelt.json" | head -n 1)
   [[ -n $fps ]] || fail "$tmp/pelt.json: no fps_median"
-  echo "$fps"
+  target=$(sed -n 's/^ *"simd": *"\([a-z0-9]*\)",*$/\1/p' "$tmp/pelt.json" | head -n 1)
+  [[ -n $target ]] || fail "$tmp/pelt.json: no simd"
+  echo "$fps $target"
 }
 
 # The harness's median FPS of one run (median_fps of its RESULT line).
@@ -92,11 +98,12 @@ echo "pelt against llvmpipe: ${width}x${height}, $threads thread(s), $frames fra
 for s in "${scene_list[@]}"; do
   ratios=()
   for ((r = 1; r <= rounds; r++)); do
-    p=$(pelt_fps "$s")
+    pt=$(pelt_fps "$s")
+    p=${pt% *} target=${pt#* }
     g=$(llvmpipe_fps "$s")
     ratio=$(awk -v p="$p" -v g="$g" 'BEGIN { printf "%.2f", p / g }')
     ratios+=("$ratio")
-    printf '%s round %d: pelt %.1f FPS, llvmpipe %.2f FPS: %sx\n' "$s" "$r" "$p" "$g" "$ratio"
+    printf '%s round %d: pelt %.1f FPS (%s), llvmpipe %.2f FPS: %sx\n' "$s" "$r" "$p" "$target" "$g" "$ratio"
   done
   printf '%s\n' "${ratios[@]}" | sort -g | awk -v s="$s" '{ v[NR] = $1 }
     END { m = NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "raster/simd_targets.h"
 #include "tests/tools/cli/run_pelt.h"
 
 namespace pelt::cli_test {
@@ -52,12 +53,13 @@ TEST(AgainstLlvmpipe, PrintsEachRoundAndTheMedianRatio) {
   const std::filesystem::path harness = fake_harness(dir, kTenFps);
   const Result r = run_script(small_run(harness), dir);
   ASSERT_EQ(r.code, 0) << r.err;
-  const std::regex round(R"(box round (\d): pelt ([0-9.]+) FPS, llvmpipe 10\.00 FPS: ([0-9.]+)x)");
+  const std::regex round(R"(box round (\d): pelt ([0-9.]+) FPS \((\w+)\), llvmpipe 10\.00 FPS: ([0-9.]+)x)");
   int rounds = 0;
   for (auto it = std::sregex_iterator(r.out.begin(), r.out.end(), round); it != std::sregex_iterator(); ++it) {
     ++rounds;
     EXPECT_EQ(std::stoi((*it)[1]), rounds);
-    const double pelt_fps = std::stod((*it)[2]), ratio = std::stod((*it)[3]);
+    const double pelt_fps = std::stod((*it)[2]), ratio = std::stod((*it)[4]);
+    EXPECT_EQ((*it)[3], raster::runnable_simd_targets().front().name);  // pelt's best, without --simd
     EXPECT_GT(pelt_fps, 0.0);
     // The ratio is of the unrounded FPS, printed to 0.01; pelt's FPS is printed to 0.1.
     EXPECT_NEAR(ratio, pelt_fps / 10.0, 0.011) << r.out;
@@ -78,6 +80,26 @@ TEST(AgainstLlvmpipe, PrintsEachRoundAndTheMedianRatio) {
     EXPECT_NE(calls.find(part), std::string::npos) << part << " in " << calls;
 }
 
+// --simd reaches pelt: each round names the target pelt ran on (llvmpipe draws 256-bit vectors on
+// any CPU, so `--simd avx2` compares the two at one width).
+TEST(AgainstLlvmpipe, PeltRunsOnTheTargetAskedFor) {
+  TempDir dir;
+  std::vector<std::string> args = small_run(fake_harness(dir, kTenFps));
+  const std::string portable = raster::runnable_simd_targets().back().name;
+  args.insert(args.end(), {"--simd", portable});
+  const Result r = run_script(args, dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("box round 1: pelt "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" FPS (" + portable + "), llvmpipe 10.00 FPS"), std::string::npos) << r.out;
+  TempDir bad_dir;
+  std::vector<std::string> bad = small_run(fake_harness(bad_dir, kTenFps));
+  bad.insert(bad.end(), {"--simd", "neon"});
+  const Result refused = run_script(bad, bad_dir);
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_NE(refused.err.find("`neon` is not a SIMD target of this build"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("pelt bench fps failed on box"), std::string::npos) << refused.err;
+}
+
 TEST(AgainstLlvmpipe, RefusesWhatItCannotRun) {
   TempDir dir;
   const std::filesystem::path good = fake_harness(dir, kTenFps);
@@ -94,6 +116,7 @@ TEST(AgainstLlvmpipe, RefusesWhatItCannotRun) {
       {{good.string(), "--colour", "red"}, "unknown option `--colour`"},
       {{good.string(), "--frames"}, "--frames: needs a value"},
       {{good.string(), "--pelt", (dir.path() / "no-pelt").string()}, "no pelt binary"},
+      {{good.string(), "--simd", ""}, "--simd: needs a target"},
   };
   for (const Case& c : cases) {
     const Result r = run_script(c.args, dir);

@@ -198,7 +198,23 @@ struct ObjPrescan {
   // The `mtllib` records tinyobjloader will load, in order: the word it calls the reader with,
   // and the record's text after the keyword (MaterialLibraries reads them).
   std::vector<LibraryRecord> libraries;
+  // Records and face corners, for the memory a parse holds (load_bytes_at_least).
+  uint64_t positions = 0, texcoords = 0, normals = 0, faces = 0, corners = 0;
 };
+
+// The least a parse of the prescanned file holds at once, in the pelt process: tinyobjloader's
+// arrays as it returns them (a position 3 floats and a weight, a texture coordinate 2, a normal
+// 3; a corner 3 indices; a face its corner count, material and smoothing group: 9 bytes), the
+// mended text when there is one, and the process itself. The parse holds more (each face's own
+// vector while it reads, pelt's mesh after), so a budget below this is certainly exceeded.
+uint64_t load_bytes_at_least(const ObjPrescan& pre, uint64_t mended_text) {
+  uint64_t bytes = kProcessBaselineBytes + mended_text;
+  bytes = sat_add(bytes, sat_mul(pre.positions, 16));
+  bytes = sat_add(bytes, sat_mul(pre.texcoords, 8));
+  bytes = sat_add(bytes, sat_mul(pre.normals, 12));
+  bytes = sat_add(bytes, sat_mul(pre.corners, 12));
+  return sat_add(bytes, sat_mul(pre.faces, 9));
+}
 
 // The text after a record's keyword at i: blanks trimmed, and a trailing comment (a word that
 // begins with `#`) cut off, except in a name (`usemtl Material #2`, `mtllib my #1.mtl`).
@@ -355,6 +371,7 @@ ObjPrescan prescan_obj(std::istream& in, const std::string& file) {
           out.bad_record.emplace(file, face_name(faces), reason + where);
       }
       ++faces;
+      out.corners = sat_add(out.corners, corners);
       if (corners >= 3) out.triangles = sat_add(out.triangles, corners - 2);
       if (out.bad_record) continue;
       if (comment) out.needs_mending = true;  // tinyobjloader would read `#` as a corner
@@ -420,6 +437,10 @@ ObjPrescan prescan_obj(std::istream& in, const std::string& file) {
     if (std::string reason = check_number_count(kind, numbers); !reason.empty())
       out.bad_record.emplace(file, record, reason + where());
   }
+  out.positions = counts[0];
+  out.texcoords = counts[1];
+  out.normals = counts[2];
+  out.faces = faces;
   return out;
 }
 
@@ -479,11 +500,23 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     pre = prescan_obj(in, file);
   }
   check_face_budget(pre.triangles, budget, file, "");
-  if (pre.bad_record) throw *pre.bad_record;
   // Only a file that needs it is held in memory, mended (the prescan read its records as the
-  // mended text holds them, so the budget above and the checks are the mended file's).
-  std::string mended;
+  // mended text holds them, so the budgets and the checks are the mended file's).
   const bool mend = pre.needs_mending;
+  // Before the parse allocates: --max-memory is otherwise checked once the mesh is loaded, and a
+  // large file's parse holds about four times the mesh it makes.
+  std::error_code size_error;
+  const uintmax_t file_bytes = std::filesystem::file_size(path, size_error);
+  const uint64_t at_least = load_bytes_at_least(pre, mend && !size_error ? uint64_t(file_bytes) : 0);
+  if (at_least > budget.max_memory_bytes)
+    throw InputError(file, "",
+                     "reading it holds at least " + describe_bytes(at_least) + " (" + std::to_string(pre.positions) +
+                         " positions, " + std::to_string(pre.texcoords) + " texture coordinates, " +
+                         std::to_string(pre.normals) + " normals and " + std::to_string(pre.faces) + " faces of " +
+                         std::to_string(pre.corners) + " corners as the OBJ reader stores them, and the pelt process "
+                         "itself), " + over_budget(describe_bytes(budget.max_memory_bytes), kMaxMemoryFlag));
+  if (pre.bad_record) throw *pre.bad_record;
+  std::string mended;
   if (mend) mended = mend_obj(path);
   std::ifstream from_file;
   std::istringstream from_text;

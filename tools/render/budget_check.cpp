@@ -235,15 +235,6 @@ std::string map_asked_by(const io::Scene& scene, size_t i, const char* map, bool
   return "in " + object + ".material." + map + " of " + scene.file.string();
 }
 
-std::string describe_bytes(uint64_t bytes) {
-  char rounded[32];
-  const double b = double(bytes);
-  if (b >= double(uint64_t{1} << 30)) std::snprintf(rounded, sizeof rounded, "%.1f GiB", b / double(uint64_t{1} << 30));
-  else if (b >= double(uint64_t{1} << 20)) std::snprintf(rounded, sizeof rounded, "%.1f MiB", b / double(uint64_t{1} << 20));
-  else std::snprintf(rounded, sizeof rounded, "%.1f KiB", b / 1024.0);
-  return std::to_string(bytes) + " bytes (" + rounded + ")";
-}
-
 uint64_t image_bytes(int width, int height, int spp, ImageOutput output) {
   const uint64_t px = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0));
   // The float RGBA images (a sequence writes one while the next renders), the 8-bit RGBA written
@@ -262,6 +253,13 @@ void check_scene_budget(const io::Scene& scene, int width, int height, int spp, 
     refuse(scene, "image.width",
            "the image is " + std::to_string(w) + " x " + std::to_string(h) + " = " + std::to_string(px) +
                " pixels, " + io::over_budget(std::to_string(budget.max_pixels) + " pixels", io::kMaxPixelsFlag));
+  // Before any mesh loads (the OBJ reader's own check counts the process too, and would name the
+  // mesh for a budget no render fits in).
+  if (budget.max_memory_bytes < kProcessBaselineBytes)
+    throw io::InputError("", io::kMaxMemoryFlag,
+                         "pelt itself (code, shared libraries, start-up heap) takes about " +
+                             describe_bytes(kProcessBaselineBytes) + " before any scene: a budget of " +
+                             describe_bytes(budget.max_memory_bytes) + " is too small for any render");
   const uint64_t image = image_bytes(w, h, spp, output);
   if (image > budget.max_memory_bytes) {
     const bool spp_made_it = spp > 1 && image_bytes(w, h, 1, output) <= budget.max_memory_bytes;

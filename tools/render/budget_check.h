@@ -64,11 +64,7 @@ struct MemoryPart {
   int object = -1;
 };
 
-// What a process of `pelt render` holds before any scene: its code and shared libraries
-// (OpenImageIO's plug-ins, about 88 MiB resident) and the heap, thread stacks and allocator
-// arenas it starts with (about 44 MiB): measured as the peak resident set of a 16 x 16 render
-// of one small sphere (`/usr/bin/time -v`, 134 MiB; 2026-11-27).
-inline constexpr uint64_t kProcessBaselineBytes = uint64_t{136} << 20;
+using io::kProcessBaselineBytes;
 
 // The kinds of the parts SceneRenderer does not hold (MemoryEstimate::renderer_total).
 inline constexpr std::string_view kSetupsKind = "rasterizer set-ups";
@@ -124,8 +120,7 @@ uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::Scene
                              int height, int threads, int spp, const io::Budget& budget, bool fur_drawn = true,
                              ImageOutput output = ImageOutput::sequence);
 
-// "1234567890 bytes (1.1 GiB)": exact for the record, rounded for the reader.
-std::string describe_bytes(uint64_t bytes);
+using io::describe_bytes;
 
 // Where an object's colour or normal map comes from: the scene material's file
 // (`from_scene`), else the file or the pixels decoded from inside it that the mesh file

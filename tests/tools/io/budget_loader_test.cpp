@@ -99,6 +99,35 @@ TEST(BudgetObj, RefusedBeforeTheNumberCheck) {
   expect_refused([&] { load_mesh_file(f, faces(6)); }, "v 6", {"`abc` is not a number"});
 }
 
+// --max-memory is checked before the parse from the records the prescan counted: the least a
+// parse holds (16 bytes a position, 12 a corner, 9 a face, ... and pelt itself). At that figure
+// the file loads, a byte below it is refused naming the counts, before a malformed record after
+// them is read.
+TEST(BudgetObj, MemoryBelowWhatTheParseHoldsIsRefusedBeforeIt) {
+  TempDir dir;
+  std::string text;
+  for (int i = 0; i < 100000; ++i) text += "v 0 0 0\n";
+  text += "v 1 0 0\nv 0 1 0\nf 1 100001 100002\n";
+  const auto f = dir.write("many_points.obj", text);
+  const uint64_t need = kProcessBaselineBytes + 100002 * 16 + 3 * 12 + 9;
+  Budget b;
+  b.max_memory_bytes = need;
+  EXPECT_EQ(load_mesh_file(f, b).mesh.triangle_count(), 1u);
+  b.max_memory_bytes = need - 1;
+  const std::string what = expect_refused([&] { load_mesh_file(f, b); }, "",
+                                          {"reading it holds at least " + describe_bytes(need),
+                                           "100002 positions, 0 texture coordinates, 0 normals and 1 faces of 3 corners",
+                                           "more than the budget of " + describe_bytes(need - 1), "--max-memory"});
+  EXPECT_EQ(what.rfind(f.string(), 0), 0u) << what;
+  const auto bad = dir.write("bad_after.obj", text + "v 1 abc 0\n");
+  expect_refused([&] { load_mesh_file(bad, b); }, "", {"reading it holds at least", "--max-memory"});
+  // A file pelt mends first (here for its byte-order mark) also holds the mended text.
+  const auto marked = dir.write("marked.obj", "\xEF\xBB\xBF" + text);
+  b.max_memory_bytes = need;
+  expect_refused([&] { load_mesh_file(marked, b); }, "", {"reading it holds at least " +
+                                                              describe_bytes(need + std::filesystem::file_size(marked))});
+}
+
 TEST(BudgetObj, BunnyAtItsOwnCount) {
   const auto f = data_dir() / "bunny.obj";
   const uint64_t n = load_mesh_file(f).mesh.triangle_count();

@@ -68,21 +68,26 @@ TEST(SceneBudget, ImagePixelsAtTheLimitAcceptedOneMoreRefused) {
   expect_reason_has(refusal([&] { check_scene_budget(s, 0, 0, 1, b); }), {"100 x 50 = 5000 pixels"});
 }
 
+// Image buffers large enough that a budget refusing them is above the process's own footprint
+// (a smaller budget is refused for the process first, as TooSmallForAnyRender shows).
+constexpr int kBigW = 4000, kBigH = 1100;
+
 TEST(SceneBudget, ImageBuffersAgainstTheMemoryBudget) {
   SceneDir dir;
   const io::Scene s = dir.scene(two_objects());
   EXPECT_EQ(image_bytes(100, 50, 1), 5000u * 36);       // two float RGBA and the 8-bit file
   EXPECT_EQ(image_bytes(100, 50, 4), 5000u * (36 + 48));  // plus a sample image and a double sum
   io::Budget b;
-  b.max_memory_bytes = image_bytes(100, 50, 1);
-  EXPECT_NO_THROW(check_scene_budget(s, 0, 0, 1, b));
+  b.max_memory_bytes = image_bytes(kBigW, kBigH, 1);
+  ASSERT_GE(b.max_memory_bytes, kProcessBaselineBytes);
+  EXPECT_NO_THROW(check_scene_budget(s, kBigW, kBigH, 1, b));
   // Only the supersampling buffers make it too large: the spp is named.
-  io::InputError e = refusal([&] { check_scene_budget(s, 0, 0, 4, b); });
+  io::InputError e = refusal([&] { check_scene_budget(s, kBigW, kBigH, 4, b); });
   EXPECT_EQ(e.field, "quality.spp");
-  expect_reason_has(e, {"4 samples per pixel", describe_bytes(image_bytes(100, 50, 4)),
+  expect_reason_has(e, {"4 samples per pixel", describe_bytes(image_bytes(kBigW, kBigH, 4)),
                         describe_bytes(b.max_memory_bytes), "--max-memory"});
   b.max_memory_bytes -= 1;
-  e = refusal([&] { check_scene_budget(s, 0, 0, 1, b); });
+  e = refusal([&] { check_scene_budget(s, kBigW, kBigH, 1, b); });
   EXPECT_EQ(e.field, "image.width");
 }
 
@@ -96,15 +101,29 @@ TEST(SceneBudget, AStillHoldsOneImageAndAGifItsEncoderToo) {
   EXPECT_EQ(image_bytes(100, 50, 1, ImageOutput::gif), 5000u * (36 + kGifBytesPerPixel));
   EXPECT_EQ(image_bytes(100, 50, 4, ImageOutput::still), 5000u * (20 + 48));
   io::Budget b;
-  b.max_memory_bytes = image_bytes(100, 50, 1) - 1;
-  EXPECT_NO_THROW(check_scene_budget(s, 0, 0, 1, b, ImageOutput::still));
-  EXPECT_THROW(check_scene_budget(s, 0, 0, 1, b, ImageOutput::sequence), io::InputError);
-  b.max_memory_bytes = image_bytes(100, 50, 1);
-  expect_reason_has(refusal([&] { check_scene_budget(s, 0, 0, 1, b, ImageOutput::gif); }),
-                    {"image written as a GIF needs", describe_bytes(image_bytes(100, 50, 1, ImageOutput::gif))});
+  b.max_memory_bytes = image_bytes(kBigW, kBigH, 1) - 1;
+  EXPECT_NO_THROW(check_scene_budget(s, kBigW, kBigH, 1, b, ImageOutput::still));
+  EXPECT_THROW(check_scene_budget(s, kBigW, kBigH, 1, b, ImageOutput::sequence), io::InputError);
+  b.max_memory_bytes = image_bytes(kBigW, kBigH, 1);
+  expect_reason_has(refusal([&] { check_scene_budget(s, kBigW, kBigH, 1, b, ImageOutput::gif); }),
+                    {"image written as a GIF needs", describe_bytes(image_bytes(kBigW, kBigH, 1, ImageOutput::gif))});
   const MemoryEstimate seq = estimate_memory(s, io::load_scene_meshes(s), 0, 0, 1, 1);
   const MemoryEstimate gif = estimate_memory(s, io::load_scene_meshes(s), 0, 0, 1, 1, true, ImageOutput::gif);
   EXPECT_EQ(gif.total - seq.total, 5000u * kGifBytesPerPixel);
+}
+
+// A budget below what pelt takes before any scene is refused before any mesh loads, naming
+// --max-memory, not the image or a mesh.
+TEST(SceneBudget, TooSmallForAnyRender) {
+  SceneDir dir;
+  const io::Scene s = dir.scene(two_objects());
+  io::Budget b;
+  b.max_memory_bytes = kProcessBaselineBytes - 1;
+  const io::InputError e = refusal([&] { check_scene_budget(s, 0, 0, 1, b); });
+  EXPECT_EQ(e.field, "--max-memory");
+  expect_reason_has(e, {"pelt itself", describe_bytes(kProcessBaselineBytes), "is too small for any render"});
+  b.max_memory_bytes = kProcessBaselineBytes;
+  EXPECT_NO_THROW(check_scene_budget(s, 0, 0, 1, b));
 }
 
 TEST(SceneBudget, ShellsAtTheLimitAcceptedOneLessRefused) {

@@ -278,6 +278,9 @@ int run_render(const RenderOptions& o) {
   // OpenImageIO's module loads on a thread of its own while the scene is set up and the first
   // frame renders, rather than before everything (tools/io/image_backend.h); the render's
   // worker threads start first, as no thread can start during the load (raster/parallel.h).
+  // A signal during the set-up, which writes nothing and has no frame to finish, ends pelt at
+  // once, saying so (a farm's log of a job pre-empted there had no line at all).
+  std::optional<render::InterruptGuard> during_setup(std::in_place, render::InterruptGuard::Stop::now);
   raster::start_worker_threads(rs.threads);
   io::preload_image_backend();
   const auto setup_start = std::chrono::steady_clock::now();
@@ -296,8 +299,8 @@ int run_render(const RenderOptions& o) {
   // Installed before any temporary is created (the writability probes below, the GIF's): a
   // signal that found a temporary but not yet the handler would end the process by the default
   // action and leave the temporary behind. (Installed after the probes, a second Ctrl-C in the
-  // moment of a probe did that: the suite's two-signal test caught it on a loaded machine.) Not
-  // before the set-up, which writes nothing: a Ctrl-C there ends pelt at once, as it should.
+  // moment of a probe did that: the suite's two-signal test caught it on a loaded machine.)
+  during_setup.reset();
   render::InterruptGuard interrupt;
 
   // The destinations are proven writable before the first frame, so a bad path fails now

@@ -242,6 +242,31 @@ TEST_F(RenderCommand, ASignalDuringTheLastFrameIsReported) {
     EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "temporary left behind: " << e.path();
 }
 
+// A signal during the scene's set-up (here the strand textures of 32 shells of 1024 x 1024
+// texels: two seconds on one thread) ends pelt at once, saying so, with nothing written: it was
+// ended by the signal's default action, silent in a farm's log.
+TEST_F(RenderCommand, ASignalDuringTheSetUpIsReported) {
+  const fs::path slow = dir.write("slow_setup.json", R"({"pelt": 1, "image": {"width": 64, "height": 48},
+  "camera": {"eye": [2.5, 1.5, 3.5], "target": [0, 0, 0]},
+  "lights": [{"type": "directional", "direction": [0.3, 0.8, 0.5]}, {"type": "ambient", "intensity": 0.3}],
+  "objects": [{"mesh": "box:2", "material": {"type": "lambert"},
+               "fur": {"shells": 32, "texture_size": 1024, "length": 0.3}}]})");
+  const fs::path out = dir.path() / "setup";
+  Child c = start_pelt({"render", slow.string(), "-o", (out / "f.png").string(), "--stats", (out / "s.json").string(),
+                        "--threads", "1"},
+                       dir.path());
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  int status = 0;
+  ASSERT_EQ(::waitpid(c.pid, &status, WNOHANG), 0) << "pelt ended within 0.3 s: " << read_text(c.err);
+  ::kill(c.pid, SIGTERM);
+  const Result r = wait_child(c);
+  EXPECT_EQ(r.code, 143) << r.err;
+  EXPECT_NE(r.err.find("pelt: interrupted (SIGTERM): stopped at once; nothing more is written"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("scene set up in"), std::string::npos) << "the signal came after the set-up: " << r.err;
+  EXPECT_FALSE(fs::exists(out)) << "the set-up writes nothing";
+}
+
 TEST_F(RenderCommand, CtrlCStopsAfterTheFrameInFlight) {
   const int frames = 20000;
   const fs::path out = dir.path() / "int";

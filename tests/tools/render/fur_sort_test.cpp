@@ -92,9 +92,30 @@ TEST(FurSort, TheSurfaceOrderStaysNearTheTileOrderOnTheTeapot) {
   EXPECT_LT(surface, 1.3 * tile);
 }
 
-// The fin list per sort mode: the paper's (and the harness's) layer-then-edge order for
-// `none` and `layer`; for `tile` and `exact` fin by fin, root to tip, every triangle sharing an
-// edge with the one before it within a fin, and the tile sort keys runs of three quads.
+// The default `fin_quads: merged`: in the sorts that merge (tile, surface, exact) a fin's quads
+// span several layers where its chains run straight (fewer triangles than eq. 1's one quad per
+// pair of layers) and each merged quad is keyed alone; `none` draws eq. 1's quads, alone too.
+TEST(FurSort, MergedFinQuadsAreKeyedAlone) {
+  const fur::FurParams params = small_fur(16, fur::FinMode::all);
+  FurDrawOptions merge;
+  merge.merge_fins = true;
+  FurRig rig("box:3", params, "merged", merge);
+  const uint32_t layer_triangles = rig.draws(FurSort::none)[1].triangle_count;
+  for (FurSort sort : {FurSort::tile, FurSort::surface, FurSort::exact, FurSort::none}) {
+    const std::vector<raster::DrawCall> draws = rig.draws(sort);
+    ASSERT_EQ(draws.size(), 2u);  // shells, then fins
+    EXPECT_EQ(draws[1].sort_group, 2u) << int(sort);
+    if (sort == FurSort::none)
+      EXPECT_EQ(draws[1].triangle_count, layer_triangles);
+    else
+      EXPECT_LT(draws[1].triangle_count, layer_triangles * 4 / 5) << int(sort);
+  }
+}
+
+// With `fin_quads: layer`, the fin list per sort mode: the paper's (and the harness's)
+// layer-then-edge order for `none` and `layer`; for `tile` and `exact` fin by fin, root to tip,
+// every triangle sharing an edge with the one before it within a fin, and the tile sort keys runs
+// of three quads.
 TEST(FurSort, TileAndExactDrawEachFinAsAStripKeyedInRunsOfThreeQuads) {
   const fur::FurParams params = small_fur(16, fur::FinMode::all);
   FurRig rig("box:3", params, "strips");

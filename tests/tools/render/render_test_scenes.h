@@ -54,8 +54,9 @@ inline fur::FurParams small_fur(int shells, fur::FinMode fins) {
 // A fur object driven by hand (update, append_draws) on a built-in mesh, under a white ambient
 // light, seen from (3, 2, 4) through a 45-degree square frustum.
 struct FurRig {
-  FurRig(const std::string& mesh, const fur::FurParams& params, const std::string& name)
-      : base(io::make_builtin_mesh(mesh)), fur(base, params, {}, FurOrigin{name, ""}, stats) {
+  FurRig(const std::string& mesh, const fur::FurParams& params, const std::string& name,
+         const FurDrawOptions& options = {})
+      : base(io::make_builtin_mesh(mesh)), fur(base, params, options, FurOrigin{name, ""}, stats) {
     frame.eye = glm::vec3(3.0f, 2.0f, 4.0f);
     frame.clip_from_world = clip;
   }

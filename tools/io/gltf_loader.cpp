@@ -813,6 +813,35 @@ bool load_image_checked(tinygltf::Image* image, const int image_idx, std::string
   return tinygltf::LoadImageData(image, image_idx, err, warn, req_width, req_height, bytes, size, nullptr);
 }
 
+// tinygltf's reads of the files a glTF names (its buffers' and images' uris), checked first: a
+// folder's "size" made tinygltf allocate 2^63 bytes (std::bad_alloc, exit 1) and a pipe or a
+// device blocked the set-up for ever. A file larger than the whole memory budget is refused
+// unread. A missing file is left to tinygltf, whose message names the uri's image or buffer.
+bool read_named_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  auto* check = static_cast<ImageCheck*>(user);
+  const std::string reason = unreadable_file_reason(path);
+  std::error_code ec;
+  if (reason.empty()) {
+    if (const uintmax_t size = std::filesystem::file_size(path, ec); !ec && size > check->budget->max_memory_bytes)
+      check->refused.emplace("", "", "`" + path + "`, which it names, is " + describe_bytes(size) + ", " +
+                                         over_budget(describe_bytes(check->budget->max_memory_bytes), kMaxMemoryFlag));
+  } else if (reason != "not found") {
+    check->refused.emplace("", "", "`" + path + "`, which it names, " + reason);
+  }
+  if (check->refused) {
+    if (err) *err += check->refused->reason + "\n";
+    return false;
+  }
+  return tinygltf::ReadWholeFile(out, err, path, nullptr);
+}
+
+// Whether a uri's file exists, without opening it: tinygltf's own test opens it, which blocks on a
+// pipe until something writes to it.
+bool named_file_exists(const std::string& path, void*) {
+  std::error_code ec;
+  return std::filesystem::exists(path, ec);
+}
+
 uint32_t little_endian_u32(const unsigned char* p) {
   return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
 }
@@ -953,6 +982,8 @@ LoadedMesh load_gltf(const std::filesystem::path& path, bool binary, const Budge
   tinygltf::TinyGLTF loader;
   ImageCheck check{&model, &budget, std::nullopt};
   loader.SetImageLoader(load_image_checked, &check);
+  loader.SetFsCallbacks({&named_file_exists, &tinygltf::ExpandFilePath, &read_named_file, &tinygltf::WriteWholeFile,
+                         &check});
   std::string err, warn;
   if (binary) check_glb_version(path, file);
   const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, file)

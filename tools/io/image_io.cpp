@@ -115,8 +115,10 @@ int bytes_of(StoredType type) { return type == StoredType::u8 ? 1 : type == Stor
 // Opens an image for reading its header; the caller reads pixels or only the header.
 std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path) {
   const std::string file = path.string();
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(file, "", "image file not found");
+  // Maps named inside a mesh file (an MTL's map_Kd, a glTF's uri) reach here unchecked: a pipe
+  // named so hung the set-up.
+  if (const std::string reason = unreadable_file_reason(path); !reason.empty())
+    throw InputError(file, "", reason == "not found" ? "image file not found" : reason + ", not an image file");
   std::string error;
   auto in = image_backend_for(file).open(file, error);
   if (!in) throw InputError(file, "", "cannot read the image: " + error);

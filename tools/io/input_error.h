@@ -2,10 +2,22 @@
 // The CLI maps it to exit code 2; everything else that throws is a bug.
 #pragma once
 
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 
 namespace pelt::io {
+
+// Why the file at `path` cannot be read as a file ("" when it can): missing, a folder, or not a
+// regular file. Every reader of a file a user names checks it first: a pipe or a device such as
+// /dev/zero would be read without end, and a folder's "size" (2^63) was allocated by tinygltf.
+inline std::string unreadable_file_reason(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return "not found";
+  if (std::filesystem::is_directory(path, ec)) return "is a folder";
+  if (!std::filesystem::is_regular_file(path, ec)) return "is not a regular file (a device, a pipe or a socket)";
+  return "";
+}
 
 // A bad input, located as precisely as we can: the file it came from, the field inside
 // it (a JSON path such as `objects[1].transform.scale`, or an element such as

@@ -98,12 +98,8 @@ void validate_mesh(const Mesh& m, const std::string& file) {
 
 LoadedMesh load_mesh_file(const std::filesystem::path& path, const Budget& budget) {
   const std::string file = path.string();
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(file, "", "file not found");
-  if (std::filesystem::is_directory(path, ec)) throw InputError(file, "", "is a folder, not a mesh file");
-  // A device such as /dev/zero would be read without end.
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw InputError(file, "", "is not a regular file (a device, a pipe or a socket), not a mesh file");
+  if (const std::string reason = unreadable_file_reason(path); !reason.empty())
+    throw InputError(file, "", reason == "not found" ? "file not found" : reason + ", not a mesh file");
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });

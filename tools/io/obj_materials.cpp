@@ -1,5 +1,7 @@
 #include "tools/io/obj_materials.h"
 
+#include "tools/io/input_error.h"
+
 #include <algorithm>
 #include <charconv>
 #include <fstream>
@@ -208,6 +210,11 @@ bool MaterialLibraries::operator()(const std::string& name, std::vector<tinyobj:
 
 void MaterialLibraries::load(const std::filesystem::path& library, std::vector<tinyobj::material_t>* materials,
                              std::map<std::string, int>* by_name, std::string* warn, std::string* err) {
+  // As a library not found: a folder reads as nothing, a pipe without end.
+  if (const std::string reason = unreadable_file_reason(library); !reason.empty()) {
+    warnings_.push_back("material library `" + library.string() + "` " + reason + ": its materials are not drawn");
+    return;
+  }
   std::ifstream in(library, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::istringstream mended(mend_mtl(text, library.filename().string(), warnings_));

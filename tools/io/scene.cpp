@@ -43,12 +43,8 @@ void check_readable(const JsonFields& js, const std::filesystem::path& p, const 
   std::error_code ec;
   if (p.native().find('\0') != std::string::npos)
     js.fail(field, std::string(what) + " `" + p.string() + "` holds a NUL character, which no file path can hold");
-  if (!std::filesystem::exists(p, ec)) js.fail(field, std::string(what) + " `" + p.string() + "` not found");
-  if (std::filesystem::is_directory(p, ec))
-    js.fail(field, std::string(what) + " `" + p.string() + "` is a folder");
-  // A device such as /dev/zero would be read without end.
-  if (!std::filesystem::is_regular_file(p, ec))
-    js.fail(field, std::string(what) + " `" + p.string() + "` is not a regular file (a device, a pipe or a socket)");
+  if (const std::string reason = unreadable_file_reason(p); !reason.empty())
+    js.fail(field, std::string(what) + " `" + p.string() + "` " + reason);
   std::ifstream probe(p, std::ios::binary);
   if (!probe) js.fail(field, std::string(what) + " `" + p.string() + "` cannot be read");
 }

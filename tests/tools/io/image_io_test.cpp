@@ -42,6 +42,31 @@ size_t files_in(const std::filesystem::path& dir) {
   return n;
 }
 
+// An image named inside a mesh file (an MTL's map_Kd, a glTF's uri) reaches the reader with no
+// scene-level check: a folder, a pipe or a device is refused unread (a pipe hung the set-up).
+TEST(ImageIo, AFolderPipeOrDeviceIsRefusedUnread) {
+  TempDir dir;
+  const std::filesystem::path folder = dir.path() / "folder.png", pipe = dir.path() / "pipe.png",
+                              device = dir.path() / "device.png";
+  std::filesystem::create_directory(folder);
+  ASSERT_EQ(::mkfifo(pipe.c_str(), 0644), 0);
+  std::filesystem::create_symlink("/dev/zero", device);
+  for (const auto& [path, reason] : {std::pair{folder, "is a folder, not an image file"},
+                                     std::pair{pipe, "is not a regular file (a device, a pipe or a socket)"},
+                                     std::pair{device, "is not a regular file (a device, a pipe or a socket)"}}) {
+    for (int header = 0; header < 2; ++header) {
+      try {
+        if (header) read_image_header(path);
+        else read_image_rgba(path);
+        ADD_FAILURE() << path << " accepted";
+      } catch (const InputError& e) {
+        EXPECT_EQ(e.file, path.string());
+        EXPECT_NE(e.reason.find(reason), std::string::npos) << e.what();
+      }
+    }
+  }
+}
+
 TEST(ImageIo, PngFromLinearFloatIsExactSrgb) {
   TempDir dir;
   const auto f = dir.path() / "out.png";

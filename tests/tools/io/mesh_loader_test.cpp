@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include "tests/tools/io/mesh_checks.h"
 #include "tests/tools/io/base64.h"
@@ -633,6 +634,36 @@ std::filesystem::path uv_set_gltf(const TempDir& dir, bool second_set, const std
                {"bufferView":1,"componentType":5126,"count":3,"type":"VEC2"},
                {"bufferView":2,"componentType":5126,"count":3,"type":"VEC2"},
                {"bufferView":3,"componentType":5123,"count":3,"type":"SCALAR"}]})");
+}
+
+// A uri naming a folder, a pipe or a device is refused unread (tinygltf allocated a folder's
+// "size", 2^63 bytes: std::bad_alloc, exit 1; it blocked on a pipe, and on /dev/zero read for
+// ever), and so is a file larger than the whole memory budget.
+TEST(MeshLoader, AFileAGltfNamesMustBeARegularFileWithinTheBudget) {
+  const std::string color = R"({"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})";
+  for (const std::string kind : {"folder", "pipe", "device"}) {
+    TempDir dir;
+    const std::filesystem::path gltf = uv_set_gltf(dir, false, color);
+    const std::filesystem::path png = dir.path() / "a.png";
+    std::filesystem::remove(png);
+    if (kind == "folder") std::filesystem::create_directory(png);
+    if (kind == "pipe") ASSERT_EQ(::mkfifo(png.c_str(), 0644), 0);
+    if (kind == "device") std::filesystem::create_symlink("/dev/zero", png);
+    expect_load_error(gltf, "",
+                      "`" + png.string() + "`, which it names, " +
+                          (kind == "folder" ? "is a folder" : "is not a regular file (a device, a pipe or a socket)"));
+  }
+  TempDir dir;
+  const std::filesystem::path gltf = uv_set_gltf(dir, false, color);
+  Budget small;
+  small.max_memory_bytes = 1000;  // CesiumLogoFlat.png is larger
+  try {
+    load_mesh_file(gltf, small);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.reason.find("which it names, is "), std::string::npos) << e.what();
+    EXPECT_NE(e.reason.find("more than the budget of 1000 bytes"), std::string::npos) << e.what();
+  }
 }
 
 // A map's texCoord names the uv set it is drawn with. TEXCOORD_0 was read whatever it named:

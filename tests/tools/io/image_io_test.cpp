@@ -1,6 +1,8 @@
 #include "tools/io/image_io.h"
 
 #include <cstdint>
+#include <fstream>
+#include <iterator>
 #include <vector>
 
 #include <OpenImageIO/imageio.h>
@@ -40,6 +42,38 @@ size_t files_in(const std::filesystem::path& dir) {
   size_t n = 0;
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++n;
   return n;
+}
+
+// A truncated or corrupt JPEG or TIFF: OpenImageIO's read succeeds with the missing part grey or
+// black and the decoder's complaint left as an error, which is the read's failure.
+TEST(ImageIo, TruncatedJpegAndTiffAreRefused) {
+  TempDir dir;
+  std::vector<uint8_t> noise(64 * 64 * 3);
+  for (size_t i = 0; i < noise.size(); ++i) noise[i] = uint8_t((i * 2654435761u) >> 24);
+  for (const char* name : {"full.jpg", "full.tif"}) {
+    const std::filesystem::path full = dir.path() / name;
+    auto out = OIIO::ImageOutput::create(full.string());
+    ASSERT_TRUE(out);
+    OIIO::ImageSpec spec(64, 64, 3, OIIO::TypeDesc::UINT8);
+    if (std::string(name) == "full.tif") spec.attribute("compression", "zip");
+    ASSERT_TRUE(out->open(full.string(), spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, noise.data()));
+    ASSERT_TRUE(out->close());
+    EXPECT_EQ(read_image_rgba(full).width, 64) << name;  // whole, it reads
+    std::string bytes;
+    {
+      std::ifstream in(full, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    const std::filesystem::path cut = dir.path() / (std::string("cut_") + name);
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() * 2 / 3));
+    try {
+      read_image_rgba(cut);
+      ADD_FAILURE() << cut << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(e.reason.find("reading the pixels failed: "), std::string::npos) << e.what();
+    }
+  }
 }
 
 // An image named inside a mesh file (an MTL's map_Kd, a glTF's uri) reaches the reader with no

@@ -35,6 +35,10 @@ struct ImageWriteRequest {
 struct ImageFileInfo {
   int width = 0, height = 0, channels = 0, depth = 1;
   StoredType type = StoredType::f32;  // u8, u16, or f32 for every other stored type
+  // The pixels stored (the data window: `width` x `height` at `x`, `y`) against the image's own
+  // frame (the display window: `full_width` x `full_height` at `full_x`, `full_y`); they differ
+  // in EXR files cropped to their content or holding overscan.
+  int x = 0, y = 0, full_x = 0, full_y = 0, full_width = 0, full_height = 0;
 };
 
 // An open image file, its values kept as stored (no alpha association).

@@ -125,6 +125,16 @@ std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path) {
   const ImageFileInfo& info = in->info();
   if (info.width <= 0 || info.height <= 0 || info.channels <= 0) throw InputError(file, "", "the image is empty");
   if (info.depth > 1) throw InputError(file, "", "volume images are not supported");
+  // Read as stored, such a file put its data window's pixels over the whole map without a word:
+  // a crop showed stretched, overscan squeezed in.
+  if (info.x != info.full_x || info.y != info.full_y || info.width != info.full_width ||
+      info.height != info.full_height)
+    throw InputError(file, "",
+                     "its pixels (" + std::to_string(info.width) + " x " + std::to_string(info.height) + " at " +
+                         std::to_string(info.x) + ", " + std::to_string(info.y) + ") are not its frame (" +
+                         std::to_string(info.full_width) + " x " + std::to_string(info.full_height) + " at " +
+                         std::to_string(info.full_x) + ", " + std::to_string(info.full_y) +
+                         "): pelt reads whole frames; e.g. `oiiotool IN --croptofull -o OUT` makes one");
   return in;
 }
 
@@ -193,8 +203,14 @@ ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encod
   if (const std::string error = in->read(channels, spec.type, buffer.data()); !error.empty())
     throw InputError(file, "", "reading the pixels failed: " + error);
   ImageRGBA img = pixels_to_rgba(buffer.data(), spec.width, spec.height, channels, 8 * bytes, encoding);
-  for (float v : img.rgba)
-    if (!std::isfinite(v)) throw InputError(file, "", "the image holds non-finite values");
+  for (size_t i = 0; i < img.rgba.size(); ++i)
+    if (!std::isfinite(img.rgba[i])) {
+      const size_t texel = i / 4;
+      throw InputError(file, "",
+                       "texel (" + std::to_string(texel % size_t(img.width)) + ", " +
+                           std::to_string(texel / size_t(img.width)) + ") channel " + "rgba"[i % 4] + " is " +
+                           (std::isnan(img.rgba[i]) ? "NaN" : "infinite"));
+    }
   return img;
 }
 

@@ -31,6 +31,12 @@ class OiioReader final : public ImageReader {
     info_.height = spec.height;
     info_.channels = spec.nchannels;
     info_.depth = spec.depth;
+    info_.x = spec.x;
+    info_.y = spec.y;
+    info_.full_x = spec.full_x;
+    info_.full_y = spec.full_y;
+    info_.full_width = spec.full_width;
+    info_.full_height = spec.full_height;
     info_.type = spec.format == OIIO::TypeDesc::UINT8    ? StoredType::u8
                  : spec.format == OIIO::TypeDesc::UINT16 ? StoredType::u16
                                                          : StoredType::f32;

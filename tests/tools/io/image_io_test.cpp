@@ -1,5 +1,6 @@
 #include "tools/io/image_io.h"
 
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <iterator>
@@ -73,6 +74,44 @@ TEST(ImageIo, TruncatedJpegAndTiffAreRefused) {
     } catch (const InputError& e) {
       EXPECT_NE(e.reason.find("reading the pixels failed: "), std::string::npos) << e.what();
     }
+  }
+}
+
+// An EXR whose stored pixels (data window) are not its frame (display window) is refused: read
+// as stored, a crop's pixels covered the whole map. A non-finite texel is named.
+TEST(ImageIo, AWindowedExrIsRefusedAndANonFiniteTexelNamed) {
+  TempDir dir;
+  const auto write_exr = [&](const std::string& name, int x, int y, const std::vector<float>& px) {
+    const std::filesystem::path path = dir.path() / name;
+    auto out = OIIO::ImageOutput::create(path.string());
+    OIIO::ImageSpec spec(4, 4, 3, OIIO::TypeDesc::FLOAT);
+    spec.x = x, spec.y = y;
+    spec.full_x = 0, spec.full_y = 0, spec.full_width = 8, spec.full_height = 8;
+    if (x == 0 && y == 0) spec.full_width = spec.full_height = 4;
+    EXPECT_TRUE(out->open(path.string(), spec));
+    EXPECT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, px.data()));
+    EXPECT_TRUE(out->close());
+    return path;
+  };
+  std::vector<float> grey(4 * 4 * 3, 0.5f);
+  const auto cropped = write_exr("cropped.exr", 2, 2, grey);
+  for (int header = 0; header < 2; ++header) {
+    try {
+      if (header) read_image_header(cropped);
+      else read_image_rgba(cropped, ColorEncoding::linear);
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(e.reason.find("its pixels (4 x 4 at 2, 2) are not its frame (8 x 8 at 0, 0)"), std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_EQ(read_image_rgba(write_exr("whole.exr", 0, 0, grey), ColorEncoding::linear).width, 4);
+  grey[(2 * 4 + 3) * 3 + 1] = std::nanf("");
+  try {
+    read_image_rgba(write_exr("nan.exr", 0, 0, grey), ColorEncoding::linear);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.reason.find("texel (3, 2) channel g is NaN"), std::string::npos) << e.what();
   }
 }
 

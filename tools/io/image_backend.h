@@ -39,6 +39,9 @@ struct ImageFileInfo {
   // frame (the display window: `full_width` x `full_height` at `full_x`, `full_y`); they differ
   // in EXR files cropped to their content or holding overscan.
   int x = 0, y = 0, full_x = 0, full_y = 0, full_width = 0, full_height = 0;
+  // The file's channel names ("R, G") and which channel is alpha (-1: none).
+  std::string channel_names;
+  int alpha_channel = -1;
 };
 
 // An open image file, its values kept as stored (no alpha association).

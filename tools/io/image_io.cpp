@@ -125,6 +125,12 @@ std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path) {
   const ImageFileInfo& info = in->info();
   if (info.width <= 0 || info.height <= 0 || info.channels <= 0) throw InputError(file, "", "the image is empty");
   if (info.depth > 1) throw InputError(file, "", "volume images are not supported");
+  // Two channels are read as grey and alpha (a PNG's Y, A): two colour channels (an EXR's R, G,
+  // a two-channel normal map) were drawn as grey, the second channel taken for alpha.
+  if (info.channels == 2 && info.alpha_channel != 1)
+    throw InputError(file, "",
+                     "its 2 channels (" + info.channel_names +
+                         ") are not grey and alpha, which is how pelt reads two channels; store it as RGB");
   // Read as stored, such a file put its data window's pixels over the whole map without a word:
   // a crop showed stretched, overscan squeezed in.
   if (info.x != info.full_x || info.y != info.full_y || info.width != info.full_width ||

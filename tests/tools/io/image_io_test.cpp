@@ -115,6 +115,36 @@ TEST(ImageIo, AWindowedExrIsRefusedAndANonFiniteTexelNamed) {
   }
 }
 
+// Two channels are read as grey and alpha: a grey-alpha PNG reads so, an EXR of R and G (two
+// colour channels, as two-channel normal maps are stored) is refused instead of drawn grey.
+TEST(ImageIo, TwoChannelsMustBeGreyAndAlpha) {
+  TempDir dir;
+  const std::vector<float> px(4 * 4 * 2, 0.5f);
+  for (const char* name : {"ya.png", "rg.exr"}) {
+    const std::filesystem::path path = dir.path() / name;
+    auto out = OIIO::ImageOutput::create(path.string());
+    OIIO::ImageSpec spec(4, 4, 2, std::string(name) == "ya.png" ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
+    if (std::string(name) == "ya.png") {
+      spec.channelnames = {"Y", "A"};
+      spec.alpha_channel = 1;
+    } else {
+      spec.channelnames = {"R", "G"};
+      spec.alpha_channel = -1;
+    }
+    ASSERT_TRUE(out->open(path.string(), spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, px.data()));
+    ASSERT_TRUE(out->close());
+  }
+  const ImageRGBA ya = read_image_rgba(dir.path() / "ya.png");
+  EXPECT_EQ(ya.rgba[0], ya.rgba[1]);  // grey
+  try {
+    read_image_rgba(dir.path() / "rg.exr", ColorEncoding::linear);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.reason.find("its 2 channels (R, G) are not grey and alpha"), std::string::npos) << e.what();
+  }
+}
+
 // An image named inside a mesh file (an MTL's map_Kd, a glTF's uri) reaches the reader with no
 // scene-level check: a folder, a pipe or a device is refused unread (a pipe hung the set-up).
 TEST(ImageIo, AFolderPipeOrDeviceIsRefusedUnread) {

@@ -280,13 +280,16 @@ std::optional<TextureError> Texture::from_la8(int width, int height, const uint8
 
 std::optional<TextureError> Texture::from_linear_float(int width, int height, const float* rgba,
                                                        TexelEncoding encoding, Texture& out,
-                                                       const ParallelFor& parallel) {
+                                                       const ParallelFor& parallel, SourceAlpha alpha) {
   if (auto e = check_size(width, height)) return e;
   if (rgba == nullptr) return TextureError{"rgba", "is null"};
   const size_t n = size_t(width) * size_t(height);
+  const bool opaque = alpha == SourceAlpha::ignored;
+  const auto alpha_byte = [&](size_t texel) { return opaque ? uint8_t{255} : to_byte(rgba[4 * texel + 3]); };
   // Checked in order first, so the error names the first bad value whatever runs the packing.
   for (size_t i = 0; i < 4 * n; ++i) {
     const float x = rgba[i];
+    if (opaque && i % 4 == 3) continue;
     if (!(x >= 0.0f && x <= 1.0f)) {
       static const char* const kChannel = "rgba";
       return TextureError{"rgba[" + std::to_string(i) + "]",
@@ -305,14 +308,14 @@ std::optional<TextureError> Texture::from_linear_float(int width, int height, co
       srgb_bytes(rgba + 4 * first, bytes.data(), bytes.size());
       for (size_t i = first; i < last; ++i) {
         const uint8_t* b = bytes.data() + 4 * (i - first);
-        level0[i] = uint32_t{b[0]} | (uint32_t{b[1]} << 8) | (uint32_t{b[2]} << 16) |
-                    (uint32_t{to_byte(rgba[4 * i + 3])} << 24);
+        level0[i] = uint32_t{b[0]} | (uint32_t{b[1]} << 8) | (uint32_t{b[2]} << 16) | (uint32_t{alpha_byte(i)} << 24);
       }
       return;
     }
     for (size_t i = first; i < last; ++i) {
       Texel t{};
       for (int ch = 0; ch < 4; ++ch) t.c[ch] = rgba[i * 4 + size_t(ch)];
+      if (opaque) t.c[3] = 1.0f;
       level0[i] = encode(t, encoding);
     }
   });

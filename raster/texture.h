@@ -51,6 +51,12 @@ enum class TexelEncoding : uint8_t {
   Srgb,    // colour bytes are sRGB-encoded (colour maps); alpha stays linear
 };
 
+// What a source image's alpha means to the texture. `ignored`: nothing draws it (a material's
+// colour or normal map), so every texel is stored opaque and the colours are filtered as stored:
+// the alpha-weighted mips and the fill of transparent texels (above) exist for blended
+// textures, and on an opaque map moved colours (a texel of alpha 0 took its neighbours').
+enum class SourceAlpha : uint8_t { straight, ignored };
+
 // How a level's texels are stored (rows of `width` texels plus the padding texel, a copy of
 // the row's first, in both).
 //   Rgba8: one 32-bit word a texel, R in the low byte .. A in the high byte.
@@ -112,10 +118,12 @@ class Texture {
   // `rgba`: width * height * 4 linear floats in [0, 1], straight alpha (e.g. io::ImageRGBA).
   // Stored with `encoding` (Srgb for colour maps keeps 8-bit precision in the darks; an
   // sRGB8 image read to linear floats and stored as Srgb gives back its bytes exactly).
-  // Values outside [0, 1] or not finite are an error naming the texel and channel.
+  // Values outside [0, 1] or not finite are an error naming the texel and channel (alpha's only
+  // when it is used: SourceAlpha::straight).
   static std::optional<TextureError> from_linear_float(int width, int height, const float* rgba,
                                                        TexelEncoding encoding, Texture& out,
-                                                       const ParallelFor& parallel = {});
+                                                       const ParallelFor& parallel = {},
+                                                       SourceAlpha alpha = SourceAlpha::straight);
   // `la`: width * height * 2 bytes, L, A (linear, straight alpha), row 0 = v = 0. The same
   // texture as from_rgba8 with R = G = B = L, in the La8 layout: its mip chain and fill are
   // built that way, so every level's bytes and every sample equal the RGBA8 texture's.

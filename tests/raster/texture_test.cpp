@@ -78,6 +78,33 @@ TEST(Texture, TransparentTexelsTakeTheColourAbove) {
   EXPECT_GT(filled, 100);
 }
 
+// SourceAlpha::ignored (colour and normal maps, whose alpha nothing draws): the texture of the
+// same colours at alpha 1, byte for byte, whatever the source's alpha (0, partial, or a 4th
+// channel outside [0, 1] that is no alpha); colours are validated as before.
+TEST(Texture, IgnoredAlphaBuildsTheOpaqueTexture) {
+  constexpr int w = 37, h = 21;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<float> source(size_t(w) * h * 4), opaque;
+  for (size_t i = 0; i < source.size(); ++i) source[i] = unit(rng);
+  for (size_t t = 0; t < size_t(w) * h; ++t) source[4 * t + 3] = t % 3 == 0 ? 0.0f : t % 3 == 1 ? 0.03f : 5.0f;
+  opaque = source;
+  for (size_t t = 0; t < size_t(w) * h; ++t) opaque[4 * t + 3] = 1.0f;
+  for (TexelEncoding enc : {TexelEncoding::Srgb, TexelEncoding::Linear}) {
+    Texture ignored, want, straight;
+    ASSERT_FALSE(Texture::from_linear_float(w, h, source.data(), enc, ignored, {}, SourceAlpha::ignored));
+    ASSERT_FALSE(Texture::from_linear_float(w, h, opaque.data(), enc, want));
+    ASSERT_EQ(ignored.bytes(), want.bytes());
+    EXPECT_EQ(std::memcmp(ignored.data(), want.data(), want.bytes()), 0) << "encoding " << int(enc);
+    EXPECT_TRUE(Texture::from_linear_float(w, h, source.data(), enc, straight));  // 5.0 is no alpha
+  }
+  source[1] = 1.5f;  // a colour out of range is still refused
+  Texture t;
+  const auto e = Texture::from_linear_float(w, h, source.data(), TexelEncoding::Srgb, t, {}, SourceAlpha::ignored);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->field, "rgba[1]");
+}
+
 TEST(Texture, RejectsBadInputNamingTheField) {
   Texture t;
   std::vector<uint8_t> bytes(16, 0);

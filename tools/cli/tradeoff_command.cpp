@@ -252,10 +252,13 @@ int run_tradeoff(const TradeoffOptions& o) {
   std::ostringstream csv;
   tradeoff::write_csv(csv, rows);
   const std::string table = tradeoff::markdown_table(rows, front);
+  // What every row ran at, for the table's text and the plot's title.
+  const std::string scene_name = fs::path(o.scene).filename().string();
+  const std::string ran_at = std::to_string(reference.width) + "x" + std::to_string(reference.height) + ", " +
+                             std::to_string(threads) + " thread(s), SIMD " + simd_in_use();
   // Composed as a string: a fixed buffer would cut the text short without a word as it grows.
   const std::string about =
-      "`pelt tradeoff " + fs::path(o.scene).filename().string() + "`: " + std::to_string(reference.width) + "x" +
-      std::to_string(reference.height) + ", " + std::to_string(threads) + " thread(s), SIMD " + simd_in_use() +
+      "`pelt tradeoff " + scene_name + "`: " + ran_at +
       ". Every row but the reference is timed twice, on the way through the sweep and again on the way "
       "back, each time " + std::to_string(o.runs) +
       " frames after one warm-up frame; its time is the faster pass's median, its range covers both. On the way back "
@@ -304,9 +307,7 @@ int run_tradeoff(const TradeoffOptions& o) {
   }
   const tradeoff::PlotOutcome plot =
       tradeoff::make_plot(dir / "tradeoff.csv", dir / "tradeoff.png",
-                          "pelt tradeoff " + fs::path(o.scene).filename().string() + " (" +
-                              std::to_string(reference.width) + "x" + std::to_string(reference.height) + ", " +
-                              std::to_string(threads) + " thread(s), " + simd_in_use() + ")",
+                          "pelt tradeoff " + scene_name + " (" + ran_at + ")",
                           front);
   if (!plot.made) {
     std::fprintf(stderr,

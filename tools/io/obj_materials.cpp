@@ -191,10 +191,10 @@ bool MaterialLibraries::operator()(const std::string& name, std::vector<tinyobj:
   } else {
     for (const std::string& n : names(record)) {
       const std::filesystem::path found = find_named_file(n, obj_dir_, obj_dir_);
-      if (is_file(found))
+      if (const std::string reason = unreadable_file_reason(found); reason.empty())
         files.push_back(found);
-      else
-        warnings_.push_back("material library `" + n + "` not found (looked for " + found.string() +
+      else  // a folder reads as nothing, a pipe without end
+        warnings_.push_back("material library `" + n + "` " + reason + " (looked for " + found.string() +
                             "): its materials are not drawn");
     }
   }
@@ -210,11 +210,6 @@ bool MaterialLibraries::operator()(const std::string& name, std::vector<tinyobj:
 
 void MaterialLibraries::load(const std::filesystem::path& library, std::vector<tinyobj::material_t>* materials,
                              std::map<std::string, int>* by_name, std::string* warn, std::string* err) {
-  // As a library not found: a folder reads as nothing, a pipe without end.
-  if (const std::string reason = unreadable_file_reason(library); !reason.empty()) {
-    warnings_.push_back("material library `" + library.string() + "` " + reason + ": its materials are not drawn");
-    return;
-  }
   std::ifstream in(library, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::istringstream mended(mend_mtl(text, library.filename().string(), warnings_));

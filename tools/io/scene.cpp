@@ -40,7 +40,6 @@ constexpr size_t kMaxSceneBytes = size_t{64} << 20;
 // error names the scene field rather than surfacing mid-render.
 void check_readable(const JsonFields& js, const std::filesystem::path& p, const std::string& field,
                     const char* what) {
-  std::error_code ec;
   if (p.native().find('\0') != std::string::npos)
     js.fail(field, std::string(what) + " `" + p.string() + "` holds a NUL character, which no file path can hold");
   if (const std::string reason = unreadable_file_reason(p); !reason.empty())

@@ -214,6 +214,17 @@ void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, in
   if (drawn) frame_parts.push_back(std::move(raster));
 }
 
+// A budget below pelt's own footprint refuses every render: said so, naming --max-memory, not
+// blamed on the image, a mesh or the scene's largest part. `estimate_said`: what the refusal
+// says of the render's estimate first, when there is one.
+void refuse_below_process(const io::Budget& budget, const std::string& estimate_said) {
+  if (budget.max_memory_bytes >= kProcessBaselineBytes) return;
+  throw io::InputError("", io::kMaxMemoryFlag,
+                       estimate_said + "pelt itself (code, shared libraries, start-up heap) takes about " +
+                           describe_bytes(kProcessBaselineBytes) + " before any scene: a budget of " +
+                           describe_bytes(budget.max_memory_bytes) + " is too small for any render");
+}
+
 [[noreturn]] void refuse(const io::Scene& scene, const std::string& field, const std::string& reason) {
   throw io::InputError(scene.file.string(), field, reason);
 }
@@ -255,11 +266,7 @@ void check_scene_budget(const io::Scene& scene, int width, int height, int spp, 
                " pixels, " + io::over_budget(std::to_string(budget.max_pixels) + " pixels", io::kMaxPixelsFlag));
   // Before any mesh loads (the OBJ reader's own check counts the process too, and would name the
   // mesh for a budget no render fits in).
-  if (budget.max_memory_bytes < kProcessBaselineBytes)
-    throw io::InputError("", io::kMaxMemoryFlag,
-                         "pelt itself (code, shared libraries, start-up heap) takes about " +
-                             describe_bytes(kProcessBaselineBytes) + " before any scene: a budget of " +
-                             describe_bytes(budget.max_memory_bytes) + " is too small for any render");
+  refuse_below_process(budget, "");
   const uint64_t image = image_bytes(w, h, spp, output);
   if (image > budget.max_memory_bytes) {
     const bool spp_made_it = spp > 1 && image_bytes(w, h, 1, output) <= budget.max_memory_bytes;
@@ -388,14 +395,7 @@ uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::Scene
       together = "; together, the " + kind + " of " + std::to_string(sum.second.size()) + " objects take " +
                  describe_bytes(sum.first);
     }
-  // A budget below the process's own footprint refuses every render: said so, not blamed on
-  // the scene's largest part.
-  if (budget.max_memory_bytes < kProcessBaselineBytes)
-    throw io::InputError("", io::kMaxMemoryFlag,
-                         "this render needs an estimated " + describe_bytes(e.total) + ", of which pelt itself " +
-                             "(code, shared libraries, start-up heap) takes about " +
-                             describe_bytes(kProcessBaselineBytes) + " before any scene: a budget of " +
-                             describe_bytes(budget.max_memory_bytes) + " is too small for any render");
+  refuse_below_process(budget, "this render needs an estimated " + describe_bytes(e.total) + ", of which ");
   refuse(scene, spp_made_it ? "quality.spp" : big.field,
          "this render needs an estimated " + describe_bytes(e.total) + ", " +
              io::over_budget(describe_bytes(budget.max_memory_bytes), io::kMaxMemoryFlag) +

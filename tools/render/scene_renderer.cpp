@@ -144,15 +144,13 @@ void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind,
     read = asked_by(map_asked_by(scene, index, kind.field, src->named_by_mesh),
                     [&] { return io::read_image_rgba(*src->file, kind.file_encoding, budget); });
   }
-  if (!src->file) read = *src->pixels;
+  const io::ImageRGBA& img = src->file ? read : *src->pixels;
   // No material draws a map's alpha (glTF's default OPAQUE mode ignores it; the fur's colour
-  // takes the map's colour alone): every texel is made opaque, so the mip filter's alpha
-  // weighting and the fill of transparent texels, which keep fringes out of blended textures,
-  // leave the colours as stored. (A texel of alpha 0 took its neighbours' colour, and a minified
-  // stripe of alpha 8/255 vanished from the average; a 4th channel that is no alpha was refused.)
-  for (size_t i = 3; i < read.rgba.size(); i += 4) read.rgba[i] = 1.0f;
-  const io::ImageRGBA& img = read;
-  if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(), kind.texels, out, parallel)) {
+  // takes the map's colour alone). Drawn as straight alpha, a texel of alpha 0 took its
+  // neighbours' colour, a minified stripe of alpha 8/255 vanished from the average, and a 4th
+  // channel that is no alpha was refused.
+  if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(), kind.texels, out, parallel,
+                                                  raster::SourceAlpha::ignored)) {
     // The raster's name for its input buffer (rgba[k]) means nothing to the user: the texel and
     // channel are in the reason, and the scene field that asked for the map follows it.
     const std::string field = e->field.rfind("rgba", 0) == 0 ? std::string() : e->field;

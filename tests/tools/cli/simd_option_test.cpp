@@ -113,7 +113,9 @@ TEST(SimdOption, EveryKernelTakesThePinAndTargetsOfOneArithmeticDrawTheSameBytes
         }
       }
   // The portable fallback never fuses: on a CPU with AVX2 there is a pair of each arithmetic.
-  if (targets.front().fused_multiply_add) EXPECT_GT(close, 0);
+  if (targets.front().fused_multiply_add) {
+    EXPECT_GT(close, 0);
+  }
 }
 
 // Coverage, depth and the fragment count are integer or exactly specified arithmetic (fixed-point

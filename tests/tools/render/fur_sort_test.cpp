@@ -105,10 +105,11 @@ TEST(FurSort, MergedFinQuadsAreKeyedAlone) {
     const std::vector<raster::DrawCall> draws = rig.draws(sort);
     ASSERT_EQ(draws.size(), 2u);  // shells, then fins
     EXPECT_EQ(draws[1].sort_group, 2u) << int(sort);
-    if (sort == FurSort::none)
+    if (sort == FurSort::none) {
       EXPECT_EQ(draws[1].triangle_count, layer_triangles);
-    else
+    } else {
       EXPECT_LT(draws[1].triangle_count, layer_triangles * 4 / 5) << int(sort);
+    }
   }
 }
 

@@ -387,6 +387,10 @@ namespace {
 // Texel index along one axis of `size`, for integer position i.
 int64_t wrap_index(int64_t i, int64_t size, Wrap wrap) {
   if (wrap == Wrap::Repeat) return ((i % size) + size) % size;
+  if (wrap == Wrap::Mirror) {  // period 2 size, the second half reversed
+    const int64_t m = ((i % (2 * size)) + 2 * size) % (2 * size);
+    return m < size ? m : 2 * size - 1 - m;
+  }
   return std::clamp<int64_t>(i, 0, size - 1);
 }
 
@@ -394,9 +398,10 @@ int64_t wrap_index(int64_t i, int64_t size, Wrap wrap) {
 double texel_coord(float c, int size, Wrap wrap) {
   double x = double(c);
   if (wrap == Wrap::Repeat) x -= std::floor(x);
+  if (wrap == Wrap::Mirror) x -= 2.0 * std::floor(0.5 * x);  // one period: wrap_index reflects
   x *= size;
   // Only keeps the integer conversion defined; changes no texel choice.
-  return std::clamp(x, -2.0, double(size) + 2.0);
+  return std::clamp(x, -2.0, double(wrap == Wrap::Mirror ? 2 * size : size) + 2.0);
 }
 
 // Straight colour and alpha, weighted (the fill makes premultiplication unnecessary).

@@ -85,6 +85,10 @@ enum class Filter : uint8_t {
 enum class Wrap : uint8_t {
   Repeat,  // coordinate taken modulo 1 (GL_REPEAT)
   Clamp,   // texel index clamped to the edge (GL_CLAMP_TO_EDGE)
+  // Every other repeat reflected (GL_MIRRORED_REPEAT, glTF's 33648): texel index i and
+  // 2 size - 1 - i read the same texel. Sampled as a clamp on coordinates folded into [0, 1],
+  // the level of detail taken from the coordinates before the fold.
+  Mirror,
 };
 
 struct TextureError {
@@ -207,7 +211,7 @@ struct SamplerState {
 // BilinearMip takes the same lambda and samples level nearest_mip_level(lambda) bilinearly.
 //
 // Repeat wraps u to u - floor(u) before scaling, so huge coordinates (1e6) keep their exact
-// fraction; clamp clamps the texel index. Non-finite u, v give unspecified values but never
+// fraction; clamp clamps the texel index; mirror reflects it (see Wrap). Non-finite u, v give unspecified values but never
 // read outside the texture. Throws std::invalid_argument (naming the argument) if the texture
 // is empty, lanes is not a multiple of 16, or a pointer is null. Dispatches once per call to
 // the best Highway target; allocation-free; safe to call concurrently.

@@ -666,8 +666,10 @@ HWY_INLINE bool MakeDenseLevels(const Texture& tex, const SamplerState& s, Dense
 // the loop that samples makes no calls), then each block (SampleBlock).
 template <bool kSrgb, Filter kFilter, bool kLa = false>
 void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRICT u,
-             const float* HWY_RESTRICT v, size_t lanes, float* const out[4], const uint16_t* block_mask) {
+             const float* HWY_RESTRICT v, const float* lod_u, const float* lod_v, size_t lanes, float* const out[4],
+             const uint16_t* block_mask) {
   if constexpr (kFilter == Filter::Nearest) {
+    (void)lod_u, (void)lod_v;  // level 0 always
     return SampleNearest<kSrgb, kLa>(tex, s, u, v, lanes, out, block_mask);
   } else {
     const bool rep_u = s.wrap_u == Wrap::Repeat, rep_v = s.wrap_v == Wrap::Repeat;
@@ -688,7 +690,7 @@ void SampleT(const Texture& tex, const SamplerState& s, const float* HWY_RESTRIC
       const size_t blocks = std::min(kChunkBlocks, (lanes - first) / kBlockLanes);
       if constexpr (kMipmapped) {
         // A block outside the mask: level 0, weight 0.
-        ChunkLods(u + first, v + first, blocks, block_mask ? block_mask + first / kBlockLanes : nullptr, base.w,
+        ChunkLods(lod_u + first, lod_v + first, blocks, block_mask ? block_mask + first / kBlockLanes : nullptr, base.w,
                   base.h, double(s.lod_bias), double(tex.levels() - 1), clamped);
         for (size_t k = 0; k < blocks; ++k) {
           if constexpr (kFilter == Filter::Trilinear) {
@@ -745,34 +747,36 @@ void BlockLength2sImpl(const float* u, const float* v, size_t blocks, int32_t wi
   for (size_t k = 0; k < blocks; ++k) out[k] = BlockLength2(u + k * kBlockLanes, v + k * kBlockLanes, width, height);
 }
 
-void SampleImpl(const Texture& tex, const SamplerState& s, const float* u, const float* v,
-                size_t lanes, float* const out[4], const uint16_t* m) {
+// lod_u, lod_v: the coordinates each block's level of detail is taken from (u, v but where
+// mirroring folded them, see sample()).
+void SampleImpl(const Texture& tex, const SamplerState& s, const float* u, const float* v, const float* lod_u,
+                const float* lod_v, size_t lanes, float* const out[4], const uint16_t* m) {
   if (tex.format() == TexelFormat::La8) {  // always linear
     switch (s.filter) {
       case Filter::Nearest:
-        return SampleT<false, Filter::Nearest, true>(tex, s, u, v, lanes, out, m);
+        return SampleT<false, Filter::Nearest, true>(tex, s, u, v, lod_u, lod_v, lanes, out, m);
       case Filter::Bilinear:
-        return SampleT<false, Filter::Bilinear, true>(tex, s, u, v, lanes, out, m);
+        return SampleT<false, Filter::Bilinear, true>(tex, s, u, v, lod_u, lod_v, lanes, out, m);
       case Filter::Trilinear:
-        return SampleT<false, Filter::Trilinear, true>(tex, s, u, v, lanes, out, m);
+        return SampleT<false, Filter::Trilinear, true>(tex, s, u, v, lod_u, lod_v, lanes, out, m);
       case Filter::BilinearMip:
-        return SampleT<false, Filter::BilinearMip, true>(tex, s, u, v, lanes, out, m);
+        return SampleT<false, Filter::BilinearMip, true>(tex, s, u, v, lod_u, lod_v, lanes, out, m);
     }
   }
   const bool srgb = tex.encoding() == TexelEncoding::Srgb;
   switch (s.filter) {
     case Filter::Nearest:
-      return srgb ? SampleT<true, Filter::Nearest>(tex, s, u, v, lanes, out, m)
-                  : SampleT<false, Filter::Nearest>(tex, s, u, v, lanes, out, m);
+      return srgb ? SampleT<true, Filter::Nearest>(tex, s, u, v, lod_u, lod_v, lanes, out, m)
+                  : SampleT<false, Filter::Nearest>(tex, s, u, v, lod_u, lod_v, lanes, out, m);
     case Filter::Bilinear:
-      return srgb ? SampleT<true, Filter::Bilinear>(tex, s, u, v, lanes, out, m)
-                  : SampleT<false, Filter::Bilinear>(tex, s, u, v, lanes, out, m);
+      return srgb ? SampleT<true, Filter::Bilinear>(tex, s, u, v, lod_u, lod_v, lanes, out, m)
+                  : SampleT<false, Filter::Bilinear>(tex, s, u, v, lod_u, lod_v, lanes, out, m);
     case Filter::Trilinear:
-      return srgb ? SampleT<true, Filter::Trilinear>(tex, s, u, v, lanes, out, m)
-                  : SampleT<false, Filter::Trilinear>(tex, s, u, v, lanes, out, m);
+      return srgb ? SampleT<true, Filter::Trilinear>(tex, s, u, v, lod_u, lod_v, lanes, out, m)
+                  : SampleT<false, Filter::Trilinear>(tex, s, u, v, lod_u, lod_v, lanes, out, m);
     case Filter::BilinearMip:
-      return srgb ? SampleT<true, Filter::BilinearMip>(tex, s, u, v, lanes, out, m)
-                  : SampleT<false, Filter::BilinearMip>(tex, s, u, v, lanes, out, m);
+      return srgb ? SampleT<true, Filter::BilinearMip>(tex, s, u, v, lod_u, lod_v, lanes, out, m)
+                  : SampleT<false, Filter::BilinearMip>(tex, s, u, v, lod_u, lod_v, lanes, out, m);
   }
 }
 
@@ -788,6 +792,51 @@ HWY_EXPORT(BlockLodsImpl);
 HWY_EXPORT(BlockLength2sImpl);
 
 namespace {
+
+// Mirrored repeat (GL_MIRRORED_REPEAT) is the kernel's clamp on coordinates folded into
+// [0, 1]: c taken modulo 2, then reflected about 1. A pair of taps that straddles a mirror
+// line then reads the texels the mirror gives it (the edge texel twice, as the clamp's edge
+// does), so the fold costs the kernel nothing and changes no other wrap's path. The level of
+// detail must still come from the coordinates as given: a block crossing a mirror line has
+// its derivative turned around there.
+// The fold is even (texel i and -1 - i mirror each other), so it starts from |c|: every step
+// is then exact in float (Sterbenz), where c + 2 for a small negative c would round.
+float fold_mirror(float c) {
+  const float a = std::fabs(c);
+  const float t = a - 2.0f * std::floor(0.5f * a);  // in [0, 2)
+  return t > 1.0f ? 2.0f - t : t;
+}
+
+constexpr size_t kMirrorChunk = 1024;  // lanes, whole blocks
+struct alignas(64) MirrorScratch {
+  float u[kMirrorChunk], v[kMirrorChunk];
+};
+thread_local MirrorScratch tls_mirror;
+
+void sample_mirrored(const Texture& tex, const SamplerState& state, const float* u, const float* v, size_t lanes,
+                     float* const out[4], const uint16_t* block_mask) {
+  MirrorScratch& s = tls_mirror;
+  SamplerState folded = state;
+  const bool mu = state.wrap_u == Wrap::Mirror, mv = state.wrap_v == Wrap::Mirror;
+  if (mu) folded.wrap_u = Wrap::Clamp;
+  if (mv) folded.wrap_v = Wrap::Clamp;
+  for (size_t first = 0; first < lanes; first += kMirrorChunk) {
+    const size_t n = std::min(kMirrorChunk, lanes - first);
+    const float* fu = u + first;
+    const float* fv = v + first;
+    if (mu) {
+      for (size_t i = 0; i < n; ++i) s.u[i] = fold_mirror(fu[i]);
+      fu = s.u;
+    }
+    if (mv) {
+      for (size_t i = 0; i < n; ++i) s.v[i] = fold_mirror(fv[i]);
+      fv = s.v;
+    }
+    float* const part[4] = {out[0] + first, out[1] + first, out[2] + first, out[3] + first};
+    HWY_DYNAMIC_DISPATCH(SampleImpl)(tex, folded, fu, fv, u + first, v + first, n, part,
+                                     block_mask ? block_mask + first / kBlockLanes : nullptr);
+  }
+}
 
 // The checks of block_lods and block_lod_length2s: throws std::invalid_argument, prefixed `fn`,
 // when a size is below 1 (`sizes` names them) or, with blocks to do, a pointer is null.
@@ -828,7 +877,12 @@ void sample(const Texture& tex, const SamplerState& state, const float* u, const
   if (state.filter != Filter::Nearest && state.filter != Filter::Bilinear &&
       state.filter != Filter::Trilinear && state.filter != Filter::BilinearMip)
     throw std::invalid_argument("sample: state.filter is not a Filter value");
-  HWY_DYNAMIC_DISPATCH(SampleImpl)(tex, state, u, v, lanes, out, block_mask);
+  for (const Wrap w : {state.wrap_u, state.wrap_v})
+    if (w != Wrap::Repeat && w != Wrap::Clamp && w != Wrap::Mirror)
+      throw std::invalid_argument("sample: state.wrap_u or wrap_v is not a Wrap value");
+  if (state.wrap_u == Wrap::Mirror || state.wrap_v == Wrap::Mirror)
+    return sample_mirrored(tex, state, u, v, lanes, out, block_mask);
+  HWY_DYNAMIC_DISPATCH(SampleImpl)(tex, state, u, v, u, v, lanes, out, block_mask);
 }
 
 }  // namespace pelt::raster

@@ -260,8 +260,13 @@ Outcome run_sampler(const uint8_t* data, size_t size) {
 
   raster::SamplerState state;
   state.filter = raster::Filter(head[0] % 4);
-  state.wrap_u = (head[0] & 0x04) ? raster::Wrap::Clamp : raster::Wrap::Repeat;
-  state.wrap_v = (head[0] & 0x08) ? raster::Wrap::Clamp : raster::Wrap::Repeat;
+  // An axis's wrap bit picks clamp or, with bit 6 of its size byte (which the sizes below barely
+  // use), mirror: the decoding of inputs from before mirror existed is otherwise unchanged.
+  const auto wrap = [](bool set, uint8_t size_byte) {
+    return !set ? raster::Wrap::Repeat : (size_byte & 0x40) ? raster::Wrap::Mirror : raster::Wrap::Clamp;
+  };
+  state.wrap_u = wrap((head[0] & 0x04) != 0, head[1]);
+  state.wrap_v = wrap((head[0] & 0x08) != 0, head[2]);
   const int format = (head[0] >> 4) % 3;  // RGBA8 linear, RGBA8 sRGB, La8
   const bool masked = (head[0] & 0x40) != 0;
   // Powers of two (the dense lanes' repeat needs them) or any size up to 64.

@@ -19,7 +19,7 @@
 namespace pelt::raster::test {
 namespace {
 
-constexpr Wrap kWraps[] = {Wrap::Repeat, Wrap::Clamp};
+constexpr Wrap kWraps[] = {Wrap::Repeat, Wrap::Clamp, Wrap::Mirror};
 
 struct Coords {
   std::vector<float> u, v;
@@ -93,12 +93,15 @@ Coords hard_coords(int w, int h, uint32_t seed) {
 // a boundary that the exact value misses. A lane that differs from the reference must then
 // equal the reference at a coordinate the kernel's rounding could have produced: u itself
 // moved by one float ulp (spans the rounding of u * size) or, for repeat, the wrapped float
-// u - floor(u) and its neighbours (spans the rounding of the wrap of a negative u).
+// u - floor(u) and its neighbours (spans the rounding of the wrap of a negative u), for mirror
+// the folded u in [0, 1] and its neighbours (on a texel boundary the tie goes up in the folded
+// coordinate, which is down in a reflected period).
 std::vector<float> nearby(float x, Wrap wrap) {
   const float inf = std::numeric_limits<float>::infinity();
   std::vector<float> out = {x, std::nextafter(x, -inf), std::nextafter(x, inf)};
-  if (wrap == Wrap::Repeat) {
-    const float c = x - std::floor(x);
+  if (wrap == Wrap::Repeat || wrap == Wrap::Mirror) {
+    const double t = std::fmod(std::abs(double(x)), 2.0);
+    const float c = wrap == Wrap::Repeat ? x - std::floor(x) : float(t > 1.0 ? 2.0 - t : t);
     out.insert(out.end(), {c, std::nextafter(c, -inf), std::nextafter(c, inf)});
   }
   return out;
@@ -339,7 +342,8 @@ TEST(TextureSampling, ABlockMaskSamplesItsLanesAndZeroesTheRest) {
   const Texture textures[] = {random_texture(64, 64, TexelEncoding::Linear, seed++),
                               random_texture(37, 20, TexelEncoding::Srgb, seed++),
                               random_texture(8, 128, TexelEncoding::Srgb, seed++), la.la, la_wide.la};
-  const std::pair<Wrap, Wrap> wraps[] = {{Wrap::Repeat, Wrap::Repeat}, {Wrap::Clamp, Wrap::Clamp}};
+  const std::pair<Wrap, Wrap> wraps[] = {
+      {Wrap::Repeat, Wrap::Repeat}, {Wrap::Clamp, Wrap::Clamp}, {Wrap::Mirror, Wrap::Mirror}};
   expect_masked_samples_like_unmasked(textures, wraps, seed);
 }
 
@@ -353,7 +357,8 @@ TEST(TextureSampling, ABlockMaskWithMixedWrapsSamplesLikeNoMask) {
   const LaPair tall = random_la_texture(12, 64, seed++);
   const Texture textures[] = {fin.la, tall.la, random_texture(32, 32, TexelEncoding::Srgb, seed++),
                               random_texture(128, 5, TexelEncoding::Linear, seed++)};
-  const std::pair<Wrap, Wrap> wraps[] = {{Wrap::Repeat, Wrap::Clamp}, {Wrap::Clamp, Wrap::Repeat}};
+  const std::pair<Wrap, Wrap> wraps[] = {{Wrap::Repeat, Wrap::Clamp}, {Wrap::Clamp, Wrap::Repeat},
+                                          {Wrap::Mirror, Wrap::Repeat}, {Wrap::Clamp, Wrap::Mirror}};
   expect_masked_samples_like_unmasked(textures, wraps, seed);
 }
 
@@ -424,6 +429,70 @@ TEST(TextureSampling, RejectsBadArguments) {
     EXPECT_NE(std::string(e.what()).find("lanes"), std::string::npos) << e.what();
   }
   EXPECT_NO_THROW(sample(tex, {}, u.data(), v.data(), 0, out));
+  SamplerState bad_wrap;
+  bad_wrap.wrap_v = static_cast<Wrap>(7);
+  EXPECT_THROW(sample(tex, bad_wrap, u.data(), v.data(), 16, out), std::invalid_argument);
+}
+
+// Mirrored repeat as OpenGL defines it (GL_MIRRORED_REPEAT): along an axis of `size` texels,
+// index i reads texel i mod 2 size, reflected in the second half. Nearest samples at texel
+// centres over four periods, on both sides of 0, of an odd, non-power-of-two texture (the
+// kernel folds coordinates; this states the definition independently of fold and reference).
+TEST(TextureSampling, MirrorReadsTheTexelsOpenGlReflects) {
+  constexpr int kW = 5, kH = 3;
+  const Texture tex = random_texture(kW, kH, TexelEncoding::Linear, 77);
+  const auto reflect = [](int i, int size) {
+    const int m = ((i % (2 * size)) + 2 * size) % (2 * size);
+    return m < size ? m : 2 * size - 1 - m;
+  };
+  std::vector<float> u, v;
+  std::vector<std::pair<int, int>> want;
+  for (int j = -2 * kH; j < 2 * kH; ++j)
+    for (int i = -2 * kW; i < 2 * kW; ++i) {
+      u.push_back((float(i) + 0.5f) / kW);
+      v.push_back((float(j) + 0.5f) / kH);
+      want.emplace_back(reflect(i, kW), reflect(j, kH));
+    }
+  while (u.size() % 16 != 0) {
+    u.push_back(0.1f);
+    v.push_back(0.1f);
+    want.emplace_back(0, 0);
+  }
+  for_each_target([&](const std::string& target) {
+    const Samples got = run_sample(tex, {Filter::Nearest, Wrap::Mirror, Wrap::Mirror, 0.0f}, u, v);
+    for (size_t k = 0; k < u.size(); ++k) {
+      const uint32_t t = tex.texel(0, want[k].first, want[k].second);
+      ASSERT_NEAR(got.c[3][k], channel(t, 3) / 255.0, 1e-6) << target << " u " << u[k] << " v " << v[k];
+      if (channel(t, 3) > 0) {
+        ASSERT_NEAR(got.c[0][k], channel(t, 0) / 255.0, 1e-6) << target << " u " << u[k] << " v " << v[k];
+      }
+    }
+  });
+}
+
+// A block that crosses a mirror line keeps the level of detail of its coordinates: trilinear
+// at 4 texels a pixel along u, across u = 1, samples exactly what it samples at the mirror image of the
+// block, 2 - u, and what bilinear samples on level 2 alone, not the sharper level that folded
+// coordinates' smaller differences would give.
+TEST(TextureSampling, MirrorKeepsTheBlocksLevelOfDetail) {
+  std::mt19937 texel_rng(31);
+  const Texture t = make_texture(64, 64, TexelEncoding::Linear, [&](int, int) { return texel_rng() | 0xFF000000u; });
+  const Texture level2 = level_as_texture(t, 2);
+  std::vector<float> u, v, mirrored;
+  for (int l = 0; l < 16; ++l) {
+    u.push_back(1.0f + float(l % 4 - 2) * (4.0f / 64.0f) + 1.0f / 128.0f);
+    v.push_back(0.25f + float(l / 4) * (1.0f / 64.0f));  // 1 texel a pixel: u alone sets the level
+    mirrored.push_back(2.0f - u.back());
+  }
+  for_each_target([&](const std::string& target) {
+    const Samples tri = run_sample(t, {Filter::Trilinear, Wrap::Mirror, Wrap::Mirror, 0.0f}, u, v);
+    const Samples tri_m = run_sample(t, {Filter::Trilinear, Wrap::Mirror, Wrap::Mirror, 0.0f}, mirrored, v);
+    const Samples bil = run_sample(level2, {Filter::Bilinear, Wrap::Mirror, Wrap::Mirror, 0.0f}, u, v);
+    for (int ch = 0; ch < 4; ++ch) {
+      EXPECT_EQ(tri.c[ch], tri_m.c[ch]) << target << " channel " << ch;
+      EXPECT_EQ(tri.c[ch], bil.c[ch]) << target << " channel " << ch;
+    }
+  });
 }
 
 }  // namespace

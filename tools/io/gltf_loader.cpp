@@ -653,6 +653,7 @@ class GltfReader {
   // A texture kind's first texture, where it was named, and whether another was warned of.
   struct Taken {
     int texture = -1;
+    MapPlacement placement;
     std::string where;
     bool warned = false;
   };
@@ -671,39 +672,94 @@ class GltfReader {
     const std::string mw = "materials[" + std::to_string(material) + "]";
     const tinygltf::TextureInfo& color = mat.pbrMetallicRoughness.baseColorTexture;
     const tinygltf::NormalTextureInfo& normal = mat.normalTexture;
-    if (color.index >= 0 && normal.index >= 0 && color.texCoord != normal.texCoord)
-      throw InputError(file_, mw + ".normalTexture.texCoord",
-                       "TEXCOORD_" + std::to_string(normal.texCoord) + " is not the baseColorTexture's TEXCOORD_" +
-                           std::to_string(color.texCoord) + ": pelt draws both maps with one uv set");
-    if (color.index >= 0) return {color.texCoord, mw + ".pbrMetallicRoughness.baseColorTexture.texCoord"};
-    if (normal.index >= 0) return {normal.texCoord, mw + ".normalTexture.texCoord"};
+    const UvSet c = tex_coord_of(color, mw + ".pbrMetallicRoughness.baseColorTexture");
+    const UvSet n = tex_coord_of(normal, mw + ".normalTexture");
+    if (color.index >= 0 && normal.index >= 0 && c.index != n.index)
+      throw InputError(file_, n.where,
+                       "TEXCOORD_" + std::to_string(n.index) + " is not the baseColorTexture's TEXCOORD_" +
+                           std::to_string(c.index) + ": pelt draws both maps with one uv set");
+    if (color.index >= 0) return c;
+    if (normal.index >= 0) return n;
     return {};
+  }
+
+  // KHR_texture_transform's object on a texture info, or null.
+  template <class Info>
+  static const tinygltf::Value* texture_transform(const Info& info) {
+    const auto it = info.extensions.find("KHR_texture_transform");
+    return it != info.extensions.end() && it->second.IsObject() ? &it->second : nullptr;
+  }
+
+  // A texture info's uv set: KHR_texture_transform's texCoord overrides the info's own.
+  template <class Info>
+  static UvSet tex_coord_of(const Info& info, const std::string& where) {
+    if (const tinygltf::Value* t = texture_transform(info); t && t->Has("texCoord"))
+      return {t->Get("texCoord").GetNumberAsInt(), where + ".extensions.KHR_texture_transform.texCoord"};
+    return {info.texCoord, where + ".texCoord"};
+  }
+
+  // Where a texture info's map lies: its sampler's wrapS and wrapT, and KHR_texture_transform's
+  // offset, rotation and scale as the extension composes them (translation * rotation * scale,
+  // the rotation counter-clockwise in uv, v down). check_integer_fields has checked the values.
+  template <class Info>
+  MapPlacement placement_of(const Info& info) const {
+    MapPlacement p;
+    const int texture = info.index;
+    if (texture >= 0 && size_t(texture) < model_.textures.size()) {
+      const int sampler = model_.textures[size_t(texture)].sampler;
+      if (sampler >= 0 && size_t(sampler) < model_.samplers.size()) {
+        const auto wrap = [](int mode) {
+          return mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE     ? raster::Wrap::Clamp
+                 : mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT ? raster::Wrap::Mirror
+                                                                 : raster::Wrap::Repeat;
+        };
+        p.wrap_u = wrap(model_.samplers[size_t(sampler)].wrapS);
+        p.wrap_v = wrap(model_.samplers[size_t(sampler)].wrapT);
+      }
+    }
+    if (const tinygltf::Value* t = texture_transform(info)) {
+      const auto pair = [&](const char* key, double fallback, int i) {
+        return t->Has(key) ? t->Get(key).Get(i).GetNumberAsDouble() : fallback;
+      };
+      const double r = t->Has("rotation") ? t->Get("rotation").GetNumberAsDouble() : 0.0;
+      const double sx = pair("scale", 1.0, 0), sy = pair("scale", 1.0, 1);
+      const double c = std::cos(r), sn = std::sin(r);
+      p.m = {float(sx * c), float(sy * sn), float(pair("offset", 0.0, 0)),
+             float(-sx * sn), float(sy * c), float(pair("offset", 0.0, 1))};
+    }
+    return p;
   }
 
   void take_textures(int material) {
     if (material < 0 || material >= static_cast<int>(model_.materials.size())) return;
     const tinygltf::Material& mat = model_.materials[material];
     const std::string mw = "materials[" + std::to_string(material) + "]";
-    take_texture(mat.pbrMetallicRoughness.baseColorTexture.index, ColorEncoding::srgb,
-                 mw + ".pbrMetallicRoughness.baseColorTexture", out_.color_map, color_texture_, "base colour");
-    take_texture(mat.normalTexture.index, ColorEncoding::linear, mw + ".normalTexture", out_.normal_map,
-                 normal_texture_, "normal");
+    const tinygltf::TextureInfo& color = mat.pbrMetallicRoughness.baseColorTexture;
+    take_texture(color.index, placement_of(color), ColorEncoding::srgb, mw + ".pbrMetallicRoughness.baseColorTexture",
+                 out_.color_map, color_texture_, "base colour");
+    take_texture(mat.normalTexture.index, placement_of(mat.normalTexture), ColorEncoding::linear,
+                 mw + ".normalTexture", out_.normal_map, normal_texture_, "normal");
   }
 
   // The first texture of its kind is the mesh's (pelt draws one material per object); a
   // primitive naming another gets one warning per kind.
-  void take_texture(int texture, ColorEncoding encoding, const std::string& where, TextureRef& ref, Taken& taken,
-                    const char* kind) {
+  void take_texture(int texture, const MapPlacement& placement, ColorEncoding encoding, const std::string& where,
+                    TextureRef& ref, Taken& taken, const char* kind) {
     if (texture < 0) return;
     image_source(texture, where);  // a texture not drawn is still a reference that must hold
     if (taken.texture < 0) {
       resolve_texture(texture, encoding, where, ref);
+      ref.placement = placement;
       taken.texture = texture;
+      taken.placement = placement;
       taken.where = where;
-    } else if (texture != taken.texture && !taken.warned) {
+    } else if ((texture != taken.texture || placement != taken.placement) && !taken.warned) {
       taken.warned = true;
-      out_.warnings.push_back(std::string("primitives use more than one ") + kind + " texture: " + taken.where +
-                              " is used for the whole mesh");
+      out_.warnings.push_back(std::string("primitives use ") +
+                              (texture != taken.texture ? std::string("more than one ") + kind + " texture"
+                                                        : std::string("one ") + kind +
+                                                              " texture placed two ways (sampler, KHR_texture_transform)") +
+                              ": " + taken.where + " is used for the whole mesh");
     }
   }
 
@@ -919,10 +975,37 @@ void check_integer_fields(const std::string& text, const std::string& file) {
     if (it == obj.end() || !it->is_array()) return;
     for (size_t i = 0; i < it->size(); ++i) fn((*it)[i], json_index(json_child(path, key), i));
   };
+  const auto number = [&](const nlohmann::json& v, const std::string& field) {
+    if (!v.is_number()) throw InputError(file, field, "expected a number, got " + json_type_name(v));
+    if (std::abs(v.get<double>()) > 1e30)
+      throw InputError(file, field, v.dump() + " is too large for a texture coordinate");
+  };
+  const auto numbers = [&](const nlohmann::json& obj, const std::string& path, const char* key) {
+    const auto it = obj.find(key);
+    if (it == obj.end()) return;
+    const std::string field = json_child(path, key);
+    if (!it->is_array() || it->size() != 2)
+      throw InputError(file, field, "expected an array of 2 numbers, got " + json_type_name(*it));
+    for (size_t i = 0; i < 2; ++i) number((*it)[i], json_index(field, i));
+  };
+  // KHR_texture_transform (its specification): offset [2], rotation (radians), scale [2], and
+  // a texCoord that overrides the texture info's. tinygltf keeps them as untyped values.
+  const auto texture_transform = [&](const nlohmann::json& info, const std::string& path) {
+    if (!info.contains("extensions") || !info["extensions"].is_object()) return;
+    const auto it = info["extensions"].find("KHR_texture_transform");
+    if (it == info["extensions"].end()) return;
+    const std::string field = json_child(json_child(path, "extensions"), "KHR_texture_transform");
+    if (!it->is_object()) throw InputError(file, field, "expected an object, got " + json_type_name(*it));
+    numbers(*it, field, "offset");
+    numbers(*it, field, "scale");
+    if (it->contains("rotation")) number((*it)["rotation"], json_child(field, "rotation"));
+    check(*it, field, "texCoord", kIndex);
+  };
   const auto texture_info = [&](const nlohmann::json& obj, const std::string& path, const char* key) {
     if (!obj.is_object() || !obj.contains(key)) return;
     check(obj[key], json_child(path, key), "index", kIndex);
     check(obj[key], json_child(path, key), "texCoord", kIndex);
+    if (obj[key].is_object()) texture_transform(obj[key], json_child(path, key));
   };
   check(doc, "", "scene", kIndex);
   each(doc, "", "scenes", [&](const auto& s, const std::string& p) { check_indices(s, p, "nodes"); });
@@ -970,7 +1053,21 @@ void check_integer_fields(const std::string& text, const std::string& file) {
       texture_info(m["pbrMetallicRoughness"], json_child(p, "pbrMetallicRoughness"), "baseColorTexture");
     texture_info(m, p, "normalTexture");
   });
-  each(doc, "", "textures", [&](const auto& t, const std::string& p) { check(t, p, "source", kIndex); });
+  each(doc, "", "textures", [&](const auto& t, const std::string& p) {
+    check(t, p, "source", kIndex);
+    check(t, p, "sampler", kIndex);
+  });
+  each(doc, "", "samplers", [&](const auto& smp, const std::string& p) {
+    for (const char* key : {"wrapS", "wrapT"}) {
+      check(smp, p, key, kIndex);
+      if (!smp.is_object() || !smp.contains(key)) continue;
+      const auto mode = smp[key].template get<uint64_t>();
+      if (mode != 33071 && mode != 33648 && mode != 10497)
+        throw InputError(file, json_child(p, key),
+                         std::to_string(mode) + " is no wrap mode: 33071 (clamp to edge), 33648 (mirrored repeat) or "
+                                                "10497 (repeat)");
+    }
+  });
   each(doc, "", "images", [&](const auto& i, const std::string& p) { check(i, p, "bufferView", kIndex); });
 }
 

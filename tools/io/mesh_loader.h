@@ -8,6 +8,7 @@
 #include "raster/mesh.h"
 #include "tools/io/budget.h"
 #include "tools/io/image.h"
+#include "tools/io/map_placement.h"
 
 namespace pelt::io {
 
@@ -17,6 +18,7 @@ namespace pelt::io {
 struct TextureRef {
   std::filesystem::path path;
   ImageRGBA pixels;  // linear: sRGB-decoded for colour maps, as stored for normal maps
+  MapPlacement placement;  // in the file's own uv space (OBJ: v from the bottom)
 
   bool present() const { return !path.empty() || !pixels.empty(); }
 };

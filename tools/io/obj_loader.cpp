@@ -10,6 +10,7 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
@@ -647,27 +648,34 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     const tinyobj::material_t& mat = materials[material];
     // An object has one material in pelt: faces whose material names other maps are drawn
     // with these, which the user should hear about.
-    const auto maps = [](const tinyobj::material_t& t) {
-      return std::make_pair(t.diffuse_texname, t.normal_texname.empty() ? t.bump_texname : t.normal_texname);
+    const auto maps = [&](size_t id) {
+      const tinyobj::material_t& t = id < materials.size() ? materials[id] : tinyobj::material_t{};
+      return std::make_tuple(t.diffuse_texname, t.normal_texname.empty() ? t.bump_texname : t.normal_texname,
+                             libraries.placements_of(int(id)));
     };
     size_t others = 0;
     for (size_t id = 0; id < materials.size(); ++id)
-      if (material_used[id] && maps(materials[id]) != maps(mat)) ++others;
+      if (material_used[id] && maps(id) != maps(size_t(material))) ++others;
     const std::string name = shown_name(mat.name);
     if (others > 0)
       out.warnings.push_back("faces use " + std::to_string(others + 1) +
                              " materials with different texture maps: the maps of `" + name +
                              "` (the first face's) are used for the whole mesh");
-    if (faces_without_material > 0 && maps(mat) != maps(tinyobj::material_t{}))
+    if (faces_without_material > 0 && maps(size_t(material)) != maps(materials.size()))
       out.warnings.push_back(std::to_string(faces_without_material) +
                              " faces name no material (no `usemtl` before them): the maps of `" + name +
                              "` are drawn on them too");
     // A map's name is read from its library's folder, as exporters write it (until 2026-11-27
     // from the OBJ's, where pelt still looks when the library's folder has no such file).
     const std::filesystem::path& library_dir = libraries.folder_of(material);
-    if (!mat.diffuse_texname.empty()) out.color_map.path = find_named_file(mat.diffuse_texname, library_dir, dir);
+    const MtlPlacements& placements = libraries.placements_of(material);
+    if (!mat.diffuse_texname.empty()) {
+      out.color_map.path = find_named_file(mat.diffuse_texname, library_dir, dir);
+      out.color_map.placement = placements.color;
+    }
     if (!mat.normal_texname.empty()) {
       out.normal_map.path = find_named_file(mat.normal_texname, library_dir, dir);
+      out.normal_map.placement = placements.normal;
     } else if (!mat.bump_texname.empty()) {
       // `bump` is as often a height map as a normal map (Blender writes normal maps there,
       // Sponza height maps): not drawn, and the user hears why.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -104,17 +105,20 @@ std::filesystem::path find_named_file(const std::string& name, const std::filesy
   return p.is_absolute() ? p : first / p;
 }
 
-std::string mend_mtl(const std::string& text, const std::string& library, std::vector<std::string>& warnings) {
+std::string mend_mtl(const std::string& text, const std::filesystem::path& library, std::vector<std::string>& warnings,
+                     std::map<std::string, MtlPlacements>& placements) {
   std::string_view rest(text);
   if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);
-  std::string out, material;
+  std::string out, material, key;
   out.reserve(rest.size());
+  size_t line_number = 0;
   while (!rest.empty()) {
     size_t end = rest.find_first_of("\r\n");
     std::string_view line = rest.substr(0, end);
     rest.remove_prefix(end == std::string_view::npos ? rest.size() : end);
     if (!rest.empty() && rest.front() == '\r') rest.remove_prefix(1);
     if (!rest.empty() && rest.front() == '\n') rest.remove_prefix(1);
+    ++line_number;
     const std::vector<std::string_view> w = words(line);
     if (w.empty() || w[0].front() == '#') {
       out.append(line).push_back('\n');
@@ -124,6 +128,8 @@ std::string mend_mtl(const std::string& text, const std::string& library, std::v
       std::string name(trimmed(line.substr(line.find("newmtl") + 6)));
       material = name;
       std::replace_if(name.begin(), name.end(), blank, kNameBlank);
+      key = placements.contains(name) ? std::string() : name;  // a repeated name: tinyobjloader uses the first
+      if (!key.empty()) placements[key] = {};
       out.append("newmtl ").append(name).push_back('\n');
       continue;
     }
@@ -132,7 +138,10 @@ std::string mend_mtl(const std::string& text, const std::string& library, std::v
       continue;
     }
     // The options, then the file name: the rest of the statement, blanks and all.
-    bool transformed = false, clamped = false;
+    bool turbulent = false;
+    MapPlacement placement;
+    float scale[2] = {1.0f, 1.0f}, offset[2] = {0.0f, 0.0f};
+    const std::string at = "line " + std::to_string(line_number) + " `" + std::string(w[0]) + "`";
     size_t k = 1;
     while (k < w.size() && w[k].size() > 1 && w[k].front() == '-') {
       const auto* option = std::find_if(std::begin(kMapOptions), std::end(kMapOptions),
@@ -145,12 +154,25 @@ std::string mend_mtl(const std::string& text, const std::string& library, std::v
         double value = 0.0;
         const bool number = is_number(w[k], value);
         if (taken >= option->least && !number) break;
-        if (name == "-clamp") clamped = w[k] == "on";
-        if (number && (name == "-s" || name == "-o" || name == "-t")) transformed |= value != (name == "-s" ? 1.0 : 0.0);
+        if (name == "-clamp" && w[k] == "on") placement.wrap_u = placement.wrap_v = raster::Wrap::Clamp;
+        if (!number || (name != "-s" && name != "-o" && name != "-t")) continue;
+        // from_chars reads `inf` and `nan`
+        if (!std::isfinite(value) || std::abs(value) > 1e30)
+          throw InputError(library.string(), at + " " + std::string(name),
+                           "`" + std::string(w[k]) + "` is not a finite number of a sensible size");
+        if (name == "-t") {
+          turbulent |= value != 0.0;
+          continue;
+        }
+        if (taken > 1) continue;  // w: a 3-D texture's, no axis of a 2-D map
+        if (name == "-s" && value == 0.0)
+          throw InputError(library.string(), at + " -s", "a scale of 0 shrinks the map to one texel: give a non-zero scale");
+        (name == "-s" ? scale : offset)[taken] = float(value);
       }
     }
+    placement.m = {scale[0], 0.0f, offset[0], 0.0f, scale[1], offset[1]};
     std::string who(1, '`');
-    who.append(w[0]).append("` of material `").append(material).append("` in ").append(library);
+    who.append(w[0]).append("` of material `").append(material).append("` in ").append(library.filename().string());
     std::string file;
     if (k < w.size()) file = std::string(trimmed(line.substr(size_t(w[k].data() - line.data()))));
     if (file.empty()) {
@@ -158,11 +180,12 @@ std::string mend_mtl(const std::string& text, const std::string& library, std::v
       out.push_back('\n');
       continue;
     }
-    if (transformed)
-      warnings.push_back(who + " is scaled, offset or turbulent (-s, -o, -t), which pelt does not apply: the map is "
-                               "drawn at the mesh's uvs as they are");
-    if (clamped)
-      warnings.push_back(who + " is clamped (-clamp on), which pelt does not apply: the map repeats outside [0, 1]");
+    if (turbulent)
+      warnings.push_back(who + " is turbulent (-t), which pelt does not apply: the map is drawn without it");
+    if (!key.empty()) {
+      if (w[0] == "map_Kd") placements[key].color = placement;
+      if (w[0] == "norm") placements[key].normal = placement;
+    }
     out.append(w[0]).append(" ").append(file).push_back('\n');
   }
   return out;
@@ -170,6 +193,11 @@ std::string mend_mtl(const std::string& text, const std::string& library, std::v
 
 MaterialLibraries::MaterialLibraries(std::filesystem::path obj_dir, std::vector<LibraryRecord> records)
     : obj_dir_(std::move(obj_dir)), records_(std::move(records)) {}
+
+const MtlPlacements& MaterialLibraries::placements_of(int id) const {
+  static const MtlPlacements kNone;
+  return id >= 0 && size_t(id) < placements_.size() ? placements_[size_t(id)] : kNone;
+}
 
 const std::filesystem::path& MaterialLibraries::folder_of(int id) const {
   return id >= 0 && size_t(id) < folder_.size() ? folder_[size_t(id)] : obj_dir_;
@@ -212,11 +240,16 @@ void MaterialLibraries::load(const std::filesystem::path& library, std::vector<t
                              std::map<std::string, int>* by_name, std::string* warn, std::string* err) {
   std::ifstream in(library, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::istringstream mended(mend_mtl(text, library.filename().string(), warnings_));
+  std::map<std::string, MtlPlacements> placements;
+  std::istringstream mended(mend_mtl(text, library, warnings_, placements));
   const size_t before = materials->size();
   tinyobj::LoadMtl(by_name, materials, &mended, warn, err);
   folder_.resize(materials->size(), obj_dir_);
-  for (size_t id = before; id < materials->size(); ++id) folder_[id] = library.parent_path();
+  placements_.resize(materials->size());
+  for (size_t id = before; id < materials->size(); ++id) {
+    folder_[id] = library.parent_path();
+    if (const auto it = placements.find((*materials)[id].name); it != placements.end()) placements_[id] = it->second;
+  }
 }
 
 }  // namespace pelt::io::detail

@@ -13,6 +13,8 @@
 
 #include <tiny_obj_loader.h>
 
+#include "tools/io/map_placement.h"
+
 namespace pelt::io::detail {
 
 // Material names may hold blanks (`newmtl My Mat`), where tinyobjloader reads one word: pelt
@@ -28,6 +30,12 @@ struct LibraryRecord {
   std::string text;
 };
 
+// Where a material's maps lie (map_Kd's and norm's -s, -o and -clamp), in OBJ's uv space.
+struct MtlPlacements {
+  MapPlacement color, normal;
+  bool operator==(const MtlPlacements&) const = default;
+};
+
 // The `mtllib` records of one OBJ file, read when tinyobjloader meets each.
 class MaterialLibraries final : public tinyobj::MaterialReader {
  public:
@@ -41,6 +49,8 @@ class MaterialLibraries final : public tinyobj::MaterialReader {
 
   // The folder of the library that defined material `id` (the OBJ's folder for none).
   const std::filesystem::path& folder_of(int id) const;
+  // Where material `id`'s maps lie (the default placement for none).
+  const MtlPlacements& placements_of(int id) const;
   const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
@@ -52,6 +62,7 @@ class MaterialLibraries final : public tinyobj::MaterialReader {
   size_t next_ = 0;                              // the record of tinyobjloader's next call
   std::vector<std::filesystem::path> loaded_;    // the library files read
   std::vector<std::filesystem::path> folder_;    // per material id
+  std::vector<MtlPlacements> placements_;        // per material id
   std::vector<std::string> warnings_;
 };
 
@@ -64,9 +75,13 @@ std::filesystem::path find_named_file(const std::string& name, const std::filesy
 
 // MTL text as tinyobjloader should read it: a byte-order mark dropped, material names' blanks
 // kept (kNameBlank), and each map statement pelt draws (map_Kd, norm, bump, map_Bump) reduced to
-// its file name, after its options are read at their arities. What pelt cannot honour (a map
-// scaled, offset or turbulent by -s, -o, -t, or clamped) and a map statement naming no file are
-// added to `warnings`, naming `library`.
-std::string mend_mtl(const std::string& text, const std::string& library, std::vector<std::string>& warnings);
+// its file name, after its options are read at their arities. The placement map_Kd's and
+// norm's -s, -o and -clamp give goes to `placements`, by material name as tinyobjloader reads
+// it (the first material of a name, as tinyobjloader's `usemtl` finds it). What pelt cannot
+// honour (a turbulent map, -t) and a map statement naming no file are added to `warnings`,
+// naming `library`'s file name; a value that is not a finite number, or a scale of 0, throws
+// InputError naming `library`, the line and the option.
+std::string mend_mtl(const std::string& text, const std::filesystem::path& library, std::vector<std::string>& warnings,
+                     std::map<std::string, MtlPlacements>& placements);
 
 }  // namespace pelt::io::detail

@@ -86,6 +86,7 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
                       "true needs a colour map on the object (material.color_map, or a map its mesh names: glTF "
                       "baseColorTexture, MTL map_Kd), and it has none");
     color_map_ = options.color_map;
+    color_placement_ = options.color_placement;
   }
   {
     StageTimer t(setup, "fur_geometry");
@@ -488,7 +489,8 @@ void FurObject::prepare_shaders(const std::vector<shading::Light>& lights, const
       su.match_llvmpipe = match_llvmpipe_;
       su.llvmpipe_light = glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f));
       su.color_map = color_map_;
-      su.map_sampler.filter = filter_;  // repeat, as the base surface reads it (MaterialShader)
+      su.map_filter = filter_;
+      su.map_placement = color_placement_;  // as the base surface reads it (MaterialShader)
       shaders_.push_back(std::make_unique<FurShader>(su));
     }
   }

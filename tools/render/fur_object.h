@@ -58,6 +58,7 @@ struct FurDrawOptions {
   // The object's colour map (its material's, or the one its mesh names), read by fur whose
   // params ask for it (FurParams::use_color_map); such fur without one is refused.
   const raster::Texture* color_map = nullptr;
+  io::MapPlacement color_placement;  // where the mesh file places the colour map
   // One per mesh vertex, in [0, 1] (fur.length_map, read by the caller): the fur's length there
   // as a fraction of params.length (fur::build_fur_geometry). Empty: the full length everywhere.
   std::vector<float> length_scale;
@@ -139,6 +140,7 @@ class FurObject {
   bool fins_;  // params_.fins is not off: the fin texture, varyings and list exist
   bool grey_ = false;  // this frame's varyings are FurGreyVaryings
   const raster::Texture* color_map_ = nullptr;  // read at the mesh uvs (FurMapUv) when set
+  io::MapPlacement color_placement_;
   int uv_stride_ = 0;  // the record stride the uvs in the varying arrays were written for (0: none yet)
   shading::FurLightParams light_params_;
   fur::FurGeometry geo_;

@@ -80,8 +80,8 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   if (s_.color_map) {
     // Every channel of the strand texel (La8: all equal) times the map's colour under it.
     float* const map_out[4] = {s.map[0], s.map[1], s.map[2], s.map[3]};
-    sample_texture(*s_.color_map, s_.map_sampler, b.varying[map_uv_slot_], b.varying[map_uv_slot_ + 1], n, map_out,
-                   s_.double_precision, b.mask);
+    sample_placed(*s_.color_map, s_.map_placement, s_.map_filter, b.varying[map_uv_slot_], b.varying[map_uv_slot_ + 1],
+                  n, map_out, s_.double_precision, b.mask);
     for (int c = 0; c < 3; ++c)
       for (size_t i = 0; i < n; ++i) texel_out[c][i] *= s.map[c][i];
   }

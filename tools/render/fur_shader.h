@@ -13,6 +13,7 @@
 #include "raster/texture.h"
 #include "shading/fur_lighting.h"
 #include "shading/light.h"
+#include "tools/io/map_placement.h"
 
 namespace pelt::render {
 
@@ -32,7 +33,8 @@ struct FurShaderSetup {
   // The object's colour map (fur's use_color_map), read at the mesh uv (FurMapUv, the slot
   // set_map_uv_slot names): the strand colour is multiplied by it, before the tint's clamp to 1.
   const raster::Texture* color_map = nullptr;
-  raster::SamplerState map_sampler;
+  raster::Filter map_filter = raster::Filter::Trilinear;
+  io::MapPlacement map_placement;  // where the mesh file places the map, as the base surface reads it
   bool per_pixel_lighting = false;           // FurPixelVaryings and Kajiya-Kay per fragment
   bool double_precision = false;             // texture sampling and lighting by the double references
   bool match_llvmpipe = false;               // per-pixel: the harness's fixed light term

@@ -43,11 +43,9 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
   // Skin takes its colours from SkinParams: its albedo is the colour map alone.
   const glm::vec3 base = desc_.kind == MaterialKind::skin ? glm::vec3(1.0f) : desc_.color;
   if (desc_.color_map) {
-    raster::SamplerState sampler;  // repeat
-    sampler.filter = desc_.filter;
     float* const texel[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
-    sample_texture(*desc_.color_map, sampler, b.varying[V::kUv], b.varying[V::kUv + 1], n, texel,
-                   desc_.double_precision);
+    sample_placed(*desc_.color_map, desc_.color_placement, desc_.filter, b.varying[V::kUv], b.varying[V::kUv + 1], n,
+                  texel, desc_.double_precision);
     for (int c = 0; c < 3; ++c)
       for (size_t i = 0; i < n; ++i) s.albedo[c][i] = base[c] * s.texel[c][i];
   } else {
@@ -62,11 +60,9 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
     surf.albedo[k] = s.albedo[k];
   }
   if (desc_.normal_map) {
-    raster::SamplerState sampler;
-    sampler.filter = desc_.filter;
     float* const texel[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
-    sample_texture(*desc_.normal_map, sampler, b.varying[V::kUv], b.varying[V::kUv + 1], n, texel,
-                   desc_.double_precision);
+    sample_placed(*desc_.normal_map, desc_.normal_placement, desc_.filter, b.varying[V::kUv], b.varying[V::kUv + 1],
+                  n, texel, desc_.double_precision);
     const shading::NormalMapSoA frame{n,
                                       {b.varying[V::kNormal], b.varying[V::kNormal + 1], b.varying[V::kNormal + 2]},
                                       {b.varying[desc_.tangent_slot], b.varying[desc_.tangent_slot + 1],

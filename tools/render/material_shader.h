@@ -11,6 +11,7 @@
 #include "shading/basic_params.h"
 #include "shading/light.h"
 #include "shading/skin_params.h"
+#include "tools/io/map_placement.h"
 
 namespace pelt::render {
 
@@ -30,6 +31,9 @@ struct MaterialDesc {
   // vertex tangent frame (xyz, handedness; raster/mesh.h compute_vertex_tangents).
   const raster::Texture* normal_map = nullptr;
   int tangent_slot = -1;
+  // Where the mesh file places each map (wraps, uv transform); the tangent frame is the
+  // normal map's own, taken from the uvs its placement transforms.
+  io::MapPlacement color_placement, normal_placement;
   raster::Filter filter = raster::Filter::Trilinear;  // of the colour and normal maps
   bool double_precision = false;  // shading and sampling by the double references
 };

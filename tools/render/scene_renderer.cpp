@@ -1,6 +1,7 @@
 #include "tools/render/scene_renderer.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -122,13 +123,14 @@ constexpr MapKind kNormalMap{"normal_map", io::ColorEncoding::linear, raster::Te
 // file names (`named`: a file, or pixels decoded from inside the file), else none (`out` left
 // empty). Colour maps: glTF baseColorTexture, MTL map_Kd; normal maps: glTF normalTexture,
 // MTL norm; either only on a mesh with texture coordinates.
-void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind,
-                     const std::filesystem::path& from_scene, const io::TextureRef& named, const Mesh& mesh,
-                     const io::Budget& budget, const raster::ParallelFor& parallel, raster::Texture& out,
-                     FrameStats& stats, std::vector<std::filesystem::path>& inputs) {
+// Returns where the map lies: as the mesh file places its own map, by default for the scene's.
+io::MapPlacement load_object_map(const io::Scene& scene, size_t index, const MapKind& kind,
+                                 const std::filesystem::path& from_scene, const io::TextureRef& named,
+                                 const Mesh& mesh, const io::Budget& budget, const raster::ParallelFor& parallel,
+                                 raster::Texture& out, FrameStats& stats, std::vector<std::filesystem::path>& inputs) {
   const io::SceneObject& so = scene.objects[index];
   const std::optional<MapSource> src = map_source(from_scene, named);
-  if (!src) return;
+  if (!src) return {};
   StageTimer t(stats, "textures");
   const std::string object = io::json_index("objects", index);
   // Without uvs every pixel would read texel (0, 0): a flat colour, or one normal, in place of
@@ -157,6 +159,7 @@ void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind,
     throw io::InputError(src->file ? src->file->string() : so.mesh, field,
                          e->reason + " (" + map_asked_by(scene, index, kind.field, src->named_by_mesh) + ")");
   }
+  return src->named_by_mesh ? named.placement : io::MapPlacement{};
 }
 
 }  // namespace
@@ -309,15 +312,23 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     obj->id_base = id_base;
     id_base += static_cast<uint32_t>(m.triangle_count());
 
-    // Internally v = 0 is the top row of an image (glTF); OBJ files count v from the bottom.
-    if (!so.mesh_path.empty() && so.mesh_path.extension() == ".obj")
+    // Internally v = 0 is the top row of an image (glTF); OBJ files count v from the bottom, and
+    // place their maps (MTL -s, -o) in their own uvs. The loader reads `.OBJ` as well.
+    std::string extension = so.mesh_path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    const bool v_up = extension == ".obj";
+    if (v_up)
       for (glm::vec2& uv : obj->mesh.uvs) uv.y = 1.0f - uv.y;
-    load_object_map(scene, i, kColorMap, so.material.color_map, meshes[i].loaded.color_map, obj->mesh,
-                    settings.budget, parallel, obj->color_map, setup_stats_, input_files_);
+    const auto ours = [v_up](const io::MapPlacement& p) { return v_up ? io::flipped_v(p) : p; };
+    obj->material.color_placement =
+        ours(load_object_map(scene, i, kColorMap, so.material.color_map, meshes[i].loaded.color_map, obj->mesh,
+                             settings.budget, parallel, obj->color_map, setup_stats_, input_files_));
     if (!obj->color_map.empty()) obj->material.color_map = &obj->color_map;
 
-    load_object_map(scene, i, kNormalMap, so.material.normal_map, meshes[i].loaded.normal_map, obj->mesh,
-                    settings.budget, parallel, obj->normal_map, setup_stats_, input_files_);
+    obj->material.normal_placement =
+        ours(load_object_map(scene, i, kNormalMap, so.material.normal_map, meshes[i].loaded.normal_map, obj->mesh,
+                             settings.budget, parallel, obj->normal_map, setup_stats_, input_files_));
     if (!obj->normal_map.empty()) obj->material.normal_map = &obj->normal_map;
     shading::BlurredNormals blurred;
     const bool blur = obj->material.kind == MaterialKind::skin &&
@@ -339,7 +350,15 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     }
     std::vector<glm::vec4> tangents;
     if (obj->material.normal_map) {
-      tangents = compute_vertex_tangents(m);
+      const io::MapPlacement& np = obj->material.normal_placement;
+      if (np.transforms()) {  // the frame of the normal map's own uvs: a rotated or mirrored map turns it
+        Mesh placed = m;
+        for (glm::vec2& uv : placed.uvs)
+          uv = {np.m[0] * uv.x + np.m[1] * uv.y + np.m[2], np.m[3] * uv.x + np.m[4] * uv.y + np.m[5]};
+        tangents = compute_vertex_tangents(placed);
+      } else {
+        tangents = compute_vertex_tangents(m);
+      }
       obj->material.tangent_slot = obj->varying_count;
       obj->varying_count += 4;
     }
@@ -375,7 +394,10 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       fo.merge_fins = quality_.fin_quads == io::FinQuads::merged;
       fo.parallel = parallel;
       fo.textures = !settings.describe_only && aov_shows_fur(settings.aov);
-      if (!obj->color_map.empty()) fo.color_map = &obj->color_map;
+      if (!obj->color_map.empty()) {
+        fo.color_map = &obj->color_map;
+        fo.color_placement = obj->material.color_placement;
+      }
       if (!so.fur_length_map.empty()) {
         StageTimer t(setup_stats_, "textures");
         input_files_.push_back(so.fur_length_map);

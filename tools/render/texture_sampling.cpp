@@ -11,6 +11,7 @@ constexpr size_t kChunk = raster::kMaxBatchLanes;
 
 struct alignas(64) Scratch {
   double texel[4][kChunk];
+  float u[kChunk], v[kChunk];  // sample_placed's transformed coordinates
 };
 thread_local Scratch tls_scratch;
 
@@ -32,6 +33,30 @@ void sample_texture(const raster::Texture& tex, const raster::SamplerState& stat
                              block_mask ? block_mask + first / raster::kBlockLanes : nullptr);
     for (int c = 0; c < 4; ++c)
       for (size_t i = 0; i < n; ++i) out[c][first + i] = static_cast<float>(d[c][i]);
+  }
+}
+
+void sample_placed(const raster::Texture& tex, const io::MapPlacement& placement, raster::Filter filter,
+                   const float* u, const float* v, size_t lanes, float* const out[4], bool double_precision,
+                   const uint16_t* block_mask) {
+  raster::SamplerState state;
+  state.filter = filter;
+  state.wrap_u = placement.wrap_u;
+  state.wrap_v = placement.wrap_v;
+  if (!placement.transforms()) return sample_texture(tex, state, u, v, lanes, out, double_precision, block_mask);
+  Scratch& s = tls_scratch;
+  const auto& m = placement.m;
+  // Chunks of whole 4x4 blocks: each block's level of detail is unchanged.
+  for (size_t first = 0; first < lanes; first += kChunk) {
+    const size_t n = std::min(kChunk, lanes - first);
+    for (size_t i = 0; i < n; ++i) {
+      const float x = u[first + i], y = v[first + i];
+      s.u[i] = m[0] * x + m[1] * y + m[2];
+      s.v[i] = m[3] * x + m[4] * y + m[5];
+    }
+    float* const part[4] = {out[0] + first, out[1] + first, out[2] + first, out[3] + first};
+    sample_texture(tex, state, s.u, s.v, n, part, double_precision,
+                   block_mask ? block_mask + first / raster::kBlockLanes : nullptr);
   }
 }
 

@@ -1,5 +1,6 @@
 #include "tools/io/mesh_loader.h"
 
+#include <array>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -611,7 +612,8 @@ TEST(MeshLoader, GltfMaterialAndTextureReferencesMustHold) {
 
 // The triangle with TEXCOORD_0 (every uv 0.25) and, with `second_set`, TEXCOORD_1 (every uv
 // 0.75), drawn with `material` (a JSON object) whose texture 0 is a.png beside it.
-std::filesystem::path uv_set_gltf(const TempDir& dir, bool second_set, const std::string& material) {
+std::filesystem::path uv_set_gltf(const TempDir& dir, bool second_set, const std::string& material,
+                                  const std::string& textures = R"("textures":[{"source":0}])") {
   std::filesystem::copy_file(data_dir() / "BoxTextured-glTF" / "CesiumLogoFlat.png", dir.path() / "a.png",
                              std::filesystem::copy_options::overwrite_existing);
   const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
@@ -626,7 +628,7 @@ std::filesystem::path uv_set_gltf(const TempDir& dir, bool second_set, const std
       std::string(R"({"POSITION":0,"TEXCOORD_0":1)") + (second_set ? R"(,"TEXCOORD_1":2})" : "}");
   return dir.write("uv.gltf", R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
   "meshes":[{"primitives":[{"attributes":)" + attributes + R"(,"indices":3,"material":0}]}],
-  "materials":[)" + material + R"(],"textures":[{"source":0}],"images":[{"uri":"a.png"}],
+  "materials":[)" + material + R"(],)" + textures + R"(,"images":[{"uri":"a.png"}],
   "buffers":[{"byteLength":92,"uri":"data:application/octet-stream;base64,)" + base64(bytes) + R"("}],
   "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":24},
                  {"buffer":0,"byteOffset":60,"byteLength":24},{"buffer":0,"byteOffset":84,"byteLength":6}],
@@ -647,7 +649,9 @@ TEST(MeshLoader, AFileAGltfNamesMustBeARegularFileWithinTheBudget) {
     const std::filesystem::path png = dir.path() / "a.png";
     std::filesystem::remove(png);
     if (kind == "folder") std::filesystem::create_directory(png);
-    if (kind == "pipe") ASSERT_EQ(::mkfifo(png.c_str(), 0644), 0);
+    if (kind == "pipe") {
+      ASSERT_EQ(::mkfifo(png.c_str(), 0644), 0);
+    }
     if (kind == "device") std::filesystem::create_symlink("/dev/zero", png);
     expect_load_error(gltf, "",
                       "`" + png.string() + "`, which it names, " +
@@ -688,6 +692,62 @@ TEST(MeshLoader, GltfTexCoordNamesTheUvSet) {
       load_mesh_file(uv_set_gltf(dir, true, R"({"normalTexture":{"index":0,"texCoord":0}})"));
   ASSERT_EQ(zero.mesh.uvs.size(), 3u);
   for (const glm::vec2& uv : zero.mesh.uvs) EXPECT_EQ(uv, glm::vec2(0.25f));
+}
+
+// Where a map lies: its texture's sampler's wrapS and wrapT (10497 repeat, 33071 clamp to edge,
+// 33648 mirrored repeat; none: repeat) and KHR_texture_transform on its texture info (offset,
+// rotation, scale, composed T R S as the extension says; its texCoord overrides the info's).
+// Were ignored: a mirrored or clamped map repeated, a tiled or rotated one lay as the uvs say.
+TEST(MeshLoader, GltfSamplersAndTextureTransformPlaceTheMaps) {
+  TempDir dir;
+  const std::string color = R"({"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})";
+  const LoadedMesh plain = load_mesh_file(uv_set_gltf(dir, false, color));
+  EXPECT_EQ(plain.color_map.placement, MapPlacement{});
+  const LoadedMesh wrapped = load_mesh_file(uv_set_gltf(
+      dir, false, color, R"("textures":[{"source":0,"sampler":0}],"samplers":[{"wrapS":33648,"wrapT":33071}])"));
+  EXPECT_EQ(wrapped.color_map.placement.wrap_u, raster::Wrap::Mirror);
+  EXPECT_EQ(wrapped.color_map.placement.wrap_v, raster::Wrap::Clamp);
+  EXPECT_FALSE(wrapped.color_map.placement.transforms());
+  const LoadedMesh defaults = load_mesh_file(
+      uv_set_gltf(dir, false, color, R"("textures":[{"source":0,"sampler":0}],"samplers":[{"magFilter":9729}])"));
+  EXPECT_EQ(defaults.color_map.placement, MapPlacement{});
+
+  const std::string transformed = R"({"normalTexture":{"index":0,"extensions":{"KHR_texture_transform":
+      {"offset":[0.5,0.25],"rotation":1.5707963267948966,"scale":[2,4]}}}})";
+  const LoadedMesh t = load_mesh_file(uv_set_gltf(dir, false, transformed));
+  // u' = 2 cos(r) u + 4 sin(r) v + 0.5, v' = -2 sin(r) u + 4 cos(r) v + 0.25
+  const std::array<float, 6> want{0.0f, 4.0f, 0.5f, -2.0f, 0.0f, 0.25f};
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(t.normal_map.placement.m[size_t(k)], want[size_t(k)], 1e-6) << k;
+  EXPECT_EQ(t.normal_map.placement.wrap_u, raster::Wrap::Repeat);
+
+  // The extension's texCoord picks the uv set.
+  const LoadedMesh set1 = load_mesh_file(uv_set_gltf(
+      dir, true, R"({"pbrMetallicRoughness":{"baseColorTexture":{"index":0,"texCoord":0,
+                   "extensions":{"KHR_texture_transform":{"texCoord":1}}}}})"));
+  ASSERT_EQ(set1.mesh.uvs.size(), 3u);
+  EXPECT_EQ(set1.mesh.uvs[0], glm::vec2(0.75f));
+  expect_load_error(uv_set_gltf(dir, false, R"({"pbrMetallicRoughness":{"baseColorTexture":{"index":0,
+                                  "extensions":{"KHR_texture_transform":{"texCoord":1}}}}})"),
+                    "materials[0].pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform.texCoord",
+                    "names TEXCOORD_1");
+
+  // Malformed: named by their JSON path.
+  const std::string base = "materials[0].normalTexture.extensions.KHR_texture_transform";
+  const auto with = [&](const std::string& ext) {
+    return uv_set_gltf(dir, false, R"({"normalTexture":{"index":0,"extensions":{"KHR_texture_transform":)" + ext + "}}}");
+  };
+  expect_load_error(with(R"({"offset":[1]})"), base + ".offset", "expected an array of 2 numbers");
+  expect_load_error(with(R"({"scale":[1,"2"]})"), base + ".scale[1]", "expected a number, got a string");
+  expect_load_error(with(R"({"rotation":"90"})"), base + ".rotation", "expected a number");
+  expect_load_error(with(R"({"offset":[1e300,0]})"), base + ".offset[0]", "too large");
+  expect_load_error(with(R"({"texCoord":-1})"), base + ".texCoord", "must be in [0, ");
+  expect_load_error(with("[1]"), base, "expected an object");
+  expect_load_error(uv_set_gltf(dir, false, color,
+                                R"("textures":[{"source":0,"sampler":0}],"samplers":[{"wrapS":33333}])"),
+                    "samplers[0].wrapS", "33333 is no wrap mode");
+  expect_load_error(uv_set_gltf(dir, false, color,
+                                R"("textures":[{"source":0,"sampler":0}],"samplers":[{"wrapT":-1}])"),
+                    "samplers[0].wrapT", "must be in [0, ");
 }
 
 // tinygltf reads an optional integer it cannot take as absent and keeps -1 where -1 means

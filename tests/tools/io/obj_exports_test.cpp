@@ -3,6 +3,7 @@
 // blanks, libraries named by absolute paths, several on one record or with blanks in their
 // names, maps beside their library in another folder or named with `\`, and map statements
 // with options of fewer than three values.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -117,20 +118,25 @@ TEST(ObjExports, MapsAreFoundBesideTheirLibrary) {
 }
 
 // A map statement's options take one to three values (-s, -o, -t): tinyobjloader always read
-// three, took `tex.png` for the third and dropped the map. Options pelt cannot honour are named.
+// three, took `tex.png` for the third and dropped the map. -s and -o place the map (uv' = s uv +
+// o, in OBJ's uvs; a 3-D texture's w is no axis of a 2-D map), -clamp on clamps both axes; the
+// one option pelt cannot honour, -t, is named.
 TEST(ObjExports, MapOptionsAreReadAtTheirArities) {
   TempDir dir;
   dir.write("tex.png", "");
   struct Case {
     std::string statement, warning;  // "" = no warning
+    std::array<float, 6> m{1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+    raster::Wrap wrap = raster::Wrap::Repeat;
   };
   const std::vector<Case> cases = {
-      {"map_Kd -s 2 2 tex.png", "is scaled, offset or turbulent (-s, -o, -t), which pelt does not apply"},
-      {"map_Kd -o 0.5 tex.png", "is scaled, offset or turbulent"},
-      {"map_Kd -t 0.1 0.1 0.1 tex.png", "is scaled, offset or turbulent"},
+      {"map_Kd -s 2 2 tex.png", "", {2, 0, 0, 0, 2, 0}},
+      {"map_Kd -o 0.5 tex.png", "", {1, 0, 0.5f, 0, 1, 0}},
+      {"map_Kd -s 2 3 4 -o 0.25 -0.5 9 tex.png", "", {2, 0, 0.25f, 0, 3, -0.5f}},
+      {"map_Kd -t 0.1 0.1 0.1 tex.png", "is turbulent (-t), which pelt does not apply"},
       {"map_Kd -s 1 1 1 -o 0 0 tex.png", ""},
       {"map_Kd -cc on -blendu off -mm 0 1 -bm 0.5 tex.png", ""},
-      {"map_Kd -clamp on tex.png", "is clamped (-clamp on), which pelt does not apply"},
+      {"map_Kd -clamp on tex.png", "", {1, 0, 0, 0, 1, 0}, raster::Wrap::Clamp},
   };
   for (size_t i = 0; i < cases.size(); ++i) {
     std::string stem(1, 'm');  // (one concatenation less: GCC 12 warns falsely on `"m" + to_string(i)`)
@@ -139,6 +145,9 @@ TEST(ObjExports, MapOptionsAreReadAtTheirArities) {
     dir.write(lib, "newmtl m\n" + cases[i].statement + "\n");
     const LoadedMesh l = load_mesh_file(dir.write(stem + ".obj", "mtllib " + lib + "\n" + kQuad + "usemtl m\n" + kFace));
     EXPECT_EQ(l.color_map.path, dir.path() / "tex.png") << cases[i].statement;
+    EXPECT_EQ(l.color_map.placement.m, cases[i].m) << cases[i].statement;
+    EXPECT_EQ(l.color_map.placement.wrap_u, cases[i].wrap) << cases[i].statement;
+    EXPECT_EQ(l.color_map.placement.wrap_v, cases[i].wrap) << cases[i].statement;
     if (cases[i].warning.empty()) {
       EXPECT_TRUE(l.warnings.empty()) << cases[i].statement << ": " << ::testing::PrintToString(l.warnings);
     } else {
@@ -152,6 +161,39 @@ TEST(ObjExports, MapOptionsAreReadAtTheirArities) {
   EXPECT_TRUE(none.color_map.path.empty());
   ASSERT_EQ(none.warnings.size(), 1u) << ::testing::PrintToString(none.warnings);
   EXPECT_EQ(none.warnings[0], "`map_Kd` of material `m` in none.mtl names no file: no map is drawn");
+}
+
+// A placement that is no number, or that shrinks the map to a point, is refused naming the
+// library, the line and the option; norm's placement is its own.
+TEST(ObjExports, MapPlacementsAreCheckedAndKeptPerMap) {
+  TempDir dir;
+  dir.write("tex.png", "");
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"map_Kd -s 0 1 tex.png", "line 2 `map_Kd` -s: a scale of 0"},
+      {"map_Kd -o nan 0 tex.png", "line 2 `map_Kd` -o: `nan` is not a finite number"},
+      {"norm -s 1 inf tex.png", "line 2 `norm` -s: `inf` is not a finite number"},
+      {"map_Kd -o 1e38 tex.png", "line 2 `map_Kd` -o: `1e38` is not a finite number of a sensible size"},
+  };
+  for (size_t i = 0; i < bad.size(); ++i) {
+    std::string stem(1, 'b');
+    stem.append(std::to_string(i));
+    const std::filesystem::path lib = dir.write(stem + ".mtl", "newmtl m\n" + bad[i].first + "\n");
+    const std::filesystem::path obj =
+        dir.write(stem + ".obj", "mtllib " + stem + ".mtl\n" + kQuad + "usemtl m\n" + kFace);
+    try {
+      load_mesh_file(obj);
+      ADD_FAILURE() << bad[i].first << ": no error";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(lib.string()), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(bad[i].second), std::string::npos) << e.what();
+    }
+  }
+  dir.write("two.mtl", "newmtl m\nmap_Kd -s 4 4 tex.png\nnorm -o 0.5 0.25 -clamp on tex.png\n");
+  const LoadedMesh l = load_mesh_file(dir.write("two.obj", "mtllib two.mtl\n" + kQuad + "usemtl m\n" + kFace));
+  EXPECT_EQ(l.color_map.placement.m, (std::array<float, 6>{4, 0, 0, 0, 4, 0}));
+  EXPECT_EQ(l.color_map.placement.wrap_u, raster::Wrap::Repeat);
+  EXPECT_EQ(l.normal_map.placement.m, (std::array<float, 6>{1, 0, 0.5f, 0, 1, 0.25f}));
+  EXPECT_EQ(l.normal_map.placement.wrap_v, raster::Wrap::Clamp);
 }
 
 // Faces before any `usemtl` have no material, yet take the first material's maps: said so.

@@ -149,7 +149,7 @@ TEST(FurColorMap, TheShaderReadsTheMapAtTheMeshUv) {
   su.base_faces = 1;
   su.color_map = &map;
   su.sampler.filter = raster::Filter::Nearest;
-  su.map_sampler.filter = raster::Filter::Nearest;
+  su.map_filter = raster::Filter::Nearest;
   FurShader shader(su);
   shader.set_grey_lighting(true);
   shader.set_map_uv_slot(FurGreyVaryings::kCount);
@@ -187,6 +187,17 @@ TEST(FurColorMap, TheShaderReadsTheMapAtTheMeshUv) {
     EXPECT_FLOAT_EQ(out[1][l], 0.0f) << "lane " << l;
     EXPECT_FLOAT_EQ(out[2][l], red ? 0.0f : 1.0f) << "lane " << l;
     EXPECT_FLOAT_EQ(out[3][l], 1.0f) << "lane " << l;
+  }
+  // Where the mesh file places the map (MapPlacement) holds for the fur as for the surface:
+  // u' = 1 - u swaps the halves.
+  su.map_placement.m = {-1.0f, 0.0f, 1.0f, 0.0f, 1.0f, 0.0f};
+  FurShader placed(su);
+  placed.set_grey_lighting(true);
+  placed.set_map_uv_slot(FurGreyVaryings::kCount);
+  placed.shade(b);
+  for (int l = 0; l < kLanes; ++l) {
+    EXPECT_FLOAT_EQ(out[0][l], l < 8 ? 0.0f : 1.0f) << "lane " << l;
+    EXPECT_FLOAT_EQ(out[2][l], l < 8 ? 1.0f : 0.0f) << "lane " << l;
   }
 }
 

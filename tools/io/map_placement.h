@@ -1,0 +1,32 @@
+// Where a map lies on a mesh's texture coordinates, as mesh files say it: how each axis wraps
+// (glTF samplers' wrapS / wrapT, MTL's -clamp) and an affine transform of the uv the map is read
+// at (glTF's KHR_texture_transform, MTL's -s and -o).
+#pragma once
+
+#include <array>
+
+#include "raster/texture.h"
+
+namespace pelt::io {
+
+struct MapPlacement {
+  raster::Wrap wrap_u = raster::Wrap::Repeat;
+  raster::Wrap wrap_v = raster::Wrap::Repeat;
+  // The map is read at (m[0] u + m[1] v + m[2], m[3] u + m[4] v + m[5]).
+  std::array<float, 6> m{1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+
+  bool transforms() const { return m != MapPlacement{}.m; }
+  bool operator==(const MapPlacement&) const = default;
+};
+
+// The same placement for uvs whose v is flipped (v -> 1 - v on both sides: OBJ counts v from
+// the bottom of the image, pelt from the top).
+inline MapPlacement flipped_v(const MapPlacement& p) {
+  MapPlacement f = p;
+  const auto& m = p.m;
+  // u' = m0 u + m1 (1 - v) + m2;  1 - v' = 1 - (m3 u + m4 (1 - v) + m5)
+  f.m = {m[0], -m[1], m[1] + m[2], -m[3], m[4], 1.0f - m[4] - m[5]};
+  return f;
+}
+
+}  // namespace pelt::io

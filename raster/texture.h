@@ -87,7 +87,10 @@ enum class Wrap : uint8_t {
   Clamp,   // texel index clamped to the edge (GL_CLAMP_TO_EDGE)
   // Every other repeat reflected (GL_MIRRORED_REPEAT, glTF's 33648): texel index i and
   // 2 size - 1 - i read the same texel. Sampled as a clamp on coordinates folded into [0, 1],
-  // the level of detail taken from the coordinates before the fold.
+  // the level of detail taken from the coordinates before the fold. One difference from
+  // OpenGL, in Nearest alone: a coordinate exactly on a texel boundary in a reflected period
+  // takes the texel on the other side of it (the fold sends the tie the other way; the
+  // filtered modes give the boundary texel weight 0 either way).
   Mirror,
 };
 
@@ -213,7 +216,8 @@ struct SamplerState {
 // Repeat wraps u to u - floor(u) before scaling, so huge coordinates (1e6) keep their exact
 // fraction; clamp clamps the texel index; mirror reflects it (see Wrap). Non-finite u, v give unspecified values but never
 // read outside the texture. Throws std::invalid_argument (naming the argument) if the texture
-// is empty, lanes is not a multiple of 16, or a pointer is null. Dispatches once per call to
+// is empty, lanes is not a multiple of 16, a pointer is null, or the filter or a wrap is no
+// value of its enum. Dispatches once per call to
 // the best Highway target; allocation-free; safe to call concurrently.
 //
 // `block_mask` (optional, one per block, bit l = lane l, as FragmentBatch::mask): lanes

@@ -877,9 +877,9 @@ void sample(const Texture& tex, const SamplerState& state, const float* u, const
   if (state.filter != Filter::Nearest && state.filter != Filter::Bilinear &&
       state.filter != Filter::Trilinear && state.filter != Filter::BilinearMip)
     throw std::invalid_argument("sample: state.filter is not a Filter value");
-  for (const Wrap w : {state.wrap_u, state.wrap_v})
+  for (const auto& [w, name] : {std::pair{state.wrap_u, "wrap_u"}, std::pair{state.wrap_v, "wrap_v"}})
     if (w != Wrap::Repeat && w != Wrap::Clamp && w != Wrap::Mirror)
-      throw std::invalid_argument("sample: state.wrap_u or wrap_v is not a Wrap value");
+      throw std::invalid_argument(std::string("sample: state.") + name + " is not a Wrap value");
   if (state.wrap_u == Wrap::Mirror || state.wrap_v == Wrap::Mirror)
     return sample_mirrored(tex, state, u, v, lanes, out, block_mask);
   HWY_DYNAMIC_DISPATCH(SampleImpl)(tex, state, u, v, u, v, lanes, out, block_mask);

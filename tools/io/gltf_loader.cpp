@@ -977,8 +977,7 @@ void check_integer_fields(const std::string& text, const std::string& file) {
   };
   const auto number = [&](const nlohmann::json& v, const std::string& field) {
     if (!v.is_number()) throw InputError(file, field, "expected a number, got " + json_type_name(v));
-    if (std::abs(v.get<double>()) > 1e30)
-      throw InputError(file, field, v.dump() + " is too large for a texture coordinate");
+    if (std::abs(v.get<double>()) > 1e30) throw InputError(file, field, v.dump() + " is too large (above 1e30)");
   };
   const auto numbers = [&](const nlohmann::json& obj, const std::string& path, const char* key) {
     const auto it = obj.find(key);
@@ -998,6 +997,11 @@ void check_integer_fields(const std::string& text, const std::string& file) {
     if (!it->is_object()) throw InputError(file, field, "expected an object, got " + json_type_name(*it));
     numbers(*it, field, "offset");
     numbers(*it, field, "scale");
+    if (it->contains("scale"))
+      for (size_t i = 0; i < 2; ++i)
+        if ((*it)["scale"][i].template get<double>() == 0.0)
+          throw InputError(file, json_index(json_child(field, "scale"), i),
+                           "a scale of 0 shrinks the map to one texel: give a non-zero scale");
     if (it->contains("rotation")) number((*it)["rotation"], json_child(field, "rotation"));
     check(*it, field, "texCoord", kIndex);
   };
@@ -1096,12 +1100,13 @@ LoadedMesh load_gltf(const std::filesystem::path& path, bool binary, const Budge
     throw InputError(file, "asset.version",
                      "`" + model.asset.version + "`: pelt reads glTF 2.0 (a version 2.x), not this one");
   // glTF 2.0 (section 3.12): a loader that does not support a required extension must not
-  // load the asset. pelt reads none (a compressed or quantized mesh, a texture transform,
-  // another material model would all be drawn wrong).
-  if (!model.extensionsRequired.empty())
-    throw InputError(file, "extensionsRequired[0]",
-                     "the file needs the extension `" + model.extensionsRequired.front() +
-                         "`, which pelt does not read (it reads core glTF 2.0 only)");
+  // load the asset. pelt reads KHR_texture_transform and no other (a compressed or quantized
+  // mesh, another material model would be drawn wrong).
+  for (size_t i = 0; i < model.extensionsRequired.size(); ++i)
+    if (model.extensionsRequired[i] != "KHR_texture_transform")
+      throw InputError(file, json_index("extensionsRequired", i),
+                       "the file needs the extension `" + model.extensionsRequired[i] +
+                           "`, which pelt does not read (it reads core glTF 2.0 and KHR_texture_transform)");
   check_integer_fields(gltf_json_text(path, binary), file);
   GltfReader reader(model, file, path.parent_path(), budget);
   check_face_budget(reader.triangle_count(), budget, file, "");

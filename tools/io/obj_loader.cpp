@@ -648,8 +648,9 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     const tinyobj::material_t& mat = materials[material];
     // An object has one material in pelt: faces whose material names other maps are drawn
     // with these, which the user should hear about.
+    static const tinyobj::material_t kNoMaterial{};
     const auto maps = [&](size_t id) {
-      const tinyobj::material_t& t = id < materials.size() ? materials[id] : tinyobj::material_t{};
+      const tinyobj::material_t& t = id < materials.size() ? materials[id] : kNoMaterial;
       return std::make_tuple(t.diffuse_texname, t.normal_texname.empty() ? t.bump_texname : t.normal_texname,
                              libraries.placements_of(int(id)));
     };

@@ -142,6 +142,7 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
     MapPlacement placement;
     float scale[2] = {1.0f, 1.0f}, offset[2] = {0.0f, 0.0f};
     const std::string at = "line " + std::to_string(line_number) + " `" + std::string(w[0]) + "`";
+    const bool placed = w[0] == "map_Kd" || w[0] == "norm";
     size_t k = 1;
     while (k < w.size() && w[k].size() > 1 && w[k].front() == '-') {
       const auto* option = std::find_if(std::begin(kMapOptions), std::end(kMapOptions),
@@ -156,15 +157,16 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
         if (taken >= option->least && !number) break;
         if (name == "-clamp" && w[k] == "on") placement.wrap_u = placement.wrap_v = raster::Wrap::Clamp;
         if (!number || (name != "-s" && name != "-o" && name != "-t")) continue;
-        // from_chars reads `inf` and `nan`
-        if (!std::isfinite(value) || std::abs(value) > 1e30)
-          throw InputError(library.string(), at + " " + std::string(name),
-                           "`" + std::string(w[k]) + "` is not a finite number of a sensible size");
         if (name == "-t") {
           turbulent |= value != 0.0;
           continue;
         }
-        if (taken > 1) continue;  // w: a 3-D texture's, no axis of a 2-D map
+        // Only the maps pelt draws are placed, and so checked (a bump map is only warned of).
+        if (!placed || taken > 1) continue;  // w: a 3-D texture's, no axis of a 2-D map
+        // from_chars reads `inf` and `nan`
+        if (!std::isfinite(value) || std::abs(value) > 1e30)
+          throw InputError(library.string(), at + " " + std::string(name),
+                           "`" + std::string(w[k]) + "` is not a finite number of a sensible size");
         if (name == "-s" && value == 0.0)
           throw InputError(library.string(), at + " -s", "a scale of 0 shrinks the map to one texel: give a non-zero scale");
         (name == "-s" ? scale : offset)[taken] = float(value);

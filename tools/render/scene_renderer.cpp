@@ -351,11 +351,14 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     std::vector<glm::vec4> tangents;
     if (obj->material.normal_map) {
       const io::MapPlacement& np = obj->material.normal_placement;
-      if (np.transforms()) {  // the frame of the normal map's own uvs: a rotated or mirrored map turns it
-        Mesh placed = m;
-        for (glm::vec2& uv : placed.uvs)
+      if (np.transforms()) {
+        // The frame of the normal map's own uvs (a rotation or a negative scale turns it), taken
+        // with the mesh's uvs placed for the moment, so no copy of the mesh is made.
+        const std::vector<glm::vec2> own = obj->mesh.uvs;
+        for (glm::vec2& uv : obj->mesh.uvs)
           uv = {np.m[0] * uv.x + np.m[1] * uv.y + np.m[2], np.m[3] * uv.x + np.m[4] * uv.y + np.m[5]};
-        tangents = compute_vertex_tangents(placed);
+        tangents = compute_vertex_tangents(m);
+        obj->mesh.uvs = own;
       } else {
         tangents = compute_vertex_tangents(m);
       }

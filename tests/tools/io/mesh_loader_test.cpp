@@ -481,6 +481,14 @@ TEST(MeshLoader, GltfRequiredExtensionIsRefused) {
   EXPECT_EQ(load_mesh_file(dir.write("used.gltf", "{" + asset + used + text.substr(1 + asset.size())))
                 .mesh.triangle_count(),
             1u);
+  // KHR_texture_transform is read, required or not; another required one after it still stops the load.
+  const std::string transform = R"("extensionsRequired":["KHR_texture_transform"],)";
+  EXPECT_EQ(load_mesh_file(dir.write("transform.gltf", "{" + asset + transform + text.substr(1 + asset.size())))
+                .mesh.triangle_count(),
+            1u);
+  const std::string both = R"("extensionsRequired":["KHR_texture_transform","KHR_draco_mesh_compression"],)";
+  expect_load_error(dir.write("both.gltf", "{" + asset + both + text.substr(1 + asset.size())), "extensionsRequired[1]",
+                    "`KHR_draco_mesh_compression`, which pelt does not read");
 }
 
 // asset.version names the format's major version: a glTF 1.0 file (or a future 3.0) is refused,
@@ -742,6 +750,7 @@ TEST(MeshLoader, GltfSamplersAndTextureTransformPlaceTheMaps) {
   expect_load_error(with(R"({"offset":[1e300,0]})"), base + ".offset[0]", "too large");
   expect_load_error(with(R"({"texCoord":-1})"), base + ".texCoord", "must be in [0, ");
   expect_load_error(with("[1]"), base, "expected an object");
+  expect_load_error(with(R"({"scale":[1,0]})"), base + ".scale[1]", "a scale of 0");
   expect_load_error(uv_set_gltf(dir, false, color,
                                 R"("textures":[{"source":0,"sampler":0}],"samplers":[{"wrapS":33333}])"),
                     "samplers[0].wrapS", "33333 is no wrap mode");

@@ -188,6 +188,11 @@ TEST(ObjExports, MapPlacementsAreCheckedAndKeptPerMap) {
       EXPECT_NE(std::string(e.what()).find(bad[i].second), std::string::npos) << e.what();
     }
   }
+  // A bump map is not drawn, so its options are not checked (the file loads, the map warned of).
+  dir.write("bump.mtl", "newmtl m\nbump -s 0 0 1 -o nan tex.png\n");
+  const LoadedMesh bump = load_mesh_file(dir.write("bump.obj", "mtllib bump.mtl\n" + kQuad + "usemtl m\n" + kFace));
+  ASSERT_EQ(bump.warnings.size(), 1u) << ::testing::PrintToString(bump.warnings);
+  EXPECT_NE(bump.warnings[0].find("names a bump map"), std::string::npos) << bump.warnings[0];
   dir.write("two.mtl", "newmtl m\nmap_Kd -s 4 4 tex.png\nnorm -o 0.5 0.25 -clamp on tex.png\n");
   const LoadedMesh l = load_mesh_file(dir.write("two.obj", "mtllib two.mtl\n" + kQuad + "usemtl m\n" + kFace));
   EXPECT_EQ(l.color_map.placement.m, (std::array<float, 6>{4, 0, 0, 0, 4, 0}));

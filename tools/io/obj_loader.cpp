@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -199,6 +200,14 @@ struct ObjPrescan {
   // The `mtllib` records tinyobjloader will load, in order: the word it calls the reader with,
   // and the record's text after the keyword (MaterialLibraries reads them).
   std::vector<LibraryRecord> libraries;
+  // Each `usemtl` record: the face it comes before (0-based, in file order) and the name as
+  // tinyobjloader reads it. tinyobjloader looks a name up when it meets the record, so a
+  // material whose `mtllib` comes later is lost to it; these find it after the parse.
+  struct MaterialUse {
+    uint64_t first_face;
+    std::string name;
+  };
+  std::vector<MaterialUse> uses;
   // Records and face corners, for the memory a parse holds (load_bytes_at_least).
   uint64_t positions = 0, texcoords = 0, normals = 0, faces = 0, corners = 0;
 };
@@ -351,7 +360,10 @@ ObjPrescan prescan_obj(std::istream& in, const std::string& file) {
       continue;
     }
     if (starts_record(line, i, "usemtl")) {
-      if (record_text(line, i, 6, true).find_first_of(" \t") != std::string::npos) out.needs_mending = true;
+      std::string name = record_text(line, i, 6, true);
+      if (name.find_first_of(" \t") != std::string::npos) out.needs_mending = true;
+      std::replace_if(name.begin(), name.end(), [](char c) { return c == ' ' || c == '\t'; }, kNameBlank);
+      out.uses.push_back({faces, std::move(name)});
       continue;
     }
     if (starts_record(line, i, "f")) {
@@ -546,7 +558,6 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
 
   LoadedMesh out;
   out.warnings = libraries.warnings();
-  add_library_warnings(out, shown_name(warnings));
   const size_t nv = attrib.vertices.size() / 3, nt = attrib.texcoords.size() / 2,
                nn = attrib.normals.size() / 3;
   for (size_t i = 0; i < nv; ++i)
@@ -573,6 +584,13 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   int material = -1;
   std::vector<char> material_used(materials.size(), 0);  // by material id
   size_t faces_without_material = 0;
+  // A `usemtl` before the `mtllib` that defines its material: tinyobjloader gave its faces no
+  // material and warned that the name was not found. The name is looked up again among every
+  // library's materials (the first of a name, as tinyobjloader's own lookup takes it).
+  std::map<std::string, int> first_of_name;
+  for (size_t id = 0; id < materials.size(); ++id) first_of_name.try_emplace(materials[id].name, int(id));
+  std::set<std::string> found_late;
+  size_t use = 0;
   std::vector<glm::vec3> corner_positions;
   std::vector<uint32_t> corner_vertices, triangles;
   for (const tinyobj::shape_t& shape : shapes) {
@@ -582,8 +600,14 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
       const unsigned corners = mesh.num_face_vertices[f];
       if (corners < 3)  // the prescan refuses such faces; tinyobjloader skips them
         throw InputError(file, face_name(face_number), "face has " + std::to_string(corners) + " vertices");
+      while (use < pre.uses.size() && pre.uses[use].first_face <= face_number) ++use;
       if (f < mesh.material_ids.size()) {
-        const int id = mesh.material_ids[f];
+        int id = mesh.material_ids[f];
+        if (id < 0 && use > 0)
+          if (const auto it = first_of_name.find(pre.uses[use - 1].name); it != first_of_name.end()) {
+            id = it->second;
+            found_late.insert(it->first);
+          }
         if (material < 0) material = id;
         if (id >= 0 && size_t(id) < material_used.size()) material_used[size_t(id)] = 1;
         faces_without_material += id < 0;
@@ -638,6 +662,12 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     }
   }
   if (m.indices.empty()) throw InputError(file, "", "the file has no faces");
+  // tinyobjloader's "not found" for a name found above is no longer true.
+  for (const std::string& name : found_late) {
+    const std::string said = "material [ '" + name + "' ] not found in .mtl\n";
+    for (size_t at; (at = warnings.find(said)) != std::string::npos;) warnings.erase(at, said.size());
+  }
+  add_library_warnings(out, shown_name(warnings));
   if (!all_uvs) {
     if (nt > 0) out.warnings.push_back("some vertices have no texture coordinate: uvs dropped");
     m.uvs.clear();

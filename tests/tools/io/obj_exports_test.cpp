@@ -201,6 +201,25 @@ TEST(ObjExports, MapPlacementsAreCheckedAndKeptPerMap) {
   EXPECT_EQ(l.normal_map.placement.wrap_v, raster::Wrap::Clamp);
 }
 
+// tinyobjloader looks a `usemtl` name up when it meets the record, so a library named after the
+// `usemtl` that uses it lost its material (no map, and a warning that the name was not found).
+// The faces now take it; a name no library defines still has no material and its warning.
+TEST(ObjExports, AMaterialLibraryAfterItsUsemtlStillGivesTheMaterial) {
+  TempDir dir;
+  dir.write("tex.png", "");
+  dir.write("late.mtl", "newmtl Late Material\nmap_Kd -s 2 2 tex.png\n");
+  const LoadedMesh l = load_mesh_file(
+      dir.write("late.obj", joined({kQuad + "usemtl Late Material", "f 1/1 2/2 3/3", "mtllib late.mtl", "f 1/1 3/3 4/4"})));
+  EXPECT_EQ(l.color_map.path, dir.path() / "tex.png");
+  EXPECT_EQ(l.color_map.placement.m, (std::array<float, 6>{2, 0, 0, 0, 2, 0}));
+  EXPECT_TRUE(l.warnings.empty()) << ::testing::PrintToString(l.warnings);
+  const LoadedMesh none = load_mesh_file(
+      dir.write("none.obj", joined({kQuad + "usemtl Missing", "f 1/1 2/2 3/3", "mtllib late.mtl", "f 1/1 3/3 4/4"})));
+  EXPECT_TRUE(none.color_map.path.empty());
+  ASSERT_EQ(none.warnings.size(), 1u) << ::testing::PrintToString(none.warnings);
+  EXPECT_NE(none.warnings[0].find("Missing"), std::string::npos) << none.warnings[0];
+}
+
 // Faces before any `usemtl` have no material, yet take the first material's maps: said so.
 TEST(ObjExports, FacesWithoutAMaterialAreNamedWhenAMapCoversThem) {
   TempDir dir;

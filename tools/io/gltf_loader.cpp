@@ -753,13 +753,13 @@ class GltfReader {
       taken.texture = texture;
       taken.placement = placement;
       taken.where = where;
-    } else if ((texture != taken.texture || placement != taken.placement) && !taken.warned) {
+    } else if (const bool other_image = image_source(texture, where) != image_source(taken.texture, taken.where);
+               (other_image || placement != taken.placement) && !taken.warned) {
       taken.warned = true;
-      out_.warnings.push_back(std::string("primitives use ") +
-                              (texture != taken.texture ? std::string("more than one ") + kind + " texture"
-                                                        : std::string("one ") + kind +
-                                                              " texture placed two ways (sampler, KHR_texture_transform)") +
-                              ": " + taken.where + " is used for the whole mesh");
+      const std::string what = other_image ? std::string("more than one ") + kind + " texture"
+                                           : std::string("one ") + kind +
+                                                 " texture placed two ways (by samplers or KHR_texture_transform)";
+      out_.warnings.push_back("primitives use " + what + ": " + taken.where + " is used for the whole mesh");
     }
   }
 
@@ -999,9 +999,10 @@ void check_integer_fields(const std::string& text, const std::string& file) {
     numbers(*it, field, "scale");
     if (it->contains("scale"))
       for (size_t i = 0; i < 2; ++i)
-        if ((*it)["scale"][i].template get<double>() == 0.0)
+        if (std::abs((*it)["scale"][i].template get<double>()) < 1e-30)  // as MTL's -s (obj_materials.cpp)
           throw InputError(file, json_index(json_child(field, "scale"), i),
-                           "a scale of 0 shrinks the map to one texel: give a non-zero scale");
+                           "a scale of " + (*it)["scale"][i].dump() +
+                               " shrinks the map to one texel: give one of 1e-30 or more in size");
     if (it->contains("rotation")) number((*it)["rotation"], json_child(field, "rotation"));
     check(*it, field, "texCoord", kIndex);
   };
@@ -1057,9 +1058,16 @@ void check_integer_fields(const std::string& text, const std::string& file) {
       texture_info(m["pbrMetallicRoughness"], json_child(p, "pbrMetallicRoughness"), "baseColorTexture");
     texture_info(m, p, "normalTexture");
   });
+  const size_t samplers = doc.is_object() && doc.contains("samplers") && doc["samplers"].is_array()
+                              ? doc["samplers"].size() : 0;
   each(doc, "", "textures", [&](const auto& t, const std::string& p) {
     check(t, p, "source", kIndex);
     check(t, p, "sampler", kIndex);
+    // tinygltf keeps an index past the samplers, which drew the map with the default repeat.
+    if (t.is_object() && t.contains("sampler") && t["sampler"].template get<uint64_t>() >= samplers)
+      throw InputError(file, json_child(p, "sampler"),
+                       "sampler " + t["sampler"].dump() + " does not exist (the file has " + std::to_string(samplers) +
+                           ")");
   });
   each(doc, "", "samplers", [&](const auto& smp, const std::string& p) {
     for (const char* key : {"wrapS", "wrapT"}) {

@@ -674,6 +674,12 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   }
   finish_normals(out, all_normals, nn > 0, NormalSharing::per_position, smoothing);
 
+  if (material < 0 && pre.uses.empty() &&
+      std::any_of(materials.begin(), materials.end(), [](const tinyobj::material_t& t) {
+        return !t.diffuse_texname.empty() || !t.normal_texname.empty();
+      }))
+    out.warnings.push_back("the material libraries define maps, but no face names a material (no `usemtl` record): "
+                           "no map is drawn");
   if (material >= 0 && static_cast<size_t>(material) < materials.size()) {
     const tinyobj::material_t& mat = materials[material];
     // An object has one material in pelt: faces whose material names other maps are drawn

@@ -3,6 +3,7 @@
 #include "tools/io/input_error.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -54,10 +55,14 @@ std::vector<std::string> names(std::string_view s) {
   return out;
 }
 
+// A word written as a number; one past double's range (1e309) is a number too, as infinity,
+// so that it is refused as one rather than taken for the start of a file name.
 bool is_number(std::string_view w, double& value) {
   if (!w.empty() && w.front() == '+') w.remove_prefix(1);
   const auto [end, ec] = std::from_chars(w.data(), w.data() + w.size(), value);
-  return ec == std::errc() && end == w.data() + w.size();
+  if (end != w.data() + w.size() || w.empty()) return false;
+  if (ec == std::errc::result_out_of_range) value = HUGE_VAL;  // a tiny one (1e-400) is refused as a scale below
+  return ec == std::errc() || ec == std::errc::result_out_of_range;
 }
 
 bool is_file(const std::filesystem::path& p) {
@@ -75,6 +80,9 @@ constexpr MapOption kMapOptions[] = {{"-blendu", 1, 1}, {"-blendv", 1, 1},  {"-b
                                      {"-o", 1, 3},      {"-s", 1, 3},       {"-t", 1, 3},       {"-texres", 1, 1},
                                      {"-clamp", 1, 1},  {"-bm", 1, 1},      {"-imfchan", 1, 1}, {"-type", 1, 1},
                                      {"-cc", 1, 1},     {"-colorspace", 1, 1}};
+
+// A map scaled below this is one texel wherever it is drawn (and a float may round it to 0).
+constexpr double kLeastScale = 1e-30;
 
 bool is_map_statement(std::string_view keyword) {
   return keyword == "map_Kd" || keyword == "norm" || keyword == "bump" || keyword == "map_Bump" ||
@@ -155,7 +163,17 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
         double value = 0.0;
         const bool number = is_number(w[k], value);
         if (taken >= option->least && !number) break;
-        if (name == "-clamp" && w[k] == "on") placement.wrap_u = placement.wrap_v = raster::Wrap::Clamp;
+        if (name == "-clamp") {
+          std::string v(w[k]);
+          std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+          if (v == "on") placement.wrap_u = placement.wrap_v = raster::Wrap::Clamp;
+          else if (v != "off" && placed)
+            throw InputError(library.string(), at + " -clamp", "`" + std::string(w[k]) + "` is neither on nor off");
+        }
+        // -s, -o and -t take at least one number: a word that is none would be lost.
+        if (!number && placed && (name == "-s" || name == "-o"))
+          throw InputError(library.string(), at + " " + std::string(name),
+                           "`" + std::string(w[k]) + "` is not a number (a decimal point, not a comma)");
         if (!number || (name != "-s" && name != "-o" && name != "-t")) continue;
         if (name == "-t") {
           turbulent |= value != 0.0;
@@ -167,8 +185,9 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
         if (!std::isfinite(value) || std::abs(value) > 1e30)
           throw InputError(library.string(), at + " " + std::string(name),
                            "`" + std::string(w[k]) + "` is not a finite number of a sensible size");
-        if (name == "-s" && value == 0.0)
-          throw InputError(library.string(), at + " -s", "a scale of 0 shrinks the map to one texel: give a non-zero scale");
+        if (name == "-s" && std::abs(value) < kLeastScale)
+          throw InputError(library.string(), at + " -s",
+                           "a scale of " + std::string(w[k]) + " shrinks the map to one texel: give one of 1e-30 or more in size");
         (name == "-s" ? scale : offset)[taken] = float(value);
       }
     }

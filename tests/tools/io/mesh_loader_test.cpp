@@ -751,6 +751,12 @@ TEST(MeshLoader, GltfSamplersAndTextureTransformPlaceTheMaps) {
   expect_load_error(with(R"({"texCoord":-1})"), base + ".texCoord", "must be in [0, ");
   expect_load_error(with("[1]"), base, "expected an object");
   expect_load_error(with(R"({"scale":[1,0]})"), base + ".scale[1]", "a scale of 0");
+  expect_load_error(with(R"({"scale":[1e-50,1]})"), base + ".scale[0]", "a scale of 1e-50 shrinks the map");
+  // A sampler index past the samplers drew the map with the default repeat, without a word.
+  expect_load_error(uv_set_gltf(dir, false, color, R"("textures":[{"source":0,"sampler":3}],"samplers":[{}])"),
+                    "textures[0].sampler", "sampler 3 does not exist (the file has 1)");
+  expect_load_error(uv_set_gltf(dir, false, color, R"("textures":[{"source":0,"sampler":0}])"),
+                    "textures[0].sampler", "sampler 0 does not exist (the file has 0)");
   expect_load_error(uv_set_gltf(dir, false, color,
                                 R"("textures":[{"source":0,"sampler":0}],"samplers":[{"wrapS":33333}])"),
                     "samplers[0].wrapS", "33333 is no wrap mode");

@@ -137,6 +137,8 @@ TEST(ObjExports, MapOptionsAreReadAtTheirArities) {
       {"map_Kd -s 1 1 1 -o 0 0 tex.png", ""},
       {"map_Kd -cc on -blendu off -mm 0 1 -bm 0.5 tex.png", ""},
       {"map_Kd -clamp on tex.png", "", {1, 0, 0, 0, 1, 0}, raster::Wrap::Clamp},
+      {"map_Kd -clamp ON tex.png", "", {1, 0, 0, 0, 1, 0}, raster::Wrap::Clamp},
+      {"map_Kd -clamp off tex.png", ""},
   };
   for (size_t i = 0; i < cases.size(); ++i) {
     std::string stem(1, 'm');  // (one concatenation less: GCC 12 warns falsely on `"m" + to_string(i)`)
@@ -173,6 +175,12 @@ TEST(ObjExports, MapPlacementsAreCheckedAndKeptPerMap) {
       {"map_Kd -o nan 0 tex.png", "line 2 `map_Kd` -o: `nan` is not a finite number"},
       {"norm -s 1 inf tex.png", "line 2 `norm` -s: `inf` is not a finite number"},
       {"map_Kd -o 1e38 tex.png", "line 2 `map_Kd` -o: `1e38` is not a finite number of a sensible size"},
+      // (found by a black-box hunt: each was dropped, or taken into the file's name, without a word)
+      {"map_Kd -s abc 2 tex.png", "line 2 `map_Kd` -s: `abc` is not a number"},
+      {"map_Kd -s 2,5 tex.png", "line 2 `map_Kd` -s: `2,5` is not a number (a decimal point, not a comma)"},
+      {"map_Kd -s 1 1e309 tex.png", "line 2 `map_Kd` -s: `1e309` is not a finite number"},
+      {"map_Kd -s 1e-50 1 tex.png", "line 2 `map_Kd` -s: a scale of 1e-50 shrinks the map to one texel"},
+      {"norm -clamp yes tex.png", "line 2 `norm` -clamp: `yes` is neither on nor off"},
   };
   for (size_t i = 0; i < bad.size(); ++i) {
     std::string stem(1, 'b');
@@ -218,6 +226,17 @@ TEST(ObjExports, AMaterialLibraryAfterItsUsemtlStillGivesTheMaterial) {
   EXPECT_TRUE(none.color_map.path.empty());
   ASSERT_EQ(none.warnings.size(), 1u) << ::testing::PrintToString(none.warnings);
   EXPECT_NE(none.warnings[0].find("Missing"), std::string::npos) << none.warnings[0];
+}
+
+// A file whose libraries define maps but whose faces name no material draws none: said so.
+TEST(ObjExports, LibrariesWithMapsButNoUsemtlAreNamed) {
+  TempDir dir;
+  dir.write("tex.png", "");
+  dir.write("m.mtl", "newmtl m\nmap_Kd tex.png\n");
+  const LoadedMesh l = load_mesh_file(dir.write("nouse.obj", "mtllib m.mtl\n" + kQuad + kFace));
+  EXPECT_TRUE(l.color_map.path.empty());
+  ASSERT_EQ(l.warnings.size(), 1u) << ::testing::PrintToString(l.warnings);
+  EXPECT_NE(l.warnings[0].find("no face names a material"), std::string::npos) << l.warnings[0];
 }
 
 // Faces before any `usemtl` have no material, yet take the first material's maps: said so.

@@ -2,11 +2,13 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <functional>
 #include <map>
 #include <optional>
+#include <set>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -734,11 +736,32 @@ class GltfReader {
     if (material < 0 || material >= static_cast<int>(model_.materials.size())) return;
     const tinygltf::Material& mat = model_.materials[material];
     const std::string mw = "materials[" + std::to_string(material) + "]";
+    if (noted_.insert(material).second) note_undrawn(mat, mw);
     const tinygltf::TextureInfo& color = mat.pbrMetallicRoughness.baseColorTexture;
     take_texture(color.index, placement_of(color), ColorEncoding::srgb, mw + ".pbrMetallicRoughness.baseColorTexture",
                  out_.color_map, color_texture_, "base colour");
     take_texture(mat.normalTexture.index, placement_of(mat.normalTexture), ColorEncoding::linear,
                  mw + ".normalTexture", out_.normal_map, normal_texture_, "normal");
+  }
+
+  // What a drawn primitive's material asks for that pelt does not draw (the scene's material
+  // decides colour and shading; a mesh file gives maps): said once per material, so that a
+  // cut-out drawn whole or a tint not applied is no surprise.
+  void note_undrawn(const tinygltf::Material& mat, const std::string& mw) {
+    if (!mat.alphaMode.empty() && mat.alphaMode != "OPAQUE")
+      out_.warnings.push_back(mw + ".alphaMode " + mat.alphaMode +
+                              " is not drawn: the mesh is drawn opaque, its base colour's alpha unused (cut-outs and "
+                              "transparency show whole)");
+    const std::vector<double>& f = mat.pbrMetallicRoughness.baseColorFactor;
+    if (f.size() == 4 && (f[0] != 1.0 || f[1] != 1.0 || f[2] != 1.0 || f[3] != 1.0)) {
+      char factor[128];
+      std::snprintf(factor, sizeof factor, "[%g, %g, %g, %g]", f[0], f[1], f[2], f[3]);
+      out_.warnings.push_back(mw + ".pbrMetallicRoughness.baseColorFactor " + factor +
+                              " is not applied: the scene's material colour is the albedo (times the map)");
+    }
+    const std::vector<double>& e = mat.emissiveFactor;
+    if (mat.emissiveTexture.index >= 0 || std::any_of(e.begin(), e.end(), [](double x) { return x != 0.0; }))
+      out_.warnings.push_back(mw + " emits light (emissiveFactor, emissiveTexture), which pelt does not draw");
   }
 
   // The first texture of its kind is the mesh's (pelt draws one material per object); a
@@ -812,6 +835,7 @@ class GltfReader {
   uint64_t deformed_ = 0;                          // vertex values moved by morphs and skins
   bool all_uvs_ = true, any_uvs_ = false;
   Taken color_texture_, normal_texture_;
+  std::set<int> noted_;  // materials note_undrawn has seen
 };
 
 std::string trim(std::string s) {

@@ -674,6 +674,16 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   }
   finish_normals(out, all_normals, nn > 0, NormalSharing::per_position, smoothing);
 
+  // What a used material asks for that pelt does not draw: transparency and cut-outs.
+  for (size_t id = 0; id < materials.size(); ++id) {
+    if (!material_used[id]) continue;
+    const tinyobj::material_t& t = materials[id];
+    if (t.dissolve < 1.0 || !t.alpha_texname.empty())
+      out.warnings.push_back("material `" + shown_name(t.name) + "` is " +
+                             (t.alpha_texname.empty() ? "partly transparent (`d` or `Tr`)"
+                                                      : "cut out by `map_d " + t.alpha_texname + "`") +
+                             ", which pelt does not draw: the mesh is drawn opaque");
+  }
   if (material < 0 && pre.uses.empty() &&
       std::any_of(materials.begin(), materials.end(), [](const tinyobj::material_t& t) {
         return !t.diffuse_texname.empty() || !t.normal_texname.empty();

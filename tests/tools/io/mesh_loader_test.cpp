@@ -765,6 +765,22 @@ TEST(MeshLoader, GltfSamplersAndTextureTransformPlaceTheMaps) {
                     "samplers[0].wrapT", "must be in [0, ");
 }
 
+// What a drawn material asks for that pelt does not draw is said, once per material: a cut-out
+// or blend mode (drawn opaque), a base colour factor (the scene's colour is used), emission.
+// A material at its defaults says nothing.
+TEST(MeshLoader, GltfMaterialFieldsNotDrawnAreNamed) {
+  TempDir dir;
+  const LoadedMesh plain = load_mesh_file(uv_set_gltf(dir, false, R"({"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,1]}})"));
+  EXPECT_TRUE(plain.warnings.empty()) << ::testing::PrintToString(plain.warnings);
+  const LoadedMesh l = load_mesh_file(uv_set_gltf(
+      dir, false, R"({"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorFactor":[0.5,1,1,1]},"emissiveFactor":[0,0.2,0]})"));
+  ASSERT_EQ(l.warnings.size(), 3u) << ::testing::PrintToString(l.warnings);
+  EXPECT_EQ(l.warnings[0].rfind("materials[0].alphaMode MASK is not drawn: the mesh is drawn opaque", 0), 0u) << l.warnings[0];
+  EXPECT_EQ(l.warnings[1], "materials[0].pbrMetallicRoughness.baseColorFactor [0.5, 1, 1, 1] is not applied: the "
+                           "scene's material colour is the albedo (times the map)");
+  EXPECT_EQ(l.warnings[2], "materials[0] emits light (emissiveFactor, emissiveTexture), which pelt does not draw");
+}
+
 // tinygltf reads an optional integer it cannot take as absent and keeps -1 where -1 means
 // absent: `"mode": -1` was drawn as triangles, `"byteOffset": -4` read from offset 0.
 TEST(MeshLoader, GltfIntegerFieldsAreCheckedAsWritten) {

@@ -228,6 +228,21 @@ TEST(ObjExports, AMaterialLibraryAfterItsUsemtlStillGivesTheMaterial) {
   EXPECT_NE(none.warnings[0].find("Missing"), std::string::npos) << none.warnings[0];
 }
 
+// A used material's transparency or cut-out map is not drawn: said so (an unused one's is not).
+TEST(ObjExports, TransparencyAndCutOutsOfAUsedMaterialAreNamed) {
+  TempDir dir;
+  dir.write("t.mtl", "newmtl glass\nd 0.5\nnewmtl leaf\nmap_d leaf_a.png\nnewmtl solid\nd 1\nnewmtl unused\nTr 0.9\n");
+  const LoadedMesh l = load_mesh_file(dir.write(
+      "t.obj", joined({"mtllib t.mtl", kQuad + "usemtl glass", "f 1/1 2/2 3/3", "usemtl leaf", "f 1/1 3/3 4/4",
+                       "usemtl solid", "f 2/2 3/3 4/4"})));
+  std::vector<std::string> said;
+  for (const std::string& w : l.warnings)
+    if (w.find("which pelt does not draw") != std::string::npos) said.push_back(w);
+  ASSERT_EQ(said.size(), 2u) << ::testing::PrintToString(l.warnings);
+  EXPECT_EQ(said[0], "material `glass` is partly transparent (`d` or `Tr`), which pelt does not draw: the mesh is drawn opaque");
+  EXPECT_EQ(said[1], "material `leaf` is cut out by `map_d leaf_a.png`, which pelt does not draw: the mesh is drawn opaque");
+}
+
 // A file whose libraries define maps but whose faces name no material draws none: said so.
 TEST(ObjExports, LibrariesWithMapsButNoUsemtlAreNamed) {
   TempDir dir;

@@ -103,8 +103,16 @@ int run_info(const InfoOptions& o) {
                   std::string(shading::to_string(k.phase)).c_str(),
                   std::string(shading::to_string(k.specular)).c_str());
     }
-    if (!o.material.color_map.empty()) std::printf(", colour map");
     std::printf("\n");
+    // Which maps are drawn, whose, and where the mesh file places them.
+    const render::SceneRenderer::MapsDrawn maps = r.maps_drawn(i);
+    const auto map_line = [](const char* kind, bool scene_names, const io::MapPlacement& p) {
+      return std::string(kind) + (scene_names ? " (the scene's)" : " (the mesh file's: " + io::describe(p) + ")");
+    };
+    if (maps.color || maps.normal)
+      std::printf("       maps: %s%s%s\n", maps.color ? map_line("colour", !o.material.color_map.empty(), maps.color_placement).c_str() : "",
+                  maps.color && maps.normal ? ", " : "",
+                  maps.normal ? map_line("normal", !o.material.normal_map.empty(), maps.normal_placement).c_str() : "");
     // The blur's time is its pairs, and one under the budget can still take minutes: info
     // estimates them (RenderSettings::describe_only) and shows what --max-blur-pairs let through;
     // one over it ended the set-up with the refusal, as every budget ends info.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <string>
 
 #include "raster/texture.h"
 
@@ -28,5 +29,9 @@ inline MapPlacement flipped_v(const MapPlacement& p) {
   f.m = {m[0], -m[1], m[1] + m[2], -m[3], m[4], 1.0f - m[4] - m[5]};
   return f;
 }
+
+// For people: "as the uvs say", or the wraps that are not repeat and the transform, e.g.
+// "clamp u, mirror v; u' = 2 u + 0.25, v' = 3 v + 0.3" (`u', v'` in the uvs the placement is in).
+std::string describe(const MapPlacement& p);
 
 }  // namespace pelt::io

@@ -33,6 +33,7 @@ struct SceneRenderer::Object {
   std::unique_ptr<FurObject> fur;
   raster::Texture color_map;
   raster::Texture normal_map;
+  bool v_up = false;  // the mesh file counts v from the bottom (OBJ): its placements were flipped
   std::optional<uint64_t> blur_pairs;  // shading::BlurredNormals::pair_estimate, for normal_blur skin
 };
 
@@ -318,6 +319,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     std::transform(extension.begin(), extension.end(), extension.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
     const bool v_up = extension == ".obj";
+    obj->v_up = v_up;
     if (v_up)
       for (glm::vec2& uv : obj->mesh.uvs) uv.y = 1.0f - uv.y;
     const auto ours = [v_up](const io::MapPlacement& p) { return v_up ? io::flipped_v(p) : p; };
@@ -457,6 +459,17 @@ const fur::FurCounts* SceneRenderer::fur_counts(size_t object) const {
 
 const fur::FurGeometry* SceneRenderer::fur_geometry(size_t object) const {
   return objects_[object]->fur ? &objects_[object]->fur->geometry() : nullptr;
+}
+
+SceneRenderer::MapsDrawn SceneRenderer::maps_drawn(size_t object) const {
+  const Object& o = *objects_[object];
+  const auto file_uvs = [&](const io::MapPlacement& p) { return o.v_up ? io::flipped_v(p) : p; };  // its own inverse
+  MapsDrawn m;
+  m.color = o.material.color_map != nullptr;
+  m.normal = o.material.normal_map != nullptr;
+  m.color_placement = file_uvs(o.material.color_placement);
+  m.normal_placement = file_uvs(o.material.normal_placement);
+  return m;
 }
 
 std::optional<uint64_t> SceneRenderer::blur_pair_estimate(size_t object) const {

@@ -13,6 +13,7 @@
 #include "raster/renderer.h"
 #include "tools/io/budget.h"
 #include "tools/io/quality.h"
+#include "tools/io/map_placement.h"
 #include "tools/io/scene.h"
 #include "tools/render/animation.h"
 #include "tools/render/budget_check.h"
@@ -108,6 +109,13 @@ class SceneRenderer {
   // figure --max-blur-pairs was checked against (shading::BlurredNormals::pair_estimate): what
   // `pelt info` reports. nullopt when the object has no normal blur.
   std::optional<uint64_t> blur_pair_estimate(size_t object) const;
+  // The maps object i draws, each with where it lies (io::MapPlacement) in its mesh file's own
+  // uvs (OBJ: v from the bottom), for `pelt info`. A map the scene names lies as the uvs say.
+  struct MapsDrawn {
+    bool color = false, normal = false;
+    io::MapPlacement color_placement, normal_placement;
+  };
+  MapsDrawn maps_drawn(size_t object) const;
   // Floats per fur vertex that the last frame's fur draws of object i interpolate (0 without
   // fur): 4 for grey per-vertex light, 8 for coloured, 12 lit per pixel.
   int fur_varying_count(size_t object) const;

@@ -498,6 +498,28 @@ TEST_F(RenderCommand, BlurPairsOverTheBudgetAreRefusedNamingTheRadius) {
   EXPECT_TRUE(fs::exists(dir.path() / "b/a.png"));
 }
 
+// `pelt info` names the maps each object draws, whose they are, and where the mesh file places
+// them, in the file's own uvs (an OBJ's MTL options as written, though pelt flips OBJ's v).
+TEST_F(RenderCommand, InfoNamesTheMapsAndWhereTheMeshFilePlacesThem) {
+  const uint8_t px[3] = {200, 100, 50};
+  io::write_image_atomic(dir.path() / "tex.png", 1, 1, 3, io::PixelType::u8, px);
+  dir.write("m.mtl", "newmtl m\nmap_Kd -s 2 3 -o 0.25 0.5 -clamp on tex.png\nnorm tex.png\n");
+  dir.write("q.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n");
+  const fs::path scene = dir.write("maps.json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
+      "objects": [{"mesh": "q.obj", "material": {"type": "lambert"}},
+                  {"mesh": "q.obj", "material": {"type": "lambert", "color_map": "tex.png"}},
+                  {"mesh": "sphere:8", "material": {"type": "lambert"}}]})");
+  const Result r = run_pelt({"info", scene.string()}, dir.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("  [0] objects[0]: mesh q.obj, material lambert\n       maps: colour (the mesh file's: clamp u, "
+                       "clamp v; u' = 2 u + 0.25, v' = 3 v + 0.5), normal (the mesh file's: as the uvs say)\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("       maps: colour (the scene's), normal (the mesh file's: as the uvs say)\n"), std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("maps:", r.out.find("[2]")), std::string::npos) << r.out;
+}
+
 // `pelt info` prints a normal blur's estimated pairs beside the budget: the figure the budget check
 // refuses with once the budget is one pair lower. sphere:64 has 1986 welded vertices, more than the
 // 64 the estimate samples, so the figure is an estimate.

@@ -753,15 +753,19 @@ class GltfReader {
                               " is not drawn: the mesh is drawn opaque, its base colour's alpha unused (cut-outs and "
                               "transparency show whole)");
     const std::vector<double>& f = mat.pbrMetallicRoughness.baseColorFactor;
-    if (f.size() == 4 && (f[0] != 1.0 || f[1] != 1.0 || f[2] != 1.0 || f[3] != 1.0)) {
+    const bool opaque = mat.alphaMode.empty() || mat.alphaMode == "OPAQUE";  // where the factor's alpha means nothing
+    if (f.size() == 4 && (f[0] != 1.0 || f[1] != 1.0 || f[2] != 1.0 || (!opaque && f[3] != 1.0))) {
       char factor[128];
       std::snprintf(factor, sizeof factor, "[%g, %g, %g, %g]", f[0], f[1], f[2], f[3]);
       out_.warnings.push_back(mw + ".pbrMetallicRoughness.baseColorFactor " + factor +
                               " is not applied: the scene's material colour is the albedo (times the map)");
     }
+    // The emissive texture is multiplied by the factor, [0, 0, 0] unless given: light only with a factor.
     const std::vector<double>& e = mat.emissiveFactor;
-    if (mat.emissiveTexture.index >= 0 || std::any_of(e.begin(), e.end(), [](double x) { return x != 0.0; }))
-      out_.warnings.push_back(mw + " emits light (emissiveFactor, emissiveTexture), which pelt does not draw");
+    if (std::any_of(e.begin(), e.end(), [](double x) { return x != 0.0; }))
+      out_.warnings.push_back(mw + " emits light (emissiveFactor" +
+                              (mat.emissiveTexture.index >= 0 ? std::string(", emissiveTexture") : std::string()) +
+                              "), which pelt does not draw");
   }
 
   // The first texture of its kind is the mesh's (pelt draws one material per object); a

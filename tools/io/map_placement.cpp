@@ -1,5 +1,7 @@
 #include "tools/io/map_placement.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace pelt::io {
@@ -14,23 +16,23 @@ const char* wrap_name(raster::Wrap w) {
   return "?";
 }
 
-// "a u + b v + c", leaving out zero terms and unit factors.
+// "a u + b v + c" to 6 digits, leaving out zero terms (and those a million times smaller than
+// the row's largest, which a rotation's cosine of 90 degrees leaves) and unit factors.
 std::string affine(float a, float b, float c) {
+  const float k[3] = {a, b, c};
+  const char* var[3] = {"u", "v", ""};
+  const float largest = std::max({std::abs(a), std::abs(b), std::abs(c)});
   std::string out;
-  const auto term = [&](float k, const char* var) {
-    if (k == 0.0f) return;
-    char buf[48];
-    const bool first = out.empty();
-    const float m = first ? k : (k < 0.0f ? -k : k);
-    const char* sign = first ? "" : (k < 0.0f ? " - " : " + ");
-    if (var[0] == '\0') std::snprintf(buf, sizeof buf, "%s%g", sign, double(m));
-    else if (m == 1.0f) std::snprintf(buf, sizeof buf, "%s%s%s", sign, first && k < 0.0f ? "-" : "", var);
-    else std::snprintf(buf, sizeof buf, "%s%g %s", sign, double(first ? k : m), var);
+  for (int i = 0; i < 3; ++i) {
+    if (k[i] == 0.0f || std::abs(k[i]) < 1e-6f * largest) continue;
+    const float m = std::abs(k[i]);
+    out += out.empty() ? (k[i] < 0.0f ? "-" : "") : (k[i] < 0.0f ? " - " : " + ");
+    char buf[32];
+    if (var[i][0] != '\0' && m == 1.0f) buf[0] = '\0';
+    else std::snprintf(buf, sizeof buf, var[i][0] != '\0' ? "%.6g " : "%.6g", double(m));
     out += buf;
-  };
-  term(a, "u");
-  term(b, "v");
-  term(c, "");
+    out += var[i];
+  }
   return out.empty() ? "0" : out;
 }
 

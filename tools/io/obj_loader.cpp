@@ -589,7 +589,6 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   // library's materials (the first of a name, as tinyobjloader's own lookup takes it).
   std::map<std::string, int> first_of_name;
   for (size_t id = 0; id < materials.size(); ++id) first_of_name.try_emplace(materials[id].name, int(id));
-  std::set<std::string> found_late;
   size_t use = 0;
   std::vector<glm::vec3> corner_positions;
   std::vector<uint32_t> corner_vertices, triangles;
@@ -606,7 +605,6 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
         if (id < 0 && use > 0)
           if (const auto it = first_of_name.find(pre.uses[use - 1].name); it != first_of_name.end()) {
             id = it->second;
-            found_late.insert(it->first);
           }
         if (material < 0) material = id;
         if (id >= 0 && size_t(id) < material_used.size()) material_used[size_t(id)] = 1;
@@ -662,11 +660,15 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     }
   }
   if (m.indices.empty()) throw InputError(file, "", "the file has no faces");
-  // tinyobjloader's "not found" for a name found above is no longer true.
-  for (const std::string& name : found_late) {
+  // tinyobjloader's "not found" for a name some library defines is not true (it met the `usemtl`
+  // before the `mtllib`), and its note on a material giving both `d` and `Tr` (3ds Max writes both
+  // for every material) says nothing the transparency warning above does not.
+  for (const auto& [name, id] : first_of_name) {
     const std::string said = "material [ '" + name + "' ] not found in .mtl\n";
     for (size_t at; (at = warnings.find(said)) != std::string::npos;) warnings.erase(at, said.size());
   }
+  for (size_t at; (at = warnings.find("Both `d` and `Tr` parameters defined")) != std::string::npos;)
+    warnings.erase(at, warnings.find('\n', at) == std::string::npos ? std::string::npos : warnings.find('\n', at) + 1 - at);
   add_library_warnings(out, shown_name(warnings));
   if (!all_uvs) {
     if (nt > 0) out.warnings.push_back("some vertices have no texture coordinate: uvs dropped");
@@ -678,18 +680,23 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   for (size_t id = 0; id < materials.size(); ++id) {
     if (!material_used[id]) continue;
     const tinyobj::material_t& t = materials[id];
-    if (t.dissolve < 1.0 || !t.alpha_texname.empty())
-      out.warnings.push_back("material `" + shown_name(t.name) + "` is " +
-                             (t.alpha_texname.empty() ? "partly transparent (`d` or `Tr`)"
-                                                      : "cut out by `map_d " + t.alpha_texname + "`") +
+    std::vector<std::string> asks;
+    if (t.dissolve <= 0.0)  // tinyobjloader reads Tr as 1 - d
+      asks.push_back("invisible as written (`d 0` or `Tr 1`; some exporters mean opaque by `Tr 1`)");
+    else if (t.dissolve < 1.0)
+      asks.push_back("partly transparent (`d` or `Tr`)");
+    if (!t.alpha_texname.empty()) asks.push_back("cut out by `map_d " + t.alpha_texname + "`");
+    if (!asks.empty())
+      out.warnings.push_back("material `" + shown_name(t.name) + "` is " + asks[0] +
+                             (asks.size() > 1 ? " and " + asks[1] : std::string()) +
                              ", which pelt does not draw: the mesh is drawn opaque");
   }
-  if (material < 0 && pre.uses.empty() &&
-      std::any_of(materials.begin(), materials.end(), [](const tinyobj::material_t& t) {
+  if (material < 0 && std::any_of(materials.begin(), materials.end(), [](const tinyobj::material_t& t) {
         return !t.diffuse_texname.empty() || !t.normal_texname.empty();
       }))
-    out.warnings.push_back("the material libraries define maps, but no face names a material (no `usemtl` record): "
-                           "no map is drawn");
+    out.warnings.push_back(std::string("the material libraries define maps, but no face names a material (") +
+                           (pre.uses.empty() ? "no `usemtl` record" : "no face follows a `usemtl` of a defined material") +
+                           "): no map is drawn");
   if (material >= 0 && static_cast<size_t>(material) < materials.size()) {
     const tinyobj::material_t& mat = materials[material];
     // An object has one material in pelt: faces whose material names other maps are drawn
@@ -710,7 +717,8 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
                              "` (the first face's) are used for the whole mesh");
     if (faces_without_material > 0 && maps(size_t(material)) != maps(materials.size()))
       out.warnings.push_back(std::to_string(faces_without_material) +
-                             " faces name no material (no `usemtl` before them): the maps of `" + name +
+                             " faces have no material (no `usemtl` before them, or one naming no material a library "
+                             "defines): the maps of `" + name +
                              "` are drawn on them too");
     // A map's name is read from its library's folder, as exporters write it (until 2026-11-27
     // from the OBJ's, where pelt still looks when the library's folder has no such file).

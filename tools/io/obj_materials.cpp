@@ -6,6 +6,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -55,13 +56,15 @@ std::vector<std::string> names(std::string_view s) {
   return out;
 }
 
-// A word written as a number; one past double's range (1e309) is a number too, as infinity,
-// so that it is refused as one rather than taken for the start of a file name.
+// A word written as a number. One past double's range is a number too, so that it is refused
+// as one rather than taken for the start of a file name: too large (1e309) as infinity, too
+// small (1e-400) as 0 with its sign (from_chars leaves the value unset for both; strtod gives
+// them so).
 bool is_number(std::string_view w, double& value) {
   if (!w.empty() && w.front() == '+') w.remove_prefix(1);
   const auto [end, ec] = std::from_chars(w.data(), w.data() + w.size(), value);
   if (end != w.data() + w.size() || w.empty()) return false;
-  if (ec == std::errc::result_out_of_range) value = HUGE_VAL;  // a tiny one (1e-400) is refused as a scale below
+  if (ec == std::errc::result_out_of_range) value = std::strtod(std::string(w).c_str(), nullptr);
   return ec == std::errc() || ec == std::errc::result_out_of_range;
 }
 
@@ -173,7 +176,8 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
         // -s, -o and -t take at least one number: a word that is none would be lost.
         if (!number && placed && (name == "-s" || name == "-o"))
           throw InputError(library.string(), at + " " + std::string(name),
-                           "`" + std::string(w[k]) + "` is not a number (a decimal point, not a comma)");
+                           "`" + std::string(w[k]) + "` is not a number" +
+                               (w[k].find(',') != std::string_view::npos ? " (a decimal point, not a comma)" : ""));
         if (!number || (name != "-s" && name != "-o" && name != "-t")) continue;
         if (name == "-t") {
           turbulent |= value != 0.0;

@@ -33,7 +33,7 @@ struct SceneRenderer::Object {
   std::unique_ptr<FurObject> fur;
   raster::Texture color_map;
   raster::Texture normal_map;
-  bool v_up = false;  // the mesh file counts v from the bottom (OBJ): its placements were flipped
+  io::MapPlacement file_color_placement, file_normal_placement;  // as the mesh file gives them (pelt info)
   std::optional<uint64_t> blur_pairs;  // shading::BlurredNormals::pair_estimate, for normal_blur skin
 };
 
@@ -319,18 +319,19 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     std::transform(extension.begin(), extension.end(), extension.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
     const bool v_up = extension == ".obj";
-    obj->v_up = v_up;
     if (v_up)
       for (glm::vec2& uv : obj->mesh.uvs) uv.y = 1.0f - uv.y;
     const auto ours = [v_up](const io::MapPlacement& p) { return v_up ? io::flipped_v(p) : p; };
-    obj->material.color_placement =
-        ours(load_object_map(scene, i, kColorMap, so.material.color_map, meshes[i].loaded.color_map, obj->mesh,
-                             settings.budget, parallel, obj->color_map, setup_stats_, input_files_));
+    obj->file_color_placement =
+        load_object_map(scene, i, kColorMap, so.material.color_map, meshes[i].loaded.color_map, obj->mesh,
+                        settings.budget, parallel, obj->color_map, setup_stats_, input_files_);
+    obj->material.color_placement = ours(obj->file_color_placement);
     if (!obj->color_map.empty()) obj->material.color_map = &obj->color_map;
 
-    obj->material.normal_placement =
-        ours(load_object_map(scene, i, kNormalMap, so.material.normal_map, meshes[i].loaded.normal_map, obj->mesh,
-                             settings.budget, parallel, obj->normal_map, setup_stats_, input_files_));
+    obj->file_normal_placement =
+        load_object_map(scene, i, kNormalMap, so.material.normal_map, meshes[i].loaded.normal_map, obj->mesh,
+                        settings.budget, parallel, obj->normal_map, setup_stats_, input_files_);
+    obj->material.normal_placement = ours(obj->file_normal_placement);
     if (!obj->normal_map.empty()) obj->material.normal_map = &obj->normal_map;
     shading::BlurredNormals blurred;
     const bool blur = obj->material.kind == MaterialKind::skin &&
@@ -463,12 +464,11 @@ const fur::FurGeometry* SceneRenderer::fur_geometry(size_t object) const {
 
 SceneRenderer::MapsDrawn SceneRenderer::maps_drawn(size_t object) const {
   const Object& o = *objects_[object];
-  const auto file_uvs = [&](const io::MapPlacement& p) { return o.v_up ? io::flipped_v(p) : p; };  // its own inverse
   MapsDrawn m;
   m.color = o.material.color_map != nullptr;
   m.normal = o.material.normal_map != nullptr;
-  m.color_placement = file_uvs(o.material.color_placement);
-  m.normal_placement = file_uvs(o.material.normal_placement);
+  m.color_placement = o.file_color_placement;
+  m.normal_placement = o.file_normal_placement;
   return m;
 }
 

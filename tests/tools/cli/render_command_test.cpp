@@ -517,7 +517,9 @@ TEST_F(RenderCommand, InfoNamesTheMapsAndWhereTheMeshFilePlacesThem) {
       << r.out;
   EXPECT_NE(r.out.find("       maps: colour (the scene's), normal (the mesh file's: as the uvs say)\n"), std::string::npos)
       << r.out;
-  EXPECT_EQ(r.out.find("maps:", r.out.find("[2]")), std::string::npos) << r.out;
+  const size_t third = r.out.find("  [2] ");
+  ASSERT_NE(third, std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("maps:", third), std::string::npos) << r.out;
 }
 
 // `pelt info` prints a normal blur's estimated pairs beside the budget: the figure the budget check

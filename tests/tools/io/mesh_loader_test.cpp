@@ -772,13 +772,18 @@ TEST(MeshLoader, GltfMaterialFieldsNotDrawnAreNamed) {
   TempDir dir;
   const LoadedMesh plain = load_mesh_file(uv_set_gltf(dir, false, R"({"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,1]}})"));
   EXPECT_TRUE(plain.warnings.empty()) << ::testing::PrintToString(plain.warnings);
+  // An emissive texture without a factor emits nothing (the factor is [0, 0, 0] unless given), and
+  // the factor's alpha means nothing to an opaque material.
+  const LoadedMesh dark = load_mesh_file(uv_set_gltf(
+      dir, false, R"({"emissiveTexture":{"index":0},"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.5]}})"));
+  EXPECT_TRUE(dark.warnings.empty()) << ::testing::PrintToString(dark.warnings);
   const LoadedMesh l = load_mesh_file(uv_set_gltf(
       dir, false, R"({"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorFactor":[0.5,1,1,1]},"emissiveFactor":[0,0.2,0]})"));
   ASSERT_EQ(l.warnings.size(), 3u) << ::testing::PrintToString(l.warnings);
   EXPECT_EQ(l.warnings[0].rfind("materials[0].alphaMode MASK is not drawn: the mesh is drawn opaque", 0), 0u) << l.warnings[0];
   EXPECT_EQ(l.warnings[1], "materials[0].pbrMetallicRoughness.baseColorFactor [0.5, 1, 1, 1] is not applied: the "
                            "scene's material colour is the albedo (times the map)");
-  EXPECT_EQ(l.warnings[2], "materials[0] emits light (emissiveFactor, emissiveTexture), which pelt does not draw");
+  EXPECT_EQ(l.warnings[2], "materials[0] emits light (emissiveFactor), which pelt does not draw");
 }
 
 // tinygltf reads an optional integer it cannot take as absent and keeps -1 where -1 means

@@ -180,6 +180,7 @@ TEST(ObjExports, MapPlacementsAreCheckedAndKeptPerMap) {
       {"map_Kd -s 2,5 tex.png", "line 2 `map_Kd` -s: `2,5` is not a number (a decimal point, not a comma)"},
       {"map_Kd -s 1 1e309 tex.png", "line 2 `map_Kd` -s: `1e309` is not a finite number"},
       {"map_Kd -s 1e-50 1 tex.png", "line 2 `map_Kd` -s: a scale of 1e-50 shrinks the map to one texel"},
+      {"map_Kd -s 1e-400 1 tex.png", "line 2 `map_Kd` -s: a scale of 1e-400 shrinks the map to one texel"},
       {"norm -clamp yes tex.png", "line 2 `norm` -clamp: `yes` is neither on nor off"},
   };
   for (size_t i = 0; i < bad.size(); ++i) {
@@ -194,6 +195,9 @@ TEST(ObjExports, MapPlacementsAreCheckedAndKeptPerMap) {
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find(lib.string()), std::string::npos) << e.what();
       EXPECT_NE(std::string(e.what()).find(bad[i].second), std::string::npos) << e.what();
+      // The comma hint only where a comma is.
+      EXPECT_EQ(std::string(e.what()).find("comma") != std::string::npos, bad[i].first.find(',') != std::string::npos)
+          << e.what();
     }
   }
   // A bump map is not drawn, so its options are not checked (the file loads, the map warned of).
@@ -224,23 +228,26 @@ TEST(ObjExports, AMaterialLibraryAfterItsUsemtlStillGivesTheMaterial) {
   const LoadedMesh none = load_mesh_file(
       dir.write("none.obj", joined({kQuad + "usemtl Missing", "f 1/1 2/2 3/3", "mtllib late.mtl", "f 1/1 3/3 4/4"})));
   EXPECT_TRUE(none.color_map.path.empty());
-  ASSERT_EQ(none.warnings.size(), 1u) << ::testing::PrintToString(none.warnings);
+  ASSERT_EQ(none.warnings.size(), 2u) << ::testing::PrintToString(none.warnings);
   EXPECT_NE(none.warnings[0].find("Missing"), std::string::npos) << none.warnings[0];
+  EXPECT_NE(none.warnings[1].find("no face follows a `usemtl` of a defined material"), std::string::npos)
+      << none.warnings[1];
 }
 
 // A used material's transparency or cut-out map is not drawn: said so (an unused one's is not).
 TEST(ObjExports, TransparencyAndCutOutsOfAUsedMaterialAreNamed) {
   TempDir dir;
-  dir.write("t.mtl", "newmtl glass\nd 0.5\nnewmtl leaf\nmap_d leaf_a.png\nnewmtl solid\nd 1\nnewmtl unused\nTr 0.9\n");
+  // (3ds Max writes `d 1` and `Tr 0` for every material: tinyobjloader's note on both is dropped.)
+  dir.write("t.mtl", "newmtl glass\nd 0.5\nnewmtl leaf\nmap_d leaf_a.png\nnewmtl solid\nd 1\nTr 0\n"
+                     "newmtl max\nTr 1\nnewmtl unused\nTr 0.9\n");
   const LoadedMesh l = load_mesh_file(dir.write(
       "t.obj", joined({"mtllib t.mtl", kQuad + "usemtl glass", "f 1/1 2/2 3/3", "usemtl leaf", "f 1/1 3/3 4/4",
-                       "usemtl solid", "f 2/2 3/3 4/4"})));
-  std::vector<std::string> said;
-  for (const std::string& w : l.warnings)
-    if (w.find("which pelt does not draw") != std::string::npos) said.push_back(w);
-  ASSERT_EQ(said.size(), 2u) << ::testing::PrintToString(l.warnings);
-  EXPECT_EQ(said[0], "material `glass` is partly transparent (`d` or `Tr`), which pelt does not draw: the mesh is drawn opaque");
-  EXPECT_EQ(said[1], "material `leaf` is cut out by `map_d leaf_a.png`, which pelt does not draw: the mesh is drawn opaque");
+                       "usemtl solid", "f 2/2 3/3 4/4", "usemtl max", "f 1/1 2/2 4/4"})));
+  ASSERT_EQ(l.warnings.size(), 3u) << ::testing::PrintToString(l.warnings);
+  EXPECT_EQ(l.warnings[0], "material `glass` is partly transparent (`d` or `Tr`), which pelt does not draw: the mesh is drawn opaque");
+  EXPECT_EQ(l.warnings[1], "material `leaf` is cut out by `map_d leaf_a.png`, which pelt does not draw: the mesh is drawn opaque");
+  EXPECT_EQ(l.warnings[2], "material `max` is invisible as written (`d 0` or `Tr 1`; some exporters mean opaque by `Tr 1`), "
+                           "which pelt does not draw: the mesh is drawn opaque");
 }
 
 // A file whose libraries define maps but whose faces name no material draws none: said so.
@@ -251,7 +258,13 @@ TEST(ObjExports, LibrariesWithMapsButNoUsemtlAreNamed) {
   const LoadedMesh l = load_mesh_file(dir.write("nouse.obj", "mtllib m.mtl\n" + kQuad + kFace));
   EXPECT_TRUE(l.color_map.path.empty());
   ASSERT_EQ(l.warnings.size(), 1u) << ::testing::PrintToString(l.warnings);
-  EXPECT_NE(l.warnings[0].find("no face names a material"), std::string::npos) << l.warnings[0];
+  EXPECT_NE(l.warnings[0].find("no face names a material (no `usemtl` record)"), std::string::npos) << l.warnings[0];
+  // A `usemtl` after the last face names the material of no face (a review found it silent).
+  const LoadedMesh after = load_mesh_file(dir.write("after.obj", "mtllib m.mtl\n" + kQuad + kFace + "usemtl m\n"));
+  EXPECT_TRUE(after.color_map.path.empty());
+  ASSERT_EQ(after.warnings.size(), 1u) << ::testing::PrintToString(after.warnings);
+  EXPECT_NE(after.warnings[0].find("no face follows a `usemtl` of a defined material"), std::string::npos)
+      << after.warnings[0];
 }
 
 // Faces before any `usemtl` have no material, yet take the first material's maps: said so.
@@ -262,7 +275,8 @@ TEST(ObjExports, FacesWithoutAMaterialAreNamedWhenAMapCoversThem) {
   const LoadedMesh l = load_mesh_file(
       dir.write("mixed.obj", joined({"mtllib m.mtl", kQuad + "f 1/1 2/2 3/3", "usemtl m", "f 1/1 3/3 4/4"})));
   ASSERT_EQ(l.warnings.size(), 1u) << ::testing::PrintToString(l.warnings);
-  EXPECT_EQ(l.warnings[0], "1 faces name no material (no `usemtl` before them): the maps of `m` are drawn on them too");
+  EXPECT_EQ(l.warnings[0], "1 faces have no material (no `usemtl` before them, or one naming no material a library "
+                           "defines): the maps of `m` are drawn on them too");
 }
 
 }  // namespace

@@ -197,7 +197,7 @@ std::optional<EncodedImageSize> encoded_image_size(const uint8_t* bytes, size_t 
   return std::nullopt;
 }
 
-ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encoding, const Budget& budget) {
+ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encoding, const Budget& budget, int used) {
   const std::string file = path.string();
   const auto in = open_image(path);
   const ImageFileInfo& spec = in->info();
@@ -211,6 +211,10 @@ ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encod
   ImageRGBA img = pixels_to_rgba(buffer.data(), spec.width, spec.height, channels, 8 * bytes, encoding);
   for (size_t i = 0; i < img.rgba.size(); ++i)
     if (!std::isfinite(img.rgba[i])) {
+      if (int(i % 4) >= used) {
+        img.rgba[i] = 0.0f;
+        continue;
+      }
       const size_t texel = i / 4;
       throw InputError(file, "",
                        "texel (" + std::to_string(texel % size_t(img.width)) + ", " +

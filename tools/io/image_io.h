@@ -54,8 +54,11 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
 // The header is read first: an image wider or taller than budget.max_texture_side is
 // refused (InputError naming both sizes and --max-texture-side) before any pixel buffer
 // is allocated.
+// `used`: the channels (of r, g, b, a, in order) the caller draws. A non-finite value in one of
+// them is refused naming its texel and channel; in another it is set to 0, since nothing reads
+// it (a colour map's alpha, a length map's g, b and a).
 ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encoding = ColorEncoding::srgb,
-                          const Budget& budget = Budget{});
+                          const Budget& budget = Budget{}, int used = 4);
 
 // An image file's size from its header alone (no pixels are read),
 // for estimating memory before loading. Throws InputError naming the file when it cannot

@@ -28,7 +28,7 @@ std::vector<float> read_length_map(const std::filesystem::path& image, const Mes
                              "` cover no area");
   const std::string who = "in " + field + " of " + scene_file;
   const io::ImageRGBA img =
-      asked_by(who, [&] { return io::read_image_rgba(image, io::ColorEncoding::linear, budget); });
+      asked_by(who, [&] { return io::read_image_rgba(image, io::ColorEncoding::linear, budget, 1); });
   const size_t w = size_t(img.width), h = size_t(img.height);
   // Only the first channel counts: the others (an EXR's alpha, say) may hold anything.
   for (size_t t = 0; t < w * h; ++t) {

@@ -145,7 +145,7 @@ io::MapPlacement load_object_map(const io::Scene& scene, size_t index, const Map
   if (src->file) {
     inputs.push_back(*src->file);
     read = asked_by(map_asked_by(scene, index, kind.field, src->named_by_mesh),
-                    [&] { return io::read_image_rgba(*src->file, kind.file_encoding, budget); });
+                    [&] { return io::read_image_rgba(*src->file, kind.file_encoding, budget, 3); });  // alpha unused
   }
   const io::ImageRGBA& img = src->file ? read : *src->pixels;
   // No material draws a map's alpha (glTF's default OPAQUE mode ignores it; the fur's colour

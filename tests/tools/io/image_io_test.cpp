@@ -113,6 +113,11 @@ TEST(ImageIo, AWindowedExrIsRefusedAndANonFiniteTexelNamed) {
   } catch (const InputError& e) {
     EXPECT_NE(e.reason.find("texel (3, 2) channel g is NaN"), std::string::npos) << e.what();
   }
+  // A channel the caller does not draw may hold anything (until 2026-11-27 a NaN there refused
+  // the map): a length map reads r alone, so g's NaN reads as 0 and r stays.
+  const ImageRGBA first = read_image_rgba(dir.path() / "nan.exr", ColorEncoding::linear, Budget{}, 1);
+  EXPECT_EQ(first.rgba[(2 * 4 + 3) * 4 + 1], 0.0f);
+  EXPECT_EQ(first.rgba[(2 * 4 + 3) * 4 + 0], 0.5f);
 }
 
 // Two channels are read as grey and alpha: a grey-alpha PNG reads so, an EXR of R and G (two

@@ -110,6 +110,22 @@ TEST(FurLengthMap, ValuesKeepTheFilesPrecision) {
   }
 }
 
+// Only the first channel is read, so the others may hold anything: a NaN in g no longer refuses
+// the map (it was named as a bad texel of a channel no one reads).
+TEST(FurLengthMap, OnlyTheFirstChannelIsChecked) {
+  SceneDir dir;
+  const float nan = std::nanf("");
+  const float texels[12] = {0.25f, nan, 0.0f, 0.5f, nan, 1.0f, 0.75f, 0.0f, nan, 1.0f, nan, nan};
+  io::write_image_atomic(dir.path() / "rgb.exr", 2, 2, 3, io::PixelType::f32, texels);
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  m.uvs = {{0.25f, 0.25f}, {0.75f, 0.25f}, {0.25f, 0.75f}, {0.75f, 0.75f}};
+  m.indices = {0, 1, 2, 1, 3, 2};
+  const std::vector<float> scale = read_length_map(dir.path() / "rgb.exr", m, "quad", "s.json", "f", io::Budget{});
+  ASSERT_EQ(scale.size(), 4u);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(scale[size_t(i)], texels[3 * i]) << "vertex " << i;
+}
+
 TEST(FurLengthMap, BadMapsAreRefusedNamingTheFieldOrTheFile) {
   SceneDir dir;
   // Not found: at parse time, by field.

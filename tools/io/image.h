@@ -26,7 +26,9 @@ struct ImageRGBA {
 enum class Alpha { straight, premultiplied };
 
 // How 8/16-bit integer channels are turned into linear values: colour maps are sRGB
-// encoded, data maps (normal maps, masks) are not.
-enum class ColorEncoding { srgb, linear };
+// encoded, data maps (normal maps, masks) are not. srgb_unless_linear: sRGB, but linear where
+// the file says its values are (a PNG's gAMA 1.0 without an sRGB chunk), for colour maps whose
+// namer does not rule that out (glTF tells loaders to ignore a PNG's gamma).
+enum class ColorEncoding { srgb, linear, srgb_unless_linear };
 
 }  // namespace pelt::io

@@ -42,6 +42,9 @@ struct ImageFileInfo {
   // The file's channel names ("R, G") and which channel is alpha (-1: none).
   std::string channel_names;
   int alpha_channel = -1;
+  // The file says its integer values are linear (a PNG whose gAMA is 1.0 and that has no sRGB
+  // chunk: OpenImageIO's oiio:ColorSpace "linear").
+  bool declared_linear = false;
 };
 
 // An open image file, its values kept as stored (no alpha association).

@@ -208,6 +208,8 @@ ImageRGBA read_image_rgba(const std::filesystem::path& path, ColorEncoding encod
   std::vector<uint8_t> buffer(static_cast<size_t>(spec.width) * spec.height * channels * bytes);
   if (const std::string error = in->read(channels, spec.type, buffer.data()); !error.empty())
     throw InputError(file, "", "reading the pixels failed: " + error);
+  if (encoding == ColorEncoding::srgb_unless_linear)
+    encoding = spec.declared_linear ? ColorEncoding::linear : ColorEncoding::srgb;
   ImageRGBA img = pixels_to_rgba(buffer.data(), spec.width, spec.height, channels, 8 * bytes, encoding);
   for (size_t i = 0; i < img.rgba.size(); ++i)
     if (!std::isfinite(img.rgba[i])) {

@@ -39,6 +39,8 @@ class OiioReader final : public ImageReader {
     info_.full_height = spec.full_height;
     for (const std::string& name : spec.channelnames) info_.channel_names += (info_.channel_names.empty() ? "" : ", ") + name;
     info_.alpha_channel = spec.alpha_channel;
+    info_.declared_linear = std::string(in_->format_name()) == "png" &&
+                            spec.get_string_attribute("oiio:ColorSpace") == "linear";
     info_.type = spec.format == OIIO::TypeDesc::UINT8    ? StoredType::u8
                  : spec.format == OIIO::TypeDesc::UINT16 ? StoredType::u16
                                                          : StoredType::f32;

@@ -144,8 +144,16 @@ io::MapPlacement load_object_map(const io::Scene& scene, size_t index, const Map
   io::ImageRGBA read;
   if (src->file) {
     inputs.push_back(*src->file);
+    // A colour map's PNG may say it holds linear values (gAMA 1.0): honoured, but for a map a
+    // glTF names, whose specification tells loaders to ignore a PNG's gamma.
+    std::string mesh_ext = so.mesh_path.extension().string();
+    std::transform(mesh_ext.begin(), mesh_ext.end(), mesh_ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const bool gltf_names = src->named_by_mesh && (mesh_ext == ".gltf" || mesh_ext == ".glb");
+    const io::ColorEncoding encoding = kind.file_encoding == io::ColorEncoding::srgb && !gltf_names
+                                           ? io::ColorEncoding::srgb_unless_linear
+                                           : kind.file_encoding;
     read = asked_by(map_asked_by(scene, index, kind.field, src->named_by_mesh),
-                    [&] { return io::read_image_rgba(*src->file, kind.file_encoding, budget, 3); });  // alpha unused
+                    [&] { return io::read_image_rgba(*src->file, encoding, budget, 3); });  // alpha unused
   }
   const io::ImageRGBA& img = src->file ? read : *src->pixels;
   // No material draws a map's alpha (glTF's default OPAQUE mode ignores it; the fur's colour

@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "tests/tools/io/linear_png.h"
 #include "tests/tools/io/temp_dir.h"
 #include "tools/io/input_error.h"
 #include "tools/io/srgb.h"
@@ -118,6 +119,23 @@ TEST(ImageIo, AWindowedExrIsRefusedAndANonFiniteTexelNamed) {
   const ImageRGBA first = read_image_rgba(dir.path() / "nan.exr", ColorEncoding::linear, Budget{}, 1);
   EXPECT_EQ(first.rgba[(2 * 4 + 3) * 4 + 1], 0.0f);
   EXPECT_EQ(first.rgba[(2 * 4 + 3) * 4 + 0], 0.5f);
+}
+
+// A PNG that says its values are linear (gAMA 1.0, no sRGB chunk) is read linear where the
+// caller allows it (srgb_unless_linear: colour maps not named by a glTF), and as sRGB where the
+// caller says sRGB (glTF tells loaders to ignore a PNG's gamma). A 4 x 4 image of 128s.
+TEST(ImageIo, APngDeclaredLinearIsReadLinearWhereAllowed) {
+  TempDir dir;
+  const std::filesystem::path linear_png = dir.path() / "linear.png";
+  write_linear_png(linear_png);
+  const float as_linear = read_image_rgba(linear_png, ColorEncoding::srgb_unless_linear).rgba[0];
+  const float as_srgb = read_image_rgba(linear_png, ColorEncoding::srgb).rgba[0];
+  EXPECT_FLOAT_EQ(as_linear, 128.0f / 255.0f);
+  EXPECT_NEAR(as_srgb, 0.2158605f, 1e-6f);
+  // A PNG without the chunk reads as sRGB either way.
+  const std::vector<uint8_t> grey(4 * 4 * 3, 128);
+  write_image_atomic(dir.path() / "plain.png", 4, 4, 3, PixelType::u8, grey.data());
+  EXPECT_NEAR(read_image_rgba(dir.path() / "plain.png", ColorEncoding::srgb_unless_linear).rgba[0], 0.2158605f, 1e-6f);
 }
 
 // Two channels are read as grey and alpha: a grey-alpha PNG reads so, an EXR of R and G (two

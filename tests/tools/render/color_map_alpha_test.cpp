@@ -4,10 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <filesystem>
 #include <cstdio>
 #include <string>
 #include <vector>
 
+#include "tests/tools/io/base64.h"
+#include "tests/tools/io/linear_png.h"
 #include "tests/tools/render/render_test_scenes.h"
 #include "tools/io/image_io.h"
 
@@ -74,6 +79,41 @@ TEST(ColorMapAlpha, MinifiedColoursAverageWhateverTheAlpha) {
   EXPECT_TRUE(a.color == b.color);
   const size_t centre = (size_t{12} * 32 + 16) * 4;
   EXPECT_NEAR(a.color[centre], a.color[centre + 1], 0.02f);  // yellow: as much red as green
+}
+
+// A colour map's PNG that says it holds linear values is drawn so (about 0.5 for its 128s,
+// not sRGB's 0.216), when the scene or an MTL names it; a glTF's, as sRGB, since the glTF
+// specification tells loaders to ignore a PNG's gamma.
+TEST(ColorMapAlpha, APngDeclaredLinearIsHonouredButWhereAGltfNamesIt) {
+  SceneDir dir;
+  io::write_linear_png(dir.path() / "linear.png");
+  const size_t centre = (size_t{12} * 32 + 16) * 4;
+  const FrameImage scene_named = draw(unlit_plane(dir, "linear.png"), "bilinear");
+  EXPECT_NEAR(scene_named.color[centre], 0.502f, 0.002f);
+  // The same map named by a glTF quad that fills the view.
+  const float pos[12] = {-2, 0, 2, 2, 0, 2, 2, 0, -2, -2, 0, -2};
+  const float uv[8] = {0, 1, 1, 1, 1, 0, 0, 0};
+  const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
+  std::string bytes(reinterpret_cast<const char*>(pos), sizeof pos);
+  bytes.append(reinterpret_cast<const char*>(uv), sizeof uv);
+  bytes.append(reinterpret_cast<const char*>(idx), sizeof idx);
+  dir.write("quad.gltf", R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+    "meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":1},"indices":2,"material":0}]}],
+    "materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}],"textures":[{"source":0}],
+    "images":[{"uri":"linear.png"}],
+    "buffers":[{"byteLength":92,"uri":"data:application/octet-stream;base64,)" + io::base64(bytes) + R"("}],
+    "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":48},{"buffer":0,"byteOffset":48,"byteLength":32},
+                   {"buffer":0,"byteOffset":80,"byteLength":12}],
+    "accessors":[{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[-2,0,-2],"max":[2,0,2]},
+                 {"bufferView":1,"componentType":5126,"count":4,"type":"VEC2"},
+                 {"bufferView":2,"componentType":5123,"count":6,"type":"SCALAR"}]})");
+  const io::Scene gltf = dir.scene(R"({"pelt": 1, "image": {"width": 32, "height": 24, "background": [0, 0, 1]},
+      "camera": {"eye": [0, 3, 0.001], "target": [0, 0, 0], "fovy_deg": 40},
+      "lights": [{"type": "ambient", "intensity": 1}],
+      "objects": [{"mesh": ")" + (dir.path() / "quad.gltf").string() + R"(",
+                   "material": {"type": "unlit", "color": [1, 1, 1], "double_sided": true}}]})");
+  const FrameImage gltf_named = draw(gltf, "bilinear");
+  EXPECT_NEAR(gltf_named.color[centre], 0.216f, 0.002f);
 }
 
 }  // namespace

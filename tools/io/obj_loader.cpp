@@ -206,6 +206,10 @@ struct ObjPrescan {
   struct MaterialUse {
     uint64_t first_face;
     std::string name;
+    // The name before a blank and `#` (`usemtl Mat # note`), empty without one: a name may hold
+    // `#` (3ds Max's `Material #25`), so this is tried only when the whole name is no material's.
+    std::string before_comment;
+    size_t line = 0;
   };
   std::vector<MaterialUse> uses;
   // Records and face corners, for the memory a parse holds (load_bytes_at_least).
@@ -362,8 +366,11 @@ ObjPrescan prescan_obj(std::istream& in, const std::string& file) {
     if (starts_record(line, i, "usemtl")) {
       std::string name = record_text(line, i, 6, true);
       if (name.find_first_of(" \t") != std::string::npos) out.needs_mending = true;
-      std::replace_if(name.begin(), name.end(), [](char c) { return c == ' ' || c == '\t'; }, kNameBlank);
-      out.uses.push_back({faces, std::move(name)});
+      std::string before = record_text(line, i, 6, false);
+      if (before == name) before.clear();
+      for (std::string* n : {&name, &before})
+        std::replace_if(n->begin(), n->end(), [](char c) { return c == ' ' || c == '\t'; }, kNameBlank);
+      out.uses.push_back({faces, std::move(name), std::move(before), line_number});
       continue;
     }
     if (starts_record(line, i, "f")) {
@@ -590,6 +597,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   std::map<std::string, int> first_of_name;
   for (size_t id = 0; id < materials.size(); ++id) first_of_name.try_emplace(materials[id].name, int(id));
   size_t use = 0;
+  std::set<size_t> read_as_comment;  // uses whose name was found only without its `#` comment
   std::vector<glm::vec3> corner_positions;
   std::vector<uint32_t> corner_vertices, triangles;
   for (const tinyobj::shape_t& shape : shapes) {
@@ -602,10 +610,16 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
       while (use < pre.uses.size() && pre.uses[use].first_face <= face_number) ++use;
       if (f < mesh.material_ids.size()) {
         int id = mesh.material_ids[f];
-        if (id < 0 && use > 0)
-          if (const auto it = first_of_name.find(pre.uses[use - 1].name); it != first_of_name.end()) {
+        if (id < 0 && use > 0) {
+          const ObjPrescan::MaterialUse& u = pre.uses[use - 1];
+          if (const auto it = first_of_name.find(u.name); it != first_of_name.end()) {
             id = it->second;
+          } else if (const auto cut = first_of_name.find(u.before_comment);
+                     !u.before_comment.empty() && cut != first_of_name.end()) {
+            id = cut->second;
+            read_as_comment.insert(use - 1);
           }
+        }
         if (material < 0) material = id;
         if (id >= 0 && size_t(id) < material_used.size()) material_used[size_t(id)] = 1;
         faces_without_material += id < 0;
@@ -666,6 +680,14 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   for (const auto& [name, id] : first_of_name) {
     const std::string said = "material [ '" + name + "' ] not found in .mtl\n";
     for (size_t at; (at = warnings.find(said)) != std::string::npos;) warnings.erase(at, said.size());
+  }
+  for (const size_t k : read_as_comment) {
+    const ObjPrescan::MaterialUse& u = pre.uses[k];
+    const std::string said = "material [ '" + u.name + "' ] not found in .mtl\n";
+    for (size_t at; (at = warnings.find(said)) != std::string::npos;) warnings.erase(at, said.size());
+    out.warnings.push_back("`usemtl " + shown_name(u.name) + "` (line " + std::to_string(u.line) +
+                           ") names no material: read as `" + shown_name(u.before_comment) +
+                           "`, the text from `#` taken as a comment");
   }
   for (size_t at; (at = warnings.find("Both `d` and `Tr` parameters defined")) != std::string::npos;)
     warnings.erase(at, warnings.find('\n', at) == std::string::npos ? std::string::npos : warnings.find('\n', at) + 1 - at);

@@ -234,6 +234,30 @@ TEST(ObjExports, AMaterialLibraryAfterItsUsemtlStillGivesTheMaterial) {
       << none.warnings[1];
 }
 
+// A `usemtl` with a comment after its name (`usemtl Mat # the red one`): names may hold `#`
+// (3ds Max's `Material #25`), so the whole name is looked up first, and only when no material
+// has it, the name before the comment, with a warning that says so.
+TEST(ObjExports, AUsemtlCommentIsCutOnlyWhenTheWholeNameIsNoMaterials) {
+  TempDir dir;
+  dir.write("a.png", "");
+  dir.write("b.png", "");
+  dir.write("c.mtl", "newmtl Mat\nmap_Kd a.png\nnewmtl Material #25\nmap_Kd b.png\n");
+  const LoadedMesh cut = load_mesh_file(dir.write(
+      "cut.obj", joined({"mtllib c.mtl", kQuad + "usemtl Mat # the red one", "f 1/1 2/2 3/3", "usemtl Material #25",
+                         "f 1/1 3/3 4/4"})));
+  EXPECT_EQ(cut.color_map.path, dir.path() / "a.png");
+  std::vector<std::string> about;
+  for (const std::string& w : cut.warnings)
+    if (w.find("Mat # the red one") != std::string::npos || w.find("not found") != std::string::npos) about.push_back(w);
+  ASSERT_EQ(about.size(), 1u) << ::testing::PrintToString(cut.warnings);
+  EXPECT_EQ(about[0], "`usemtl Mat # the red one` (line 10) names no material: read as `Mat`, the text from `#` taken "
+                      "as a comment");
+  const LoadedMesh whole = load_mesh_file(
+      dir.write("whole.obj", joined({"mtllib c.mtl", kQuad + "usemtl Material #25", "f 1/1 2/2 3/3"})));
+  EXPECT_EQ(whole.color_map.path, dir.path() / "b.png");
+  EXPECT_TRUE(whole.warnings.empty()) << ::testing::PrintToString(whole.warnings);
+}
+
 // A used material's transparency or cut-out map is not drawn: said so (an unused one's is not).
 TEST(ObjExports, TransparencyAndCutOutsOfAUsedMaterialAreNamed) {
   TempDir dir;

@@ -60,16 +60,21 @@ void compute_vertex_normals(Mesh& mesh, NormalSharing sharing, const std::vector
 }
 
 void uv_derivatives(const Mesh& mesh, std::vector<glm::dvec3>& dpdu, std::vector<glm::dvec3>& dpdv) {
+  uv_derivatives(mesh, mesh.uvs, dpdu, dpdv);
+}
+
+void uv_derivatives(const Mesh& mesh, const std::vector<glm::vec2>& uvs, std::vector<glm::dvec3>& dpdu,
+                    std::vector<glm::dvec3>& dpdv) {
   const size_t n = mesh.positions.size();
   dpdu.assign(n, glm::dvec3(0.0));
   dpdv.assign(n, glm::dvec3(0.0));
-  if (mesh.uvs.size() != n) return;
+  if (uvs.size() != n) return;
   for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
     const uint32_t i0 = mesh.indices[t], i1 = mesh.indices[t + 1], i2 = mesh.indices[t + 2];
     const glm::dvec3 e1 = glm::dvec3(mesh.positions[i1]) - glm::dvec3(mesh.positions[i0]);
     const glm::dvec3 e2 = glm::dvec3(mesh.positions[i2]) - glm::dvec3(mesh.positions[i0]);
-    const glm::dvec2 d1 = glm::dvec2(mesh.uvs[i1]) - glm::dvec2(mesh.uvs[i0]);
-    const glm::dvec2 d2 = glm::dvec2(mesh.uvs[i2]) - glm::dvec2(mesh.uvs[i0]);
+    const glm::dvec2 d1 = glm::dvec2(uvs[i1]) - glm::dvec2(uvs[i0]);
+    const glm::dvec2 d2 = glm::dvec2(uvs[i2]) - glm::dvec2(uvs[i0]);
     // e = dP/du du + dP/dv dv for both edges; solving divides by det, multiplying through by
     // |det| instead weights the triangle by its uv area and never divides by zero.
     const double det = d1.x * d2.y - d2.x * d1.y;
@@ -84,10 +89,12 @@ void uv_derivatives(const Mesh& mesh, std::vector<glm::dvec3>& dpdu, std::vector
   }
 }
 
-std::vector<glm::vec4> compute_vertex_tangents(const Mesh& mesh) {
+std::vector<glm::vec4> compute_vertex_tangents(const Mesh& mesh) { return compute_vertex_tangents(mesh, mesh.uvs); }
+
+std::vector<glm::vec4> compute_vertex_tangents(const Mesh& mesh, const std::vector<glm::vec2>& uvs) {
   const size_t n = mesh.positions.size();
   std::vector<glm::dvec3> tu, tv;
-  uv_derivatives(mesh, tu, tv);
+  uv_derivatives(mesh, uvs, tu, tv);
   std::vector<glm::vec4> out(n);
   for (size_t i = 0; i < n; ++i) {
     glm::dvec3 N = i < mesh.normals.size() ? glm::dvec3(mesh.normals[i]) : glm::dvec3(0, 1, 0);

@@ -48,11 +48,17 @@ void compute_vertex_normals(Mesh& mesh, NormalSharing sharing = NormalSharing::p
 // green channel. Needs normals and uvs (one per position). Where the uvs give no direction
 // (degenerate uv triangles), T is any unit vector orthogonal to N and w = 1.
 std::vector<glm::vec4> compute_vertex_tangents(const Mesh& mesh);
+// The same with `uvs` (one per position) in place of mesh.uvs: a map read at other coordinates
+// than the mesh's (placed by an affine transform) has its own frame.
+std::vector<glm::vec4> compute_vertex_tangents(const Mesh& mesh, const std::vector<glm::vec2>& uvs);
 
 // Per-vertex sums, over the adjacent triangles, of the surface derivatives dP/du and dP/dv,
 // each triangle's scaled by its uv-space area (so a degenerate uv triangle adds nothing), in
 // double. Both outputs get one entry per position; zero where no triangle has uv extent.
 // Needs uvs (one per position). The building block of tangent frames and uv combing.
 void uv_derivatives(const Mesh& mesh, std::vector<glm::dvec3>& dpdu, std::vector<glm::dvec3>& dpdv);
+// The same with `uvs` in place of mesh.uvs.
+void uv_derivatives(const Mesh& mesh, const std::vector<glm::vec2>& uvs, std::vector<glm::dvec3>& dpdu,
+                    std::vector<glm::dvec3>& dpdv);
 
 }  // namespace pelt

@@ -655,6 +655,7 @@ class GltfReader {
   // A texture kind's first texture, where it was named, and whether another was warned of.
   struct Taken {
     int texture = -1;
+    int source = -1;  // its image
     MapPlacement placement;
     std::string where;
     bool warned = false;
@@ -702,7 +703,7 @@ class GltfReader {
 
   // Where a texture info's map lies: its sampler's wrapS and wrapT, and KHR_texture_transform's
   // offset, rotation and scale as the extension composes them (translation * rotation * scale,
-  // the rotation counter-clockwise in uv, v down). check_integer_fields has checked the values.
+  // the rotation counter-clockwise in uv, v down). check_fields_as_written has checked the values.
   template <class Info>
   MapPlacement placement_of(const Info& info) const {
     MapPlacement p;
@@ -748,12 +749,13 @@ class GltfReader {
   // decides colour and shading; a mesh file gives maps): said once per material, so that a
   // cut-out drawn whole or a tint not applied is no surprise.
   void note_undrawn(const tinygltf::Material& mat, const std::string& mw) {
-    if (!mat.alphaMode.empty() && mat.alphaMode != "OPAQUE")
+    const bool opaque = mat.alphaMode.empty() || mat.alphaMode == "OPAQUE";
+    if (!opaque)
       out_.warnings.push_back(mw + ".alphaMode " + mat.alphaMode +
                               " is not drawn: the mesh is drawn opaque, its base colour's alpha unused (cut-outs and "
                               "transparency show whole)");
     const std::vector<double>& f = mat.pbrMetallicRoughness.baseColorFactor;
-    const bool opaque = mat.alphaMode.empty() || mat.alphaMode == "OPAQUE";  // where the factor's alpha means nothing
+    // The factor's alpha means nothing to an opaque material.
     if (f.size() == 4 && (f[0] != 1.0 || f[1] != 1.0 || f[2] != 1.0 || (!opaque && f[3] != 1.0))) {
       char factor[128];
       std::snprintf(factor, sizeof factor, "[%g, %g, %g, %g]", f[0], f[1], f[2], f[3]);
@@ -773,14 +775,12 @@ class GltfReader {
   void take_texture(int texture, const MapPlacement& placement, ColorEncoding encoding, const std::string& where,
                     TextureRef& ref, Taken& taken, const char* kind) {
     if (texture < 0) return;
-    image_source(texture, where);  // a texture not drawn is still a reference that must hold
+    const int source = image_source(texture, where);  // a texture not drawn is still a reference that must hold
     if (taken.texture < 0) {
       resolve_texture(texture, encoding, where, ref);
       ref.placement = placement;
-      taken.texture = texture;
-      taken.placement = placement;
-      taken.where = where;
-    } else if (const bool other_image = image_source(texture, where) != image_source(taken.texture, taken.where);
+      taken = {texture, source, placement, where, false};
+    } else if (const bool other_image = source != taken.source;
                (other_image || placement != taken.placement) && !taken.warned) {
       taken.warned = true;
       const std::string what = other_image ? std::string("more than one ") + kind + " texture"
@@ -909,7 +909,7 @@ bool read_named_file(std::vector<unsigned char>* out, std::string* err, const st
     if (const uintmax_t size = std::filesystem::file_size(path, ec); !ec && size > check->budget->max_memory_bytes)
       check->refused.emplace("", "", "`" + path + "`, which it names, is " + describe_bytes(size) + ", " +
                                          over_budget(describe_bytes(check->budget->max_memory_bytes), kMaxMemoryFlag));
-  } else if (reason != "not found") {
+  } else if (reason != kFileNotFound) {
     check->refused.emplace("", "", "`" + path + "`, which it names, " + reason);
   }
   if (check->refused) {
@@ -972,7 +972,7 @@ std::string gltf_json_text(const std::filesystem::path& path, bool binary) {
 // wraps the elements past int's range, and ignores a list that is no array; a primitive's
 // attributes it wraps the same way. So the integers pelt reads are checked in the file's own
 // JSON: each, where given, an integer in [0, its largest].
-void check_integer_fields(const std::string& text, const std::string& file) {
+void check_fields_as_written(const std::string& text, const std::string& file) {
   const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
   constexpr uint64_t kIndex = INT_MAX;    // tinygltf keeps indices in an int
   constexpr uint64_t kSize = UINT64_MAX;  // and offsets in a size_t
@@ -1005,7 +1005,8 @@ void check_integer_fields(const std::string& text, const std::string& file) {
   };
   const auto number = [&](const nlohmann::json& v, const std::string& field) {
     if (!v.is_number()) throw InputError(file, field, "expected a number, got " + json_type_name(v));
-    if (std::abs(v.get<double>()) > 1e30) throw InputError(file, field, v.dump() + " is too large (above 1e30)");
+    if (std::abs(v.get<double>()) > kMostMapValue)
+      throw InputError(file, field, v.dump() + " is too large (above 1e30)");
   };
   const auto numbers = [&](const nlohmann::json& obj, const std::string& path, const char* key) {
     const auto it = obj.find(key);
@@ -1027,10 +1028,8 @@ void check_integer_fields(const std::string& text, const std::string& file) {
     numbers(*it, field, "scale");
     if (it->contains("scale"))
       for (size_t i = 0; i < 2; ++i)
-        if (std::abs((*it)["scale"][i].template get<double>()) < 1e-30)  // as MTL's -s (obj_materials.cpp)
-          throw InputError(file, json_index(json_child(field, "scale"), i),
-                           "a scale of " + (*it)["scale"][i].dump() +
-                               " shrinks the map to one texel: give one of 1e-30 or more in size");
+        if (std::abs((*it)["scale"][i].template get<double>()) < kLeastMapScale)
+          throw InputError(file, json_index(json_child(field, "scale"), i), tiny_scale_reason((*it)["scale"][i].dump()));
     if (it->contains("rotation")) number((*it)["rotation"], json_child(field, "rotation"));
     check(*it, field, "texCoord", kIndex);
   };
@@ -1102,7 +1101,8 @@ void check_integer_fields(const std::string& text, const std::string& file) {
       check(smp, p, key, kIndex);
       if (!smp.is_object() || !smp.contains(key)) continue;
       const auto mode = smp[key].template get<uint64_t>();
-      if (mode != 33071 && mode != 33648 && mode != 10497)
+      if (mode != TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE && mode != TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT &&
+          mode != TINYGLTF_TEXTURE_WRAP_REPEAT)
         throw InputError(file, json_child(p, key),
                          std::to_string(mode) + " is no wrap mode: 33071 (clamp to edge), 33648 (mirrored repeat) or "
                                                 "10497 (repeat)");
@@ -1143,7 +1143,7 @@ LoadedMesh load_gltf(const std::filesystem::path& path, bool binary, const Budge
       throw InputError(file, json_index("extensionsRequired", i),
                        "the file needs the extension `" + model.extensionsRequired[i] +
                            "`, which pelt does not read (it reads core glTF 2.0 and KHR_texture_transform)");
-  check_integer_fields(gltf_json_text(path, binary), file);
+  check_fields_as_written(gltf_json_text(path, binary), file);
   GltfReader reader(model, file, path.parent_path(), budget);
   check_face_budget(reader.triangle_count(), budget, file, "");
   LoadedMesh out = reader.read();

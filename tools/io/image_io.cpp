@@ -118,7 +118,7 @@ std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path) {
   // Maps named inside a mesh file (an MTL's map_Kd, a glTF's uri) reach here unchecked: a pipe
   // named so hung the set-up.
   if (const std::string reason = unreadable_file_reason(path); !reason.empty())
-    throw InputError(file, "", reason == "not found" ? "image file not found" : reason + ", not an image file");
+    throw InputError(file, "", reason == kFileNotFound ? "image file not found" : reason + ", not an image file");
   std::string error;
   auto in = image_backend_for(file).open(file, error);
   if (!in) throw InputError(file, "", "cannot read the image: " + error);

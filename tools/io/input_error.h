@@ -8,12 +8,16 @@
 
 namespace pelt::io {
 
-// Why the file at `path` cannot be read as a file ("" when it can): missing, a folder, or not a
-// regular file. Every reader of a file a user names checks it first: a pipe or a device such as
-// /dev/zero would be read without end, and a folder's "size" (2^63) was allocated by tinygltf.
+// unreadable_file_reason's word for a missing file, which callers say in their own words.
+inline constexpr const char* kFileNotFound = "not found";
+
+// Why the file at `path` cannot be read as a file ("" when it can): missing (kFileNotFound), a
+// folder, or not a regular file. Every reader of a file a user names checks it first: a pipe or
+// a device such as /dev/zero would be read without end, and a folder's "size" (2^63) was
+// allocated by tinygltf.
 inline std::string unreadable_file_reason(const std::filesystem::path& path) {
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return "not found";
+  if (!std::filesystem::exists(path, ec)) return kFileNotFound;
   if (std::filesystem::is_directory(path, ec)) return "is a folder";
   if (!std::filesystem::is_regular_file(path, ec)) return "is not a regular file (a device, a pipe or a socket)";
   return "";

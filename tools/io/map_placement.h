@@ -17,8 +17,21 @@ struct MapPlacement {
   std::array<float, 6> m{1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
 
   bool transforms() const { return m != MapPlacement{}.m; }
+  // The uv the map is read at, for the mesh's (u, v).
+  float u_at(float u, float v) const { return m[0] * u + m[1] * v + m[2]; }
+  float v_at(float u, float v) const { return m[3] * u + m[4] * v + m[5]; }
   bool operator==(const MapPlacement&) const = default;
 };
+
+// What a mesh file may give a placement, for MTL's -s / -o and KHR_texture_transform alike: a
+// value above kMostMapValue in size is refused (no uv so far out is meant), and a scale below
+// kLeastMapScale, which makes the map one texel wherever it is drawn (a float may round it to 0).
+inline constexpr double kMostMapValue = 1e30;
+inline constexpr double kLeastMapScale = 1e-30;
+// The reason a scale (as `written`) below kLeastMapScale is refused.
+inline std::string tiny_scale_reason(const std::string& written) {
+  return "a scale of " + written + " shrinks the map to one texel: give one of 1e-30 or more in size";
+}
 
 // The same placement for uvs whose v is flipped (v -> 1 - v on both sides: OBJ counts v from
 // the bottom of the image, pelt from the top).

@@ -99,7 +99,7 @@ void validate_mesh(const Mesh& m, const std::string& file) {
 LoadedMesh load_mesh_file(const std::filesystem::path& path, const Budget& budget) {
   const std::string file = path.string();
   if (const std::string reason = unreadable_file_reason(path); !reason.empty())
-    throw InputError(file, "", reason == "not found" ? "file not found" : reason + ", not a mesh file");
+    throw InputError(file, "", reason == kFileNotFound ? "file not found" : reason + ", not a mesh file");
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -110,6 +110,7 @@ LoadedMesh load_mesh_file(const std::filesystem::path& path, const Budget& budge
   else
     throw InputError(file, "", "unsupported mesh file extension `" + path.extension().string() +
                                    "` (expected .obj, .gltf or .glb)");
+  out.format = ext == ".obj" ? MeshFormat::obj : MeshFormat::gltf;
   validate_mesh(out.mesh, file);
   return out;
 }

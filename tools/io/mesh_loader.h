@@ -23,7 +23,12 @@ struct TextureRef {
   bool present() const { return !path.empty() || !pixels.empty(); }
 };
 
+// What a mesh came from: its uvs' and maps' conventions follow (OBJ counts v from the bottom of
+// the image; glTF tells loaders to ignore a PNG's gamma).
+enum class MeshFormat { builtin, obj, gltf };
+
 struct LoadedMesh {
+  MeshFormat format = MeshFormat::builtin;  // set by load_mesh_file
   Mesh mesh;               // all triangles of the file in one mesh, in file order
   TextureRef color_map;    // glTF baseColorTexture / OBJ map_Kd
   TextureRef normal_map;   // glTF normalTexture / OBJ norm (a bump map is only warned of)

@@ -230,6 +230,28 @@ uint64_t load_bytes_at_least(const ObjPrescan& pre, uint64_t mended_text) {
   return sat_add(bytes, sat_mul(pre.faces, 9));
 }
 
+// tinyobjloader's warnings, a line each, less those pelt knows to be untrue or says better: its
+// "not found" for a name a library defines (it met the `usemtl` before the `mtllib`) or that a
+// comment was cut from (`found`), and its note on a material giving both `d` and `Tr` (3ds Max
+// writes both for every material; pelt's own transparency warning covers what matters).
+std::string untrue_warnings_dropped(const std::string& warnings, const std::map<std::string, int>& defined,
+                                    const std::set<std::string>& found) {
+  static constexpr std::string_view kNotFoundHead = "material [ '", kNotFoundTail = "' ] not found in .mtl";
+  std::string kept;
+  std::istringstream lines(warnings);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("Both `d` and `Tr` parameters defined", 0) == 0) continue;
+    if (line.size() > kNotFoundHead.size() + kNotFoundTail.size() && line.starts_with(kNotFoundHead) &&
+        line.ends_with(kNotFoundTail)) {
+      const std::string name =
+          line.substr(kNotFoundHead.size(), line.size() - kNotFoundHead.size() - kNotFoundTail.size());
+      if (defined.contains(name) || found.contains(name)) continue;
+    }
+    kept.append(line).push_back('\n');
+  }
+  return kept;
+}
+
 // The text after a record's keyword at i: blanks trimmed, and a trailing comment (a word that
 // begins with `#`) cut off, except in a name (`usemtl Material #2`, `mtllib my #1.mtl`).
 std::string record_text(const std::string& line, size_t i, size_t keyword, bool name = false) {
@@ -674,24 +696,15 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     }
   }
   if (m.indices.empty()) throw InputError(file, "", "the file has no faces");
-  // tinyobjloader's "not found" for a name some library defines is not true (it met the `usemtl`
-  // before the `mtllib`), and its note on a material giving both `d` and `Tr` (3ds Max writes both
-  // for every material) says nothing the transparency warning above does not.
-  for (const auto& [name, id] : first_of_name) {
-    const std::string said = "material [ '" + name + "' ] not found in .mtl\n";
-    for (size_t at; (at = warnings.find(said)) != std::string::npos;) warnings.erase(at, said.size());
-  }
+  std::set<std::string> found;  // names read without their comment
   for (const size_t k : read_as_comment) {
     const ObjPrescan::MaterialUse& u = pre.uses[k];
-    const std::string said = "material [ '" + u.name + "' ] not found in .mtl\n";
-    for (size_t at; (at = warnings.find(said)) != std::string::npos;) warnings.erase(at, said.size());
+    found.insert(u.name);
     out.warnings.push_back("`usemtl " + shown_name(u.name) + "` (line " + std::to_string(u.line) +
                            ") names no material: read as `" + shown_name(u.before_comment) +
                            "`, the text from `#` taken as a comment");
   }
-  for (size_t at; (at = warnings.find("Both `d` and `Tr` parameters defined")) != std::string::npos;)
-    warnings.erase(at, warnings.find('\n', at) == std::string::npos ? std::string::npos : warnings.find('\n', at) + 1 - at);
-  add_library_warnings(out, shown_name(warnings));
+  add_library_warnings(out, shown_name(untrue_warnings_dropped(warnings, first_of_name, found)));
   if (!all_uvs) {
     if (nt > 0) out.warnings.push_back("some vertices have no texture coordinate: uvs dropped");
     m.uvs.clear();

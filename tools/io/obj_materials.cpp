@@ -84,9 +84,6 @@ constexpr MapOption kMapOptions[] = {{"-blendu", 1, 1}, {"-blendv", 1, 1},  {"-b
                                      {"-clamp", 1, 1},  {"-bm", 1, 1},      {"-imfchan", 1, 1}, {"-type", 1, 1},
                                      {"-cc", 1, 1},     {"-colorspace", 1, 1}};
 
-// A map scaled below this is one texel wherever it is drawn (and a float may round it to 0).
-constexpr double kLeastScale = 1e-30;
-
 bool is_map_statement(std::string_view keyword) {
   return keyword == "map_Kd" || keyword == "norm" || keyword == "bump" || keyword == "map_Bump" ||
          keyword == "map_bump";
@@ -173,7 +170,7 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
           else if (v != "off" && placed)
             throw InputError(library.string(), at + " -clamp", "`" + std::string(w[k]) + "` is neither on nor off");
         }
-        // -s, -o and -t take at least one number: a word that is none would be lost.
+        // -s and -o take at least one number: a word that is none would be lost.
         if (!number && placed && (name == "-s" || name == "-o"))
           throw InputError(library.string(), at + " " + std::string(name),
                            "`" + std::string(w[k]) + "` is not a number" +
@@ -186,12 +183,11 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
         // Only the maps pelt draws are placed, and so checked (a bump map is only warned of).
         if (!placed || taken > 1) continue;  // w: a 3-D texture's, no axis of a 2-D map
         // from_chars reads `inf` and `nan`
-        if (!std::isfinite(value) || std::abs(value) > 1e30)
+        if (!std::isfinite(value) || std::abs(value) > kMostMapValue)
           throw InputError(library.string(), at + " " + std::string(name),
                            "`" + std::string(w[k]) + "` is not a finite number of a sensible size");
-        if (name == "-s" && std::abs(value) < kLeastScale)
-          throw InputError(library.string(), at + " -s",
-                           "a scale of " + std::string(w[k]) + " shrinks the map to one texel: give one of 1e-30 or more in size");
+        if (name == "-s" && std::abs(value) < kLeastMapScale)
+          throw InputError(library.string(), at + " -s", tiny_scale_reason(std::string(w[k])));
         (name == "-s" ? scale : offset)[taken] = float(value);
       }
     }

@@ -1,7 +1,6 @@
 #include "tools/render/scene_renderer.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -127,8 +126,9 @@ constexpr MapKind kNormalMap{"normal_map", io::ColorEncoding::linear, raster::Te
 // Returns where the map lies: as the mesh file places its own map, by default for the scene's.
 io::MapPlacement load_object_map(const io::Scene& scene, size_t index, const MapKind& kind,
                                  const std::filesystem::path& from_scene, const io::TextureRef& named,
-                                 const Mesh& mesh, const io::Budget& budget, const raster::ParallelFor& parallel,
-                                 raster::Texture& out, FrameStats& stats, std::vector<std::filesystem::path>& inputs) {
+                                 io::MeshFormat format, const Mesh& mesh, const io::Budget& budget,
+                                 const raster::ParallelFor& parallel, raster::Texture& out, FrameStats& stats,
+                                 std::vector<std::filesystem::path>& inputs) {
   const io::SceneObject& so = scene.objects[index];
   const std::optional<MapSource> src = map_source(from_scene, named);
   if (!src) return {};
@@ -146,9 +146,7 @@ io::MapPlacement load_object_map(const io::Scene& scene, size_t index, const Map
     inputs.push_back(*src->file);
     // A colour map's PNG may say it holds linear values (gAMA 1.0): honoured, but for a map a
     // glTF names, whose specification tells loaders to ignore a PNG's gamma.
-    std::string mesh_ext = so.mesh_path.extension().string();
-    std::transform(mesh_ext.begin(), mesh_ext.end(), mesh_ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    const bool gltf_names = src->named_by_mesh && (mesh_ext == ".gltf" || mesh_ext == ".glb");
+    const bool gltf_names = src->named_by_mesh && format == io::MeshFormat::gltf;
     const io::ColorEncoding encoding = kind.file_encoding == io::ColorEncoding::srgb && !gltf_names
                                            ? io::ColorEncoding::srgb_unless_linear
                                            : kind.file_encoding;
@@ -322,22 +320,20 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     id_base += static_cast<uint32_t>(m.triangle_count());
 
     // Internally v = 0 is the top row of an image (glTF); OBJ files count v from the bottom, and
-    // place their maps (MTL -s, -o) in their own uvs. The loader reads `.OBJ` as well.
-    std::string extension = so.mesh_path.extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    const bool v_up = extension == ".obj";
+    // place their maps (MTL -s, -o) in their own uvs.
+    const io::MeshFormat format = meshes[i].loaded.format;
+    const bool v_up = format == io::MeshFormat::obj;
     if (v_up)
       for (glm::vec2& uv : obj->mesh.uvs) uv.y = 1.0f - uv.y;
     const auto ours = [v_up](const io::MapPlacement& p) { return v_up ? io::flipped_v(p) : p; };
     obj->file_color_placement =
-        load_object_map(scene, i, kColorMap, so.material.color_map, meshes[i].loaded.color_map, obj->mesh,
+        load_object_map(scene, i, kColorMap, so.material.color_map, meshes[i].loaded.color_map, format, obj->mesh,
                         settings.budget, parallel, obj->color_map, setup_stats_, input_files_);
     obj->material.color_placement = ours(obj->file_color_placement);
     if (!obj->color_map.empty()) obj->material.color_map = &obj->color_map;
 
     obj->file_normal_placement =
-        load_object_map(scene, i, kNormalMap, so.material.normal_map, meshes[i].loaded.normal_map, obj->mesh,
+        load_object_map(scene, i, kNormalMap, so.material.normal_map, meshes[i].loaded.normal_map, format, obj->mesh,
                         settings.budget, parallel, obj->normal_map, setup_stats_, input_files_);
     obj->material.normal_placement = ours(obj->file_normal_placement);
     if (!obj->normal_map.empty()) obj->material.normal_map = &obj->normal_map;
@@ -362,17 +358,13 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     std::vector<glm::vec4> tangents;
     if (obj->material.normal_map) {
       const io::MapPlacement& np = obj->material.normal_placement;
+      // The frame of the normal map's own uvs: a rotation or a negative scale turns it.
+      std::vector<glm::vec2> placed;
       if (np.transforms()) {
-        // The frame of the normal map's own uvs (a rotation or a negative scale turns it), taken
-        // with the mesh's uvs placed for the moment, so no copy of the mesh is made.
-        const std::vector<glm::vec2> own = obj->mesh.uvs;
-        for (glm::vec2& uv : obj->mesh.uvs)
-          uv = {np.m[0] * uv.x + np.m[1] * uv.y + np.m[2], np.m[3] * uv.x + np.m[4] * uv.y + np.m[5]};
-        tangents = compute_vertex_tangents(m);
-        obj->mesh.uvs = own;
-      } else {
-        tangents = compute_vertex_tangents(m);
+        placed.reserve(m.uvs.size());
+        for (const glm::vec2& uv : m.uvs) placed.emplace_back(np.u_at(uv.x, uv.y), np.v_at(uv.x, uv.y));
       }
+      tangents = compute_vertex_tangents(m, np.transforms() ? placed : m.uvs);
       obj->material.tangent_slot = obj->varying_count;
       obj->varying_count += 4;
     }

@@ -45,14 +45,12 @@ void sample_placed(const raster::Texture& tex, const io::MapPlacement& placement
   state.wrap_v = placement.wrap_v;
   if (!placement.transforms()) return sample_texture(tex, state, u, v, lanes, out, double_precision, block_mask);
   Scratch& s = tls_scratch;
-  const auto& m = placement.m;
   // Chunks of whole 4x4 blocks: each block's level of detail is unchanged.
   for (size_t first = 0; first < lanes; first += kChunk) {
     const size_t n = std::min(kChunk, lanes - first);
     for (size_t i = 0; i < n; ++i) {
-      const float x = u[first + i], y = v[first + i];
-      s.u[i] = m[0] * x + m[1] * y + m[2];
-      s.v[i] = m[3] * x + m[4] * y + m[5];
+      s.u[i] = placement.u_at(u[first + i], v[first + i]);
+      s.v[i] = placement.v_at(u[first + i], v[first + i]);
     }
     float* const part[4] = {out[0] + first, out[1] + first, out[2] + first, out[3] + first};
     sample_texture(tex, state, s.u, s.v, n, part, double_precision,

@@ -79,8 +79,11 @@ struct DrawCall {
   glm::mat4 clip_from_object{1.0f};
   PipelineState state;
   const Shader* shader = nullptr;
-  // The id AOV of a pixel shows id_base + triangle index + 1 of its visible opaque triangle.
+  // The id AOV of a pixel shows id_base + triangle index + 1 of its visible opaque triangle,
+  // or id_base + triangle_ids[triangle index] + 1 where the caller numbers the triangles (a
+  // draw of some of a mesh's triangles, numbered as in the whole mesh).
   uint32_t id_base = 0;
+  const uint32_t* triangle_ids = nullptr;
   // Translucent draws: the tile sort keys each run of sort_group consecutive triangles (0 ..
   // sort_group - 1, then the next run) by the run's mean view depth, so the run sorts as one
   // primitive and the tiles pack its triangles into shared blocks; quads (2, the default) and

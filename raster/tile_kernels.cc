@@ -635,7 +635,8 @@ void ResolveTile(const FrameView& frame, int32_t tx0, int32_t ty0, TileScratch& 
           t.id[row + x] = 0;
         } else {
           const TriSetup& tri = SetupOf(frame, v);
-          t.id[row + x] = frame.draws[tri.draw].id_base + tri.primitive + 1;
+          const DrawCall& d = frame.draws[tri.draw];
+          t.id[row + x] = d.id_base + (d.triangle_ids ? d.triangle_ids[tri.primitive] : tri.primitive) + 1;
         }
       }
   }

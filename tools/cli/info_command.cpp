@@ -105,14 +105,24 @@ int run_info(const InfoOptions& o) {
     }
     std::printf("\n");
     // Which maps are drawn, whose, and where the mesh file places them.
-    const render::SceneRenderer::MapsDrawn maps = r.maps_drawn(i);
     const auto map_line = [](const char* kind, bool scene_names, const io::MapPlacement& p) {
       return std::string(kind) + (scene_names ? " (the scene's)" : " (the mesh file's: " + io::describe(p) + ")");
     };
-    if (maps.color || maps.normal)
-      std::printf("       maps: %s%s%s\n", maps.color ? map_line("colour", !o.material.color_map.empty(), maps.color_placement).c_str() : "",
-                  maps.color && maps.normal ? ", " : "",
-                  maps.normal ? map_line("normal", !o.material.normal_map.empty(), maps.normal_placement).c_str() : "");
+    const auto maps_line = [&](const render::SceneRenderer::MapsDrawn& m) {
+      if (!m.color && !m.normal) return std::string("none");
+      return (m.color ? map_line("colour", !o.material.color_map.empty(), m.color_placement) : std::string()) +
+             (m.color && m.normal ? ", " : "") +
+             (m.normal ? map_line("normal", !o.material.normal_map.empty(), m.normal_placement) : std::string());
+    };
+    const std::vector<render::SceneRenderer::MapsDrawn> maps = r.maps_drawn(i);
+    if (maps.size() == 1 && (maps[0].color || maps[0].normal)) {
+      std::printf("       maps: %s\n", maps_line(maps[0]).c_str());
+    } else if (maps.size() > 1) {
+      // The mesh file's materials give its faces several sets of maps.
+      std::printf("       maps by material (%zu sets):\n", maps.size());
+      for (const render::SceneRenderer::MapsDrawn& m : maps)
+        std::printf("         `%s`, %zu triangles: %s\n", m.material.c_str(), m.triangles, maps_line(m).c_str());
+    }
     // The blur's time is its pairs, and one under the budget can still take minutes: info
     // estimates them (RenderSettings::describe_only) and shows what --max-blur-pairs let through;
     // one over it ended the set-up with the refusal, as every budget ends info.

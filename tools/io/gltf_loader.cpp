@@ -7,8 +7,9 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
-#include <set>
+#include <tuple>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -66,6 +67,13 @@ class GltfReader {
     if (!all_uvs_) {
       if (any_uvs_) out_.warnings.push_back("some primitives have no TEXCOORD_0: uvs dropped");
       out_.mesh.uvs.clear();
+    }
+    // Each primitive keeps its material's maps; a file whose primitives all use one set of
+    // maps (or none) needs no list per triangle. Until 2026-11-27 the first primitive's maps
+    // were drawn on the whole mesh.
+    if (std::any_of(sets_.begin(), sets_.end(), [](const MeshMaps& m) { return m.any(); })) {
+      out_.maps = std::move(sets_);
+      if (out_.maps.size() > 1) out_.triangle_maps = std::move(triangle_maps_);
     }
     // Every vertex has a normal now, the file's or a flat one: only zero-length ones are replaced.
     finish_normals(out_, true, true, NormalSharing::per_vertex);
@@ -591,7 +599,8 @@ class GltfReader {
       };
       append_triangles(prim.mode, idx, base, mirrored);
       if (flat) make_flat(base, first_index);
-      take_textures(prim.material);
+      if (const size_t added = (m.indices.size() - first_index) / 3; added > 0)
+        triangle_maps_.insert(triangle_maps_.end(), added, maps_of(prim.material));
     }
   }
 
@@ -651,15 +660,6 @@ class GltfReader {
       for (size_t i = 0; i + 2 < idx.size(); i += 3) emit(idx[i], idx[i + 1], idx[i + 2]);
     }
   }
-
-  // A texture kind's first texture, where it was named, and whether another was warned of.
-  struct Taken {
-    int texture = -1;
-    int source = -1;  // its image
-    MapPlacement placement;
-    std::string where;
-    bool warned = false;
-  };
 
   // The TEXCOORD_n set a material's maps are drawn with (texCoord), and the texCoord field that
   // named it. pelt keeps one uv set per vertex, so a colour map and a normal map naming two
@@ -733,16 +733,47 @@ class GltfReader {
     return p;
   }
 
-  void take_textures(int material) {
-    if (material < 0 || material >= static_cast<int>(model_.materials.size())) return;
-    const tinygltf::Material& mat = model_.materials[material];
+  // A map set's colour image and placement, normal image and placement (-1: no map).
+  using MapsKey = std::tuple<int, MapPlacement, int, MapPlacement>;
+
+  // The map set of a primitive's material (-1: none) in sets_, added at its first use: a
+  // material's maps, read once, and shared with an earlier material that names the same
+  // images placed alike.
+  uint32_t maps_of(int material) {
+    if (const auto it = set_of_material_.find(material); it != set_of_material_.end()) return it->second;
+    const tinygltf::Material* mat =
+        material >= 0 && material < static_cast<int>(model_.materials.size()) ? &model_.materials[size_t(material)]
+                                                                               : nullptr;
     const std::string mw = "materials[" + std::to_string(material) + "]";
-    if (noted_.insert(material).second) note_undrawn(mat, mw);
-    const tinygltf::TextureInfo& color = mat.pbrMetallicRoughness.baseColorTexture;
-    take_texture(color.index, placement_of(color), ColorEncoding::srgb, mw + ".pbrMetallicRoughness.baseColorTexture",
-                 out_.color_map, color_texture_, "base colour");
-    take_texture(mat.normalTexture.index, placement_of(mat.normalTexture), ColorEncoding::linear,
-                 mw + ".normalTexture", out_.normal_map, normal_texture_, "normal");
+    const std::string cw = mw + ".pbrMetallicRoughness.baseColorTexture", nw = mw + ".normalTexture";
+    MapsKey key{-1, {}, -1, {}};
+    if (mat) {
+      note_undrawn(*mat, mw);
+      const tinygltf::TextureInfo& color = mat->pbrMetallicRoughness.baseColorTexture;
+      if (color.index >= 0) key = {image_source(color.index, cw), placement_of(color), -1, {}};
+      if (mat->normalTexture.index >= 0) {
+        std::get<2>(key) = image_source(mat->normalTexture.index, nw);
+        std::get<3>(key) = placement_of(mat->normalTexture);
+      }
+    }
+    if (const auto same = std::find(set_keys_.begin(), set_keys_.end(), key); same != set_keys_.end())
+      return set_of_material_[material] = uint32_t(same - set_keys_.begin());
+    MeshMaps maps;
+    if (mat) {
+      maps.material = mat->name.empty() ? mw : mat->name;
+      if (std::get<0>(key) >= 0) {
+        resolve_texture(mat->pbrMetallicRoughness.baseColorTexture.index, ColorEncoding::srgb, cw, maps.color_map);
+        maps.color_map.placement = std::get<1>(key);
+      }
+      if (std::get<2>(key) >= 0) {
+        resolve_texture(mat->normalTexture.index, ColorEncoding::linear, nw, maps.normal_map);
+        maps.normal_map.placement = std::get<3>(key);
+      }
+    }
+    const auto set = static_cast<uint32_t>(sets_.size());
+    sets_.push_back(std::move(maps));
+    set_keys_.push_back(key);
+    return set_of_material_[material] = set;
   }
 
   // What a drawn primitive's material asks for that pelt does not draw (the scene's material
@@ -770,26 +801,6 @@ class GltfReader {
                               "), which pelt does not draw");
   }
 
-  // The first texture of its kind is the mesh's (pelt draws one material per object); a
-  // primitive naming another gets one warning per kind.
-  void take_texture(int texture, const MapPlacement& placement, ColorEncoding encoding, const std::string& where,
-                    TextureRef& ref, Taken& taken, const char* kind) {
-    if (texture < 0) return;
-    const int source = image_source(texture, where);  // a texture not drawn is still a reference that must hold
-    if (taken.texture < 0) {
-      resolve_texture(texture, encoding, where, ref);
-      ref.placement = placement;
-      taken = {texture, source, placement, where, false};
-    } else if (const bool other_image = source != taken.source;
-               (other_image || placement != taken.placement) && !taken.warned) {
-      taken.warned = true;
-      const std::string what = other_image ? std::string("more than one ") + kind + " texture"
-                                           : std::string("one ") + kind +
-                                                 " texture placed two ways (by samplers or KHR_texture_transform)";
-      out_.warnings.push_back("primitives use " + what + ": " + taken.where + " is used for the whole mesh");
-    }
-  }
-
   int image_source(int texture, const std::string& where) const {
     if (texture >= static_cast<int>(model_.textures.size()))
       throw InputError(file_, where, "texture " + std::to_string(texture) + " does not exist");
@@ -807,10 +818,15 @@ class GltfReader {
       ref.path = dir_ / decode_uri(img.uri);
       return;
     }
-    ref.pixels = pixels_to_rgba(img.image.data(), img.width, img.height, img.component, img.bits, encoding);
-    if (ref.pixels.empty())
-      throw InputError(file_, "images[" + std::to_string(source) + "]",
-                       "embedded image could not be decoded");
+    std::shared_ptr<const ImageRGBA>& decoded = decoded_[{source, encoding}];
+    if (!decoded) {
+      auto pixels = std::make_shared<ImageRGBA>(
+          pixels_to_rgba(img.image.data(), img.width, img.height, img.component, img.bits, encoding));
+      if (pixels->empty())
+        throw InputError(file_, "images[" + std::to_string(source) + "]", "embedded image could not be decoded");
+      decoded = std::move(pixels);
+    }
+    ref.pixels = decoded;
   }
 
   static std::string decode_uri(const std::string& uri) {
@@ -838,8 +854,12 @@ class GltfReader {
   std::vector<std::string> hidden_;                // nodes scaled to a point or a line
   uint64_t deformed_ = 0;                          // vertex values moved by morphs and skins
   bool all_uvs_ = true, any_uvs_ = false;
-  Taken color_texture_, normal_texture_;
-  std::set<int> noted_;  // materials note_undrawn has seen
+  std::vector<MeshMaps> sets_;                 // maps_of's, in the order of their first primitive
+  std::vector<uint32_t> triangle_maps_;        // each triangle's set in sets_
+  std::map<int, uint32_t> set_of_material_;    // by material index (-1: none)
+  std::vector<MapsKey> set_keys_;              // sets_'s images and placements
+  // Embedded images decoded, by image index and encoding: shared by the sets that use them.
+  std::map<std::pair<int, ColorEncoding>, std::shared_ptr<const ImageRGBA>> decoded_;
 };
 
 std::string trim(std::string s) {

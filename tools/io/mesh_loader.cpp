@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 
 #include <glm/geometric.hpp>
@@ -96,6 +97,13 @@ void validate_mesh(const Mesh& m, const std::string& file) {
                            std::to_string(n) + " vertices)");
 }
 
+namespace {
+const TextureRef kNoTexture{};
+}  // namespace
+
+const TextureRef& LoadedMesh::color_map() const { return maps.empty() ? kNoTexture : maps[0].color_map; }
+const TextureRef& LoadedMesh::normal_map() const { return maps.empty() ? kNoTexture : maps[0].normal_map; }
+
 LoadedMesh load_mesh_file(const std::filesystem::path& path, const Budget& budget) {
   const std::string file = path.string();
   if (const std::string reason = unreadable_file_reason(path); !reason.empty())
@@ -112,6 +120,8 @@ LoadedMesh load_mesh_file(const std::filesystem::path& path, const Budget& budge
                                    "` (expected .obj, .gltf or .glb)");
   out.format = ext == ".obj" ? MeshFormat::obj : MeshFormat::gltf;
   validate_mesh(out.mesh, file);
+  if (!out.triangle_maps.empty() && out.triangle_maps.size() != out.mesh.triangle_count())
+    throw std::logic_error("load_mesh_file: a map set per triangle expected");
   return out;
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,24 +18,47 @@ namespace pelt::io {
 // Both empty when the file names no such texture.
 struct TextureRef {
   std::filesystem::path path;
-  ImageRGBA pixels;  // linear: sRGB-decoded for colour maps, as stored for normal maps
+  // Linear: sRGB-decoded for colour maps, as stored for normal maps; shared by the map sets
+  // that draw one image.
+  std::shared_ptr<const ImageRGBA> pixels;
   MapPlacement placement;  // in the file's own uv space (OBJ: v from the bottom)
 
-  bool present() const { return !path.empty() || !pixels.empty(); }
+  bool present() const { return !path.empty() || pixels != nullptr; }
 };
 
 // What a mesh came from: its uvs' and maps' conventions follow (OBJ counts v from the bottom of
 // the image; glTF tells loaders to ignore a PNG's gamma).
 enum class MeshFormat { builtin, obj, gltf };
 
+// The maps a material of the file draws, as far as pelt reads a material: faces of two
+// materials naming the same maps (the same images, placed alike) share one set.
+struct MeshMaps {
+  TextureRef color_map;   // glTF baseColorTexture / OBJ map_Kd
+  TextureRef normal_map;  // glTF normalTexture / OBJ norm (a bump map is only warned of)
+  std::string material;   // the first material drawn with these maps, as the file names it (messages)
+
+  bool any() const { return color_map.present() || normal_map.present(); }
+};
+
 struct LoadedMesh {
   MeshFormat format = MeshFormat::builtin;  // set by load_mesh_file
   Mesh mesh;               // all triangles of the file in one mesh, in file order
-  TextureRef color_map;    // glTF baseColorTexture / OBJ map_Kd
-  TextureRef normal_map;   // glTF normalTexture / OBJ norm (a bump map is only warned of)
+  // The map sets the faces are drawn with, in the order of their first face; empty when no
+  // face's material names a map. A set may hold no map (faces of no material, or of one
+  // without maps, beside faces with maps).
+  std::vector<MeshMaps> maps;
+  // Per triangle, its set in `maps`; empty when every triangle takes maps[0] (or there is none).
+  std::vector<uint32_t> triangle_maps;
   // Things that were accepted but changed or ignored, to be shown to the user (e.g. "not
   // every vertex has a normal: all normals computed from the triangles").
   std::vector<std::string> warnings;
+
+  // The first face's maps (an empty reference when it has none): the whole mesh's when it has
+  // one set.
+  const TextureRef& color_map() const;
+  const TextureRef& normal_map() const;
+  // The set of triangle t.
+  uint32_t maps_of(size_t t) const { return triangle_maps.empty() ? 0 : triangle_maps[t]; }
 };
 
 // Loads .obj, .gltf or .glb (by extension, case-insensitive). OBJ: normals are used when every
@@ -52,9 +76,8 @@ struct LoadedMesh {
 // glTF: every mesh instance of the default scene (scene 0 when none is set), with its
 // node's world transform baked into positions and normals (normals by the inverse
 // transpose; triangles flipped under mirroring transforms); triangle lists, strips and
-// fans; indices of any type; TEXCOORD_0. Textures come from the first primitive that has
-// a material with them; a later primitive (glTF) or face (OBJ) whose material names other
-// maps adds a warning.
+// fans; indices of any type; the uv set its material's maps name (TEXCOORD_0 by default).
+// Each face (OBJ) or primitive (glTF) keeps its material's maps (LoadedMesh::maps).
 //
 // Throws InputError naming the file and the first bad element: unreadable or malformed
 // file, unsupported extension, non-finite values (`v 12: position is NaN`, or a glTF

@@ -528,6 +528,61 @@ std::string face_line(const std::filesystem::path& path, size_t face) {
   return "";
 }
 
+// Each face's maps, from its material (LoadedMesh::maps, triangle_maps): materials naming the
+// same files placed alike share a set; faces of no material, beside faces with maps, get a set
+// without maps. A map's name is read from its library's folder, as exporters write it (until
+// 2026-11-27 from the OBJ's, where pelt still looks when the library's folder has no such
+// file). Until 2026-11-27 the first face's maps were drawn on the whole mesh.
+void take_material_maps(LoadedMesh& out, const std::vector<tinyobj::material_t>& materials,
+                        const MaterialLibraries& libraries, const std::filesystem::path& dir,
+                        const std::vector<char>& material_used, const std::vector<int>& triangle_material,
+                        size_t faces_without_material) {
+  std::vector<MeshMaps> sets_of(materials.size() + 1);  // by material id; the last: no material
+  for (size_t id = 0; id < materials.size(); ++id) {
+    if (!material_used[id]) continue;
+    const tinyobj::material_t& mat = materials[id];
+    MeshMaps& set = sets_of[id];
+    set.material = mat.name;
+    const std::filesystem::path& library_dir = libraries.folder_of(int(id));
+    const MtlPlacements& placements = libraries.placements_of(int(id));
+    if (!mat.diffuse_texname.empty()) {
+      set.color_map.path = find_named_file(mat.diffuse_texname, library_dir, dir);
+      set.color_map.placement = placements.color;
+    }
+    if (!mat.normal_texname.empty()) {
+      set.normal_map.path = find_named_file(mat.normal_texname, library_dir, dir);
+      set.normal_map.placement = placements.normal;
+    } else if (!mat.bump_texname.empty()) {
+      // `bump` is as often a height map as a normal map (Blender writes normal maps there,
+      // Sponza height maps): not drawn, and the user hears why.
+      out.warnings.push_back("material `" + shown_name(mat.name) + "` names a bump map `" + mat.bump_texname +
+                             "` that is not drawn: pelt draws tangent-space normal maps, named by `norm` in the "
+                             "MTL file or by the scene's normal_map");
+    }
+  }
+  if (std::none_of(sets_of.begin(), sets_of.end(), [](const MeshMaps& m) { return m.any(); })) return;
+  const auto key = [](const MeshMaps& m) {
+    return std::tie(m.color_map.path, m.color_map.placement, m.normal_map.path, m.normal_map.placement);
+  };
+  std::vector<uint32_t> set_of_material(sets_of.size(), UINT32_MAX);
+  out.triangle_maps.reserve(triangle_material.size());
+  for (const int id : triangle_material) {
+    const size_t m = id >= 0 && size_t(id) < materials.size() ? size_t(id) : materials.size();
+    if (set_of_material[m] == UINT32_MAX) {
+      const auto same = std::find_if(out.maps.begin(), out.maps.end(),
+                                     [&](const MeshMaps& s) { return key(s) == key(sets_of[m]); });
+      set_of_material[m] = uint32_t(same - out.maps.begin());
+      if (same == out.maps.end()) out.maps.push_back(sets_of[m]);
+    }
+    out.triangle_maps.push_back(set_of_material[m]);
+  }
+  if (out.maps.size() == 1) out.triangle_maps.clear();
+  if (faces_without_material > 0)
+    out.warnings.push_back(std::to_string(faces_without_material) +
+                           " faces have no material (no `usemtl` before them, or one naming no material a library "
+                           "defines): they are drawn without maps");
+}
+
 }  // namespace
 
 LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
@@ -622,6 +677,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   std::set<size_t> read_as_comment;  // uses whose name was found only without its `#` comment
   std::vector<glm::vec3> corner_positions;
   std::vector<uint32_t> corner_vertices, triangles;
+  std::vector<int> triangle_material;  // per triangle, its material id (-1: none)
   for (const tinyobj::shape_t& shape : shapes) {
     const auto& mesh = shape.mesh;
     size_t offset = 0;
@@ -630,8 +686,9 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
       if (corners < 3)  // the prescan refuses such faces; tinyobjloader skips them
         throw InputError(file, face_name(face_number), "face has " + std::to_string(corners) + " vertices");
       while (use < pre.uses.size() && pre.uses[use].first_face <= face_number) ++use;
+      int id = -1;
       if (f < mesh.material_ids.size()) {
-        int id = mesh.material_ids[f];
+        id = mesh.material_ids[f];
         if (id < 0 && use > 0) {
           const ObjPrescan::MaterialUse& u = pre.uses[use - 1];
           if (const auto it = first_of_name.find(u.name); it != first_of_name.end()) {
@@ -692,6 +749,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
       triangles.clear();
       triangulate_polygon(corner_positions, triangles);
       for (uint32_t corner : triangles) m.indices.push_back(corner_vertices[corner]);
+      triangle_material.insert(triangle_material.end(), triangles.size() / 3, id);
       offset += corners;
     }
   }
@@ -732,48 +790,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     out.warnings.push_back(std::string("the material libraries define maps, but no face names a material (") +
                            (pre.uses.empty() ? "no `usemtl` record" : "no face follows a `usemtl` of a defined material") +
                            "): no map is drawn");
-  if (material >= 0 && static_cast<size_t>(material) < materials.size()) {
-    const tinyobj::material_t& mat = materials[material];
-    // An object has one material in pelt: faces whose material names other maps are drawn
-    // with these, which the user should hear about.
-    static const tinyobj::material_t kNoMaterial{};
-    const auto maps = [&](size_t id) {
-      const tinyobj::material_t& t = id < materials.size() ? materials[id] : kNoMaterial;
-      return std::make_tuple(t.diffuse_texname, t.normal_texname.empty() ? t.bump_texname : t.normal_texname,
-                             libraries.placements_of(int(id)));
-    };
-    size_t others = 0;
-    for (size_t id = 0; id < materials.size(); ++id)
-      if (material_used[id] && maps(id) != maps(size_t(material))) ++others;
-    const std::string name = shown_name(mat.name);
-    if (others > 0)
-      out.warnings.push_back("faces use " + std::to_string(others + 1) +
-                             " materials with different texture maps: the maps of `" + name +
-                             "` (the first face's) are used for the whole mesh");
-    if (faces_without_material > 0 && maps(size_t(material)) != maps(materials.size()))
-      out.warnings.push_back(std::to_string(faces_without_material) +
-                             " faces have no material (no `usemtl` before them, or one naming no material a library "
-                             "defines): the maps of `" + name +
-                             "` are drawn on them too");
-    // A map's name is read from its library's folder, as exporters write it (until 2026-11-27
-    // from the OBJ's, where pelt still looks when the library's folder has no such file).
-    const std::filesystem::path& library_dir = libraries.folder_of(material);
-    const MtlPlacements& placements = libraries.placements_of(material);
-    if (!mat.diffuse_texname.empty()) {
-      out.color_map.path = find_named_file(mat.diffuse_texname, library_dir, dir);
-      out.color_map.placement = placements.color;
-    }
-    if (!mat.normal_texname.empty()) {
-      out.normal_map.path = find_named_file(mat.normal_texname, library_dir, dir);
-      out.normal_map.placement = placements.normal;
-    } else if (!mat.bump_texname.empty()) {
-      // `bump` is as often a height map as a normal map (Blender writes normal maps there,
-      // Sponza height maps): not drawn, and the user hears why.
-      out.warnings.push_back("material `" + name + "` names a bump map `" + mat.bump_texname +
-                             "` that is not drawn: pelt draws tangent-space normal maps, named by `norm` in the "
-                             "MTL file or by the scene's normal_map");
-    }
-  }
+  take_material_maps(out, materials, libraries, dir, material_used, triangle_material, faces_without_material);
   return out;
 }
 

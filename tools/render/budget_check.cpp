@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -90,6 +91,37 @@ MemoryPart mesh_part(const io::SceneObject& so, const Mesh& m, size_t i) {
   p.field = object_field(i) + ".mesh";
   p.what = "mesh, " + std::to_string(v) + " vertices and " + std::to_string(f) + " triangles with varyings";
   p.bytes = sat_add(sat_mul(v, per_vertex), sat_mul(f, 3 * sizeof(uint32_t)));
+  return p;
+}
+
+// A mesh drawn in parts, one per map set of its file's materials: each part's copies of the
+// vertices it uses (a vertex on a border between parts in each), with their varyings and
+// tangent frames, and each triangle's number in the whole mesh (the renderer's split_parts).
+MemoryPart split_part(const io::SceneObject& so, const io::LoadedMesh& loaded, size_t i) {
+  const Mesh& m = loaded.mesh;
+  const size_t sets = loaded.maps.size();
+  std::vector<std::vector<uint32_t>> triangles(sets);
+  for (size_t t = 0; t < loaded.triangle_maps.size(); ++t) triangles[loaded.triangle_maps[t]].push_back(uint32_t(t));
+  std::vector<uint32_t> seen(m.positions.size(), UINT32_MAX);
+  uint64_t copies = 0;
+  for (size_t k = 0; k < sets; ++k)
+    for (const uint32_t t : triangles[k])
+      for (int c = 0; c < 3; ++c)
+        if (uint32_t& s = seen[m.indices[3 * size_t(t) + size_t(c)]]; s != k) {
+          s = uint32_t(k);
+          ++copies;
+        }
+  const bool blur = so.material.type == io::MaterialType::skin &&
+                    so.material.skin.multiple_scattering == shading::MultipleScattering::normal_blur;
+  const uint64_t varyings = (blur ? SurfaceVaryings::kCountBlurred : SurfaceVaryings::kCount) + 4;
+  const uint64_t per_vertex = 2 * sizeof(glm::vec3) + sizeof(glm::vec2) + varyings * sizeof(float);
+  MemoryPart p;
+  p.kind = "meshes";
+  p.object = int(i);
+  p.field = object_field(i) + ".mesh";
+  p.what = "mesh drawn in " + std::to_string(sets) + " parts by material, " + std::to_string(copies) +
+           " vertex copies";
+  p.bytes = sat_add(sat_mul(copies, per_vertex), sat_mul(uint64_t(m.indices.size() / 3), 4 * sizeof(uint32_t)));
   return p;
 }
 
@@ -234,7 +266,7 @@ void refuse_below_process(const io::Budget& budget, const std::string& estimate_
 std::optional<MapSource> map_source(const std::filesystem::path& from_scene, const io::TextureRef& named) {
   if (!from_scene.empty()) return MapSource{&from_scene, nullptr, false};
   if (!named.path.empty()) return MapSource{&named.path, nullptr, true};
-  if (!named.pixels.empty()) return MapSource{nullptr, &named.pixels, true};
+  if (named.pixels) return MapSource{nullptr, named.pixels.get(), true};
   return std::nullopt;
 }
 
@@ -325,15 +357,28 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
                            sat_add(raster_bytes(m.positions.size(), m.triangle_count()), kObjectBytes),
                            std::string(kSetupsKind), int(i)});
     const io::LoadedMesh& loaded = meshes[i].loaded;
-    if (MemoryPart cm = map_part(scene, i, "color_map", "colour map", so.material.color_map, loaded.color_map, 0, "");
-        !cm.field.empty())
-      e.parts.push_back(std::move(cm));
-    // A normal map brings the four tangent-frame varyings per vertex, and the frames.
-    const uint64_t tangents = sat_mul(uint64_t(m.positions.size()), 2 * 4 * sizeof(float));
-    if (MemoryPart nm = map_part(scene, i, "normal_map", "normal map", so.material.normal_map, loaded.normal_map,
-                                 tangents, ", and the tangent frames");
-        !nm.field.empty())
-      e.parts.push_back(std::move(nm));
+    // Each image once, however many of the file's map sets draw it (the renderer's load_map).
+    std::set<std::tuple<std::string, std::string, const void*>> counted;
+    bool tangents_counted = false;
+    const size_t sets = std::max<size_t>(1, loaded.maps.size());
+    for (size_t k = 0; k < sets; ++k) {
+      static const io::MeshMaps kNoMaps{};
+      const io::MeshMaps& set = loaded.maps.empty() ? kNoMaps : loaded.maps[k];
+      const auto once = [&](const char* key, const std::filesystem::path& from_scene, const io::TextureRef& named) {
+        const std::optional<MapSource> src = map_source(from_scene, named);
+        return src && counted.emplace(key, src->file ? src->file->string() : std::string(), src->pixels).second;
+      };
+      if (once("color_map", so.material.color_map, set.color_map))
+        e.parts.push_back(map_part(scene, i, "color_map", "colour map", so.material.color_map, set.color_map, 0, ""));
+      // A normal map brings the four tangent-frame varyings per vertex, and the frames.
+      if (once("normal_map", so.material.normal_map, set.normal_map)) {
+        const uint64_t tangents = tangents_counted ? 0 : sat_mul(uint64_t(m.positions.size()), 2 * 4 * sizeof(float));
+        e.parts.push_back(map_part(scene, i, "normal_map", "normal map", so.material.normal_map, set.normal_map,
+                                   tangents, tangents_counted ? "" : ", and the tangent frames"));
+        tangents_counted = true;
+      }
+    }
+    if (sets > 1) e.parts.push_back(split_part(so, loaded, i));
     if (so.fur) add_fur_parts(scene, meshes[i], i, threads, fur_drawn, e.parts, frame_parts);
     if (!so.fur_length_map.empty()) {  // read as floats and sampled once, then freed
       const std::string field = object_field(i) + ".fur.length_map";

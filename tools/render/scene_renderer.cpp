@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <stdexcept>
+#include <tuple>
 
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -20,19 +22,33 @@
 
 namespace pelt::render {
 
+// The triangles of an object drawn with one set of maps: the whole mesh, or (a mesh file whose
+// materials name several) the faces of one set (io::LoadedMesh::maps).
+struct SurfacePart {
+  std::string material;  // the mesh file's name for the set's first material ("" for the whole mesh)
+  MaterialDesc desc;
+  std::unique_ptr<MaterialShader> shader;
+  // With several parts, each has its own vertices (those on a border between parts are
+  // copied), so that each normal map's tangent frame is its own faces', as a GPU importer's
+  // primitives per material have them; the triangles keep the whole mesh's numbers in the id
+  // AOV. One part draws the object's arrays.
+  Mesh mesh;
+  std::vector<float> varyings;
+  std::vector<uint32_t> triangle_ids;
+  io::MapPlacement file_color_placement, file_normal_placement;  // as the mesh file gives them (pelt info)
+};
+
 struct SceneRenderer::Object {
   Mesh mesh;  // world space
-  std::vector<float> varyings;
+  std::vector<float> varyings;  // the whole mesh's; with several parts, theirs replace it
   int varying_count = SurfaceVaryings::kCount;
-  MaterialDesc material;
+  MaterialDesc material;  // the scene's material, without maps: each part's desc adds its own
   bool translucent = false;
   bool double_sided = false;  // else back faces are culled (the material's "double_sided")
   uint32_t id_base = 0;
-  std::unique_ptr<MaterialShader> shader;
+  std::vector<SurfacePart> parts;
   std::unique_ptr<FurObject> fur;
-  raster::Texture color_map;
-  raster::Texture normal_map;
-  io::MapPlacement file_color_placement, file_normal_placement;  // as the mesh file gives them (pelt info)
+  std::vector<std::unique_ptr<raster::Texture>> textures;  // every map the parts draw, each image once
   std::optional<uint64_t> blur_pairs;  // shading::BlurredNormals::pair_estimate, for normal_blur skin
 };
 
@@ -123,15 +139,13 @@ constexpr MapKind kNormalMap{"normal_map", io::ColorEncoding::linear, raster::Te
 // file names (`named`: a file, or pixels decoded from inside the file), else none (`out` left
 // empty). Colour maps: glTF baseColorTexture, MTL map_Kd; normal maps: glTF normalTexture,
 // MTL norm; either only on a mesh with texture coordinates.
-// Returns where the map lies: as the mesh file places its own map, by default for the scene's.
-io::MapPlacement load_object_map(const io::Scene& scene, size_t index, const MapKind& kind,
-                                 const std::filesystem::path& from_scene, const io::TextureRef& named,
-                                 io::MeshFormat format, const Mesh& mesh, const io::Budget& budget,
-                                 const raster::ParallelFor& parallel, raster::Texture& out, FrameStats& stats,
-                                 std::vector<std::filesystem::path>& inputs) {
+void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind, const std::filesystem::path& from_scene,
+                     const io::TextureRef& named, io::MeshFormat format, const Mesh& mesh, const io::Budget& budget,
+                     const raster::ParallelFor& parallel, raster::Texture& out, FrameStats& stats,
+                     std::vector<std::filesystem::path>& inputs) {
   const io::SceneObject& so = scene.objects[index];
   const std::optional<MapSource> src = map_source(from_scene, named);
-  if (!src) return {};
+  if (!src) return;
   StageTimer t(stats, "textures");
   const std::string object = io::json_index("objects", index);
   // Without uvs every pixel would read texel (0, 0): a flat colour, or one normal, in place of
@@ -166,7 +180,44 @@ io::MapPlacement load_object_map(const io::Scene& scene, size_t index, const Map
     throw io::InputError(src->file ? src->file->string() : so.mesh, field,
                          e->reason + " (" + map_asked_by(scene, index, kind.field, src->named_by_mesh) + ")");
   }
-  return src->named_by_mesh ? named.placement : io::MapPlacement{};
+}
+
+// Gives each part (one per map set) its triangles, in the mesh's order, with their own copies
+// of the vertices they use (positions, normals, uvs and the `vc` varyings of each), and the
+// mesh's number of each triangle.
+void split_parts(const Mesh& m, const std::vector<float>& varyings, int vc, const std::vector<uint32_t>& triangle_maps,
+                 std::vector<SurfacePart>& parts) {
+  for (size_t t = 0; t < triangle_maps.size(); ++t) parts[triangle_maps[t]].triangle_ids.push_back(uint32_t(t));
+  std::vector<uint32_t> local(m.vertex_count(), UINT32_MAX);  // the part's number of each mesh vertex
+  for (SurfacePart& part : parts) {
+    Mesh& pm = part.mesh;
+    pm.indices.reserve(3 * part.triangle_ids.size());
+    for (const uint32_t t : part.triangle_ids)
+      for (int c = 0; c < 3; ++c) {
+        const uint32_t v = m.indices[3 * size_t(t) + size_t(c)];
+        if (local[v] == UINT32_MAX) {
+          local[v] = static_cast<uint32_t>(pm.positions.size());
+          pm.positions.push_back(m.positions[v]);
+          pm.normals.push_back(m.normals[v]);
+          if (!m.uvs.empty()) pm.uvs.push_back(m.uvs[v]);
+          part.varyings.insert(part.varyings.end(), varyings.begin() + ptrdiff_t(v) * vc,
+                               varyings.begin() + ptrdiff_t(v + 1) * vc);
+        }
+        pm.indices.push_back(local[v]);
+      }
+    for (const uint32_t t : part.triangle_ids)
+      for (int c = 0; c < 3; ++c) local[m.indices[3 * size_t(t) + size_t(c)]] = UINT32_MAX;
+  }
+}
+
+// "`a`, `b` and `c`": the parts' materials, for messages.
+std::string part_names(const std::vector<SurfacePart>& parts) {
+  std::string out;
+  for (size_t k = 0; k < parts.size(); ++k) {
+    if (k > 0) out += k + 1 == parts.size() ? " and " : ", ";
+    out += "`" + parts[k].material + "`";
+  }
+  return out;
 }
 
 }  // namespace
@@ -321,22 +372,44 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
 
     // Internally v = 0 is the top row of an image (glTF); OBJ files count v from the bottom, and
     // place their maps (MTL -s, -o) in their own uvs.
-    const io::MeshFormat format = meshes[i].loaded.format;
+    const io::LoadedMesh& loaded = meshes[i].loaded;  // its mesh moved out above; its maps kept
+    const io::MeshFormat format = loaded.format;
     const bool v_up = format == io::MeshFormat::obj;
     if (v_up)
       for (glm::vec2& uv : obj->mesh.uvs) uv.y = 1.0f - uv.y;
     const auto ours = [v_up](const io::MapPlacement& p) { return v_up ? io::flipped_v(p) : p; };
-    obj->file_color_placement =
-        load_object_map(scene, i, kColorMap, so.material.color_map, meshes[i].loaded.color_map, format, obj->mesh,
-                        settings.budget, parallel, obj->color_map, setup_stats_, input_files_);
-    obj->material.color_placement = ours(obj->file_color_placement);
-    if (!obj->color_map.empty()) obj->material.color_map = &obj->color_map;
-
-    obj->file_normal_placement =
-        load_object_map(scene, i, kNormalMap, so.material.normal_map, meshes[i].loaded.normal_map, format, obj->mesh,
-                        settings.budget, parallel, obj->normal_map, setup_stats_, input_files_);
-    obj->material.normal_placement = ours(obj->file_normal_placement);
-    if (!obj->normal_map.empty()) obj->material.normal_map = &obj->normal_map;
+    // Each image is read once, however many parts draw it: the scene's map (every part's),
+    // or a file's or embedded image the mesh names.
+    std::map<std::tuple<const char*, std::string, const void*>, const raster::Texture*> read;
+    const auto load_map = [&](const MapKind& kind, const std::filesystem::path& from_scene,
+                              const io::TextureRef& named, io::MapPlacement& file_placement) -> const raster::Texture* {
+      const std::optional<MapSource> src = map_source(from_scene, named);
+      if (!src) return nullptr;
+      const auto key = std::make_tuple(kind.field, src->file ? src->file->string() : std::string(),
+                                       static_cast<const void*>(src->pixels));
+      file_placement = src->named_by_mesh ? named.placement : io::MapPlacement{};
+      if (const auto it = read.find(key); it != read.end()) return it->second;
+      auto tex = std::make_unique<raster::Texture>();
+      load_object_map(scene, i, kind, from_scene, named, format, obj->mesh, settings.budget, parallel, *tex,
+                      setup_stats_, input_files_);
+      obj->textures.push_back(std::move(tex));
+      return read[key] = obj->textures.back().get();
+    };
+    const size_t part_count = std::max<size_t>(1, loaded.maps.size());
+    bool any_map = false, any_normal_map = false;
+    for (size_t k = 0; k < part_count; ++k) {
+      static const io::MeshMaps kNoMaps{};
+      const io::MeshMaps& set = loaded.maps.empty() ? kNoMaps : loaded.maps[k];
+      SurfacePart& part = obj->parts.emplace_back();
+      part.material = part_count > 1 ? set.material : std::string();
+      part.desc = obj->material;
+      part.desc.color_map = load_map(kColorMap, so.material.color_map, set.color_map, part.file_color_placement);
+      part.desc.color_placement = ours(part.file_color_placement);
+      part.desc.normal_map = load_map(kNormalMap, so.material.normal_map, set.normal_map, part.file_normal_placement);
+      part.desc.normal_placement = ours(part.file_normal_placement);
+      any_map |= part.desc.color_map || part.desc.normal_map;
+      any_normal_map |= part.desc.normal_map != nullptr;
+    }
     shading::BlurredNormals blurred;
     const bool blur = obj->material.kind == MaterialKind::skin &&
                       obj->material.skin.multiple_scattering == shading::MultipleScattering::normal_blur;
@@ -352,22 +425,11 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
                              e->reason);
       obj->blur_pairs = blurred.pair_estimate;
       obj->varying_count = SurfaceVaryings::kCountBlurred;
-    } else if (!obj->material.color_map && !obj->material.normal_map) {
+    } else if (!any_map) {
       obj->varying_count = SurfaceVaryings::kCountWithoutUv;
     }
-    std::vector<glm::vec4> tangents;
-    if (obj->material.normal_map) {
-      const io::MapPlacement& np = obj->material.normal_placement;
-      // The frame of the normal map's own uvs: a rotation or a negative scale turns it.
-      std::vector<glm::vec2> placed;
-      if (np.transforms()) {
-        placed.reserve(m.uvs.size());
-        for (const glm::vec2& uv : m.uvs) placed.emplace_back(np.u_at(uv.x, uv.y), np.v_at(uv.x, uv.y));
-      }
-      tangents = compute_vertex_tangents(m, np.transforms() ? placed : m.uvs);
-      obj->material.tangent_slot = obj->varying_count;
-      obj->varying_count += 4;
-    }
+    const int tangent_slot = any_normal_map ? obj->varying_count : -1;
+    if (any_normal_map) obj->varying_count += 4;
     const int vc = obj->varying_count;
     obj->varyings.assign(m.vertex_count() * vc, 0.0f);
     for (size_t v = 0; v < m.vertex_count(); ++v) {
@@ -385,11 +447,29 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       if (blur && !settings.describe_only)
         for (int c = 0; c < 3; ++c)
           for (int k = 0; k < 3; ++k) dst[SurfaceVaryings::kBlurred + 3 * c + k] = blurred.channel[c][3 * v + k];
-      if (!tangents.empty())
-        for (int k = 0; k < 4; ++k) dst[obj->material.tangent_slot + k] = tangents[v][k];
     }
-    obj->shader = std::make_unique<MaterialShader>(obj->material, lights_, scene.camera.eye,
-                                                   layer_of(settings.aov));
+    if (part_count > 1) {
+      split_parts(m, obj->varyings, vc, loaded.triangle_maps, obj->parts);
+      obj->varyings = {};  // each part has its own
+    }
+    for (SurfacePart& part : obj->parts) {
+      const Mesh& pm = part_count > 1 ? part.mesh : m;
+      float* const varyings = part_count > 1 ? part.varyings.data() : obj->varyings.data();
+      if (part.desc.normal_map) {
+        const io::MapPlacement& np = part.desc.normal_placement;
+        // The frame of the normal map's own uvs: a rotation or a negative scale turns it.
+        std::vector<glm::vec2> placed;
+        if (np.transforms()) {
+          placed.reserve(pm.uvs.size());
+          for (const glm::vec2& uv : pm.uvs) placed.emplace_back(np.u_at(uv.x, uv.y), np.v_at(uv.x, uv.y));
+        }
+        const std::vector<glm::vec4> tangents = compute_vertex_tangents(pm, np.transforms() ? placed : pm.uvs);
+        part.desc.tangent_slot = tangent_slot;
+        for (size_t v = 0; v < pm.vertex_count(); ++v)
+          for (int k = 0; k < 4; ++k) varyings[v * vc + size_t(tangent_slot) + k] = tangents[v][k];
+      }
+      part.shader = std::make_unique<MaterialShader>(part.desc, lights_, scene.camera.eye, layer_of(settings.aov));
+    }
     if (so.fur) {
       FurDrawOptions fo;
       fo.match_llvmpipe = settings.match_llvmpipe;
@@ -400,9 +480,22 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       fo.merge_fins = quality_.fin_quads == io::FinQuads::merged;
       fo.parallel = parallel;
       fo.textures = !settings.describe_only && aov_shows_fur(settings.aov);
-      if (!obj->color_map.empty()) {
-        fo.color_map = &obj->color_map;
-        fo.color_placement = obj->material.color_placement;
+      // The fur reads one colour map: the parts' when they all draw the same one.
+      const SurfacePart& first = obj->parts.front();
+      const bool one_color_map = std::all_of(obj->parts.begin(), obj->parts.end(), [&](const SurfacePart& p) {
+        return p.desc.color_map == first.desc.color_map && p.desc.color_placement == first.desc.color_placement;
+      });
+      if (so.fur->use_color_map && !one_color_map)
+        throw io::InputError(scene.file.string(),
+                             io::json_child(io::json_child(io::json_index("objects", i), "fur"), "use_color_map"),
+                             "true takes one colour map, and the faces of mesh `" + so.mesh + "` draw " +
+                                 std::to_string(obj->parts.size()) + " map sets (materials " +
+                                 part_names(obj->parts) +
+                                 ") that differ in theirs: give the object a material.color_map for the fur and "
+                                 "the surface");
+      if (first.desc.color_map && one_color_map) {
+        fo.color_map = first.desc.color_map;
+        fo.color_placement = first.desc.color_placement;
       }
       if (!so.fur_length_map.empty()) {
         StageTimer t(setup_stats_, "textures");
@@ -444,8 +537,12 @@ size_t SceneRenderer::memory_estimate() const {
   size_t n = 0;
   for (const auto& o : objects_) {
     n += o->mesh.positions.size() * sizeof(glm::vec3) * 2 + o->mesh.uvs.size() * sizeof(glm::vec2) +
-         o->mesh.indices.size() * sizeof(uint32_t) + o->varyings.size() * sizeof(float) + o->color_map.bytes() +
-         o->normal_map.bytes();
+         o->mesh.indices.size() * sizeof(uint32_t) + o->varyings.size() * sizeof(float);
+    for (const auto& t : o->textures) n += t->bytes();
+    for (const SurfacePart& p : o->parts)
+      n += p.mesh.positions.size() * sizeof(glm::vec3) * 2 + p.mesh.uvs.size() * sizeof(glm::vec2) +
+           p.mesh.indices.size() * sizeof(uint32_t) + p.varyings.size() * sizeof(float) +
+           p.triangle_ids.size() * sizeof(uint32_t);
     if (o->fur) n += o->fur->memory_bytes();
   }
   const size_t pixels = size_t(width_) * height_;
@@ -462,14 +559,18 @@ const fur::FurGeometry* SceneRenderer::fur_geometry(size_t object) const {
   return objects_[object]->fur ? &objects_[object]->fur->geometry() : nullptr;
 }
 
-SceneRenderer::MapsDrawn SceneRenderer::maps_drawn(size_t object) const {
-  const Object& o = *objects_[object];
-  MapsDrawn m;
-  m.color = o.material.color_map != nullptr;
-  m.normal = o.material.normal_map != nullptr;
-  m.color_placement = o.file_color_placement;
-  m.normal_placement = o.file_normal_placement;
-  return m;
+std::vector<SceneRenderer::MapsDrawn> SceneRenderer::maps_drawn(size_t object) const {
+  std::vector<MapsDrawn> out;
+  for (const SurfacePart& p : objects_[object]->parts) {
+    MapsDrawn& m = out.emplace_back();
+    m.material = p.material;
+    m.triangles = p.triangle_ids.empty() ? objects_[object]->mesh.triangle_count() : p.triangle_ids.size();
+    m.color = p.desc.color_map != nullptr;
+    m.normal = p.desc.normal_map != nullptr;
+    m.color_placement = p.file_color_placement;
+    m.normal_placement = p.file_normal_placement;
+  }
+  return out;
 }
 
 std::optional<uint64_t> SceneRenderer::blur_pair_estimate(size_t object) const {
@@ -514,27 +615,31 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   }
   std::vector<raster::DrawCall>& draws = draws_;
   draws.clear();
-  for (const auto& o : objects_) {
-    o->shader->set_view(lights_, camera.eye);
-    raster::DrawCall d;
-    d.positions = o->mesh.positions.data();
-    d.vertex_count = static_cast<uint32_t>(o->mesh.vertex_count());
-    d.indices = o->mesh.indices.data();
-    d.triangle_count = static_cast<uint32_t>(o->mesh.triangle_count());
-    d.varyings = o->varyings.data();
-    d.varying_count = static_cast<uint32_t>(o->varying_count);
-    d.clip_from_object = clip_from_world;
-    d.shader = o->shader.get();
-    d.id_base = o->id_base;
-    // Single-sided (the default) culls back faces: they cannot be seen on a closed mesh,
-    // and skipping them halves the set-up and depth work of a dense scan.
-    d.state.cull = o->double_sided ? raster::CullMode::None : raster::CullMode::Back;
-    if (o->translucent) {
-      d.state.blend = raster::BlendMode::AlphaOver;
-      d.state.depth_write = false;
+  for (const auto& o : objects_)
+    for (const SurfacePart& p : o->parts) {
+      p.shader->set_view(lights_, camera.eye);
+      const bool whole = p.triangle_ids.empty();  // one part: the object's own arrays
+      const Mesh& m = whole ? o->mesh : p.mesh;
+      raster::DrawCall d;
+      d.positions = m.positions.data();
+      d.vertex_count = static_cast<uint32_t>(m.vertex_count());
+      d.indices = m.indices.data();
+      d.triangle_count = static_cast<uint32_t>(m.triangle_count());
+      d.varyings = whole ? o->varyings.data() : p.varyings.data();
+      d.varying_count = static_cast<uint32_t>(o->varying_count);
+      d.clip_from_object = clip_from_world;
+      d.shader = p.shader.get();
+      d.id_base = o->id_base;
+      d.triangle_ids = whole ? nullptr : p.triangle_ids.data();
+      // Single-sided (the default) culls back faces: they cannot be seen on a closed mesh,
+      // and skipping them halves the set-up and depth work of a dense scan.
+      d.state.cull = o->double_sided ? raster::CullMode::None : raster::CullMode::Back;
+      if (o->translucent) {
+        d.state.blend = raster::BlendMode::AlphaOver;
+        d.state.depth_write = false;
+      }
+      draws.push_back(d);
     }
-    draws.push_back(d);
-  }
   // Translucent fur after every opaque draw (the rasterizer shades opaque work first
   // anyway; this keeps the translucent submission order object by object).
   for (const auto& o : objects_)

@@ -110,12 +110,15 @@ class SceneRenderer {
   // `pelt info` reports. nullopt when the object has no normal blur.
   std::optional<uint64_t> blur_pair_estimate(size_t object) const;
   // The maps object i draws, each with where it lies (io::MapPlacement) in its mesh file's own
-  // uvs (OBJ: v from the bottom), for `pelt info`. A map the scene names lies as the uvs say.
+  // uvs (OBJ: v from the bottom), for `pelt info`: one entry for the whole mesh, or one per map
+  // set its file's materials give (io::LoadedMesh::maps). A map the scene names lies as the uvs say.
   struct MapsDrawn {
+    std::string material;  // the set's first material, as the mesh file names it ("" for the whole mesh)
+    size_t triangles = 0;
     bool color = false, normal = false;
     io::MapPlacement color_placement, normal_placement;
   };
-  MapsDrawn maps_drawn(size_t object) const;
+  std::vector<MapsDrawn> maps_drawn(size_t object) const;
   // Floats per fur vertex that the last frame's fur draws of object i interpolate (0 without
   // fur): 4 for grey per-vertex light, 8 for coloured, 12 lit per pixel.
   int fur_varying_count(size_t object) const;

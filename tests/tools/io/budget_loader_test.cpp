@@ -325,7 +325,7 @@ TEST(BudgetGltfImage, HugeClaimedEmbeddedPngIsRefusedBeforeDecoding) {
 TEST(BudgetGltfImage, ShippedGlbImageAtTheLimitIsAccepted) {
   const auto f = data_dir() / "BoxTextured.glb";  // embeds CesiumLogoFlat.png, 211 x 211
   const LoadedMesh l = load_mesh_file(f, texture_side(211));
-  EXPECT_EQ(l.color_map.pixels.width, 211);
+  EXPECT_EQ(l.color_map().pixels->width, 211);
   expect_refused([&] { load_mesh_file(f, texture_side(210)); }, "images[0]",
                  {"211 x 211 texels", "more than the budget of 210"});
 }

@@ -43,7 +43,7 @@ TEST(MeshLoader, BunnyObj) {
   for (const auto& [edge, uses] : testing::edge_use(l.mesh)) ASSERT_EQ(uses, 2);
   EXPECT_EQ(testing::winding_conflicts(l.mesh), 0);
   EXPECT_GT(testing::signed_volume(l.mesh), 0.0);
-  EXPECT_FALSE(l.color_map.present());
+  EXPECT_FALSE(l.color_map().present());
 }
 
 TEST(MeshLoader, LeePerrySmithGlbAndObjAgree) {
@@ -75,7 +75,7 @@ TEST(MeshLoader, LeePerrySmithGlbAndObjAgree) {
   EXPECT_NEAR(hi.x - lo.x, 2 * 4.28, 0.02);
   EXPECT_NEAR(hi.y - lo.y, 2 * 3.97, 0.02);
   EXPECT_NEAR(hi.z - lo.z, 2 * 2.59, 0.02);
-  EXPECT_FALSE(glb.color_map.present());  // the GLB's material is a plain colour
+  EXPECT_FALSE(glb.color_map().present());  // the GLB's material is a plain colour
 }
 
 void expect_box_textured(const LoadedMesh& l) {
@@ -113,18 +113,18 @@ TEST(MeshLoader, BoxTexturedGlbAppliesTheRootMatrix) {
   EXPECT_NEAR(glm::distance(l.mesh.positions[0], glm::vec3(-0.5f, 0.5f, 0.5f)), 0.0f, 1e-6f);
   EXPECT_NEAR(glm::distance(l.mesh.normals[0], glm::vec3(0.0f, 1.0f, 0.0f)), 0.0f, 1e-6f);
   // Embedded PNG: decoded pixels, no path.
-  EXPECT_TRUE(l.color_map.path.empty());
-  EXPECT_EQ(l.color_map.pixels.width, 211);
-  EXPECT_EQ(l.color_map.pixels.height, 211);
-  EXPECT_FALSE(l.normal_map.present());
+  EXPECT_TRUE(l.color_map().path.empty());
+  EXPECT_EQ(l.color_map().pixels->width, 211);
+  EXPECT_EQ(l.color_map().pixels->height, 211);
+  EXPECT_FALSE(l.normal_map().present());
 }
 
 TEST(MeshLoader, BoxTexturedGltfResolvesRelativeUris) {
   const auto file = data_dir() / "BoxTextured-glTF" / "BoxTextured.gltf";
   const LoadedMesh l = load_mesh_file(file);
   expect_box_textured(l);
-  EXPECT_EQ(l.color_map.path, file.parent_path() / "CesiumLogoFlat.png");
-  EXPECT_TRUE(std::filesystem::exists(l.color_map.path));
+  EXPECT_EQ(l.color_map().path, file.parent_path() / "CesiumLogoFlat.png");
+  EXPECT_TRUE(std::filesystem::exists(l.color_map().path));
   const LoadedMesh glb = load_mesh_file(data_dir() / "BoxTextured.glb");
   EXPECT_EQ(l.mesh.positions, glb.mesh.positions);
   EXPECT_EQ(l.mesh.indices, glb.mesh.indices);
@@ -360,26 +360,47 @@ TEST(MeshLoader, ObjMaterialTexturesResolvedRelativeToTheFile) {
   dir.write("m.mtl", "newmtl skin\nmap_Kd tex/albedo.png\nnorm tex/normal.png\n");
   const auto f = dir.write("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl skin\nf 1 2 3\n");
   const LoadedMesh l = load_mesh_file(f);
-  EXPECT_EQ(l.color_map.path, dir.path() / "tex/albedo.png");
-  EXPECT_EQ(l.normal_map.path, dir.path() / "tex/normal.png");
+  EXPECT_EQ(l.color_map().path, dir.path() / "tex/albedo.png");
+  EXPECT_EQ(l.normal_map().path, dir.path() / "tex/normal.png");
 }
 
-// pelt draws one material per object: faces naming other maps are drawn with the first
-// face's, and the user hears of it; materials that differ in other ways are no warning.
-TEST(MeshLoader, ObjFacesOfMaterialsWithOtherMapsAreAWarning) {
+// Each face keeps its material's maps: two materials naming other maps make two sets, each
+// triangle in its own; materials that differ in other ways (Kd) share one set.
+TEST(MeshLoader, ObjFacesKeepTheirMaterialsMaps) {
   TempDir dir;
-  dir.write("m.mtl", "newmtl skin\nmap_Kd skin.png\nnewmtl eyes\nmap_Kd eyes.png\nnewmtl skin2\nmap_Kd skin.png\n"
-                     "Kd 1 0 0\n");
+  dir.write("m.mtl", "newmtl skin\nmap_Kd skin.png\nnewmtl eyes\nmap_Kd eyes.png\nnorm eyes_n.png\n"
+                     "newmtl skin2\nmap_Kd skin.png\nKd 1 0 0\nnewmtl plain\nKd 0 1 0\n");
   const std::string v = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n";
-  const LoadedMesh two = load_mesh_file(dir.write("two.obj", v + "usemtl skin\nf 1 2 3\nusemtl eyes\nf 2 4 3\n"));
-  EXPECT_EQ(two.color_map.path, dir.path() / "skin.png");
-  EXPECT_NE(std::find(two.warnings.begin(), two.warnings.end(),
-                      "faces use 2 materials with different texture maps: the maps of `skin` (the first face's) are "
-                      "used for the whole mesh"),
-            two.warnings.end())
-      << ::testing::PrintToString(two.warnings);
+  const LoadedMesh two = load_mesh_file(
+      dir.write("two.obj", v + "usemtl skin\nf 1 2 3\nusemtl eyes\nf 2 4 3\nusemtl skin\nf 1 2 4\n"));
+  ASSERT_EQ(two.maps.size(), 2u);
+  EXPECT_EQ(two.maps[0].material, "skin");
+  EXPECT_EQ(two.maps[0].color_map.path, dir.path() / "skin.png");
+  EXPECT_FALSE(two.maps[0].normal_map.present());
+  EXPECT_EQ(two.maps[1].material, "eyes");
+  EXPECT_EQ(two.maps[1].color_map.path, dir.path() / "eyes.png");
+  EXPECT_EQ(two.maps[1].normal_map.path, dir.path() / "eyes_n.png");
+  EXPECT_EQ(two.triangle_maps, (std::vector<uint32_t>{0, 1, 0}));
+  EXPECT_TRUE(two.warnings.empty()) << ::testing::PrintToString(two.warnings);
+  // A quad is two triangles of its face's set.
+  const LoadedMesh quad = load_mesh_file(dir.write("quad.obj", v + "usemtl eyes\nf 1 2 3\nusemtl skin\nf 1 2 4 3\n"));
+  EXPECT_EQ(quad.triangle_maps, (std::vector<uint32_t>{0, 1, 1}));
+  EXPECT_EQ(quad.maps[0].material, "eyes");
   const LoadedMesh same = load_mesh_file(dir.write("same.obj", v + "usemtl skin\nf 1 2 3\nusemtl skin2\nf 2 4 3\n"));
-  for (const std::string& w : same.warnings) EXPECT_EQ(w.find("materials"), std::string::npos) << w;
+  ASSERT_EQ(same.maps.size(), 1u);
+  EXPECT_TRUE(same.triangle_maps.empty());
+  EXPECT_EQ(same.maps_of(1), 0u);
+  // A material without maps beside one with them: a set without maps.
+  const LoadedMesh plain = load_mesh_file(dir.write("plain.obj", v + "usemtl plain\nf 1 2 3\nusemtl skin\nf 2 4 3\n"));
+  ASSERT_EQ(plain.maps.size(), 2u);
+  EXPECT_FALSE(plain.maps[0].any());
+  EXPECT_EQ(plain.maps[0].material, "plain");
+  EXPECT_EQ(plain.triangle_maps, (std::vector<uint32_t>{0, 1}));
+  EXPECT_FALSE(plain.color_map().present());  // the first face's
+  // No material draws a map: no set.
+  const LoadedMesh none = load_mesh_file(dir.write("none.obj", v + "usemtl plain\nf 1 2 3\n"));
+  EXPECT_TRUE(none.maps.empty());
+  EXPECT_TRUE(none.triangle_maps.empty());
 }
 
 // A missing library is one warning line naming where it was looked for.
@@ -438,32 +459,85 @@ std::filesystem::path two_material_gltf(const TempDir& dir, const std::string& m
   return dir.write("two.gltf", text);
 }
 
-// The first primitive's colour texture is the mesh's, and the user hears of the second's.
-TEST(MeshLoader, GltfSecondColourTextureIsAWarning) {
+// Each primitive keeps its material's colour texture; materials naming one image placed
+// alike share a set, and one placed otherwise (KHR_texture_transform) is a set of its own.
+TEST(MeshLoader, GltfPrimitivesKeepTheirMaterialsMaps) {
   TempDir dir;
   const LoadedMesh l = load_mesh_file(two_material_gltf(dir, R"([{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}},
       {"pbrMetallicRoughness":{"baseColorTexture":{"index":1}}}])"));
-  EXPECT_EQ(l.color_map.path, dir.path() / "a.png");
-  EXPECT_NE(std::find(l.warnings.begin(), l.warnings.end(),
-                      "primitives use more than one base colour texture: "
-                      "materials[0].pbrMetallicRoughness.baseColorTexture is used for the whole mesh"),
-            l.warnings.end())
-      << ::testing::PrintToString(l.warnings);
+  ASSERT_EQ(l.maps.size(), 2u);
+  EXPECT_EQ(l.maps[0].color_map.path, dir.path() / "a.png");
+  EXPECT_EQ(l.maps[1].color_map.path, dir.path() / "b.png");
+  EXPECT_EQ(l.maps[0].material, "materials[0]");  // unnamed: its path
+  EXPECT_EQ(l.triangle_maps, (std::vector<uint32_t>{0, 1}));
+  EXPECT_TRUE(l.warnings.empty()) << ::testing::PrintToString(l.warnings);
+
+  TempDir dir2;
+  const LoadedMesh same = load_mesh_file(two_material_gltf(dir2, R"([{"name":"one","pbrMetallicRoughness":{"baseColorTexture":{"index":0}}},
+      {"name":"two","pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}])"));
+  ASSERT_EQ(same.maps.size(), 1u);
+  EXPECT_EQ(same.maps[0].material, "one");
+  EXPECT_TRUE(same.triangle_maps.empty());
+
+  TempDir dir3;
+  const LoadedMesh placed = load_mesh_file(two_material_gltf(dir3, R"([{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}},
+      {"pbrMetallicRoughness":{"baseColorTexture":{"index":0,
+         "extensions":{"KHR_texture_transform":{"scale":[2,2]}}}}}])"));
+  ASSERT_EQ(placed.maps.size(), 2u);
+  EXPECT_EQ(placed.maps[0].color_map.path, placed.maps[1].color_map.path);
+  EXPECT_FALSE(placed.maps[0].color_map.placement.transforms());
+  EXPECT_TRUE(placed.maps[1].color_map.placement.transforms());
 }
 
-// A normalTexture is the mesh's normal map (drawn when the scene names none,
+// A normalTexture is its primitive's normal map (drawn when the scene names none,
 // tests/tools/render/normal_map_test.cpp), the same way.
-TEST(MeshLoader, GltfNormalTextureIsTheMeshsNormalMap) {
+TEST(MeshLoader, GltfNormalTextureIsThePrimitivesNormalMap) {
   TempDir dir;
   const LoadedMesh l = load_mesh_file(
       two_material_gltf(dir, R"([{"normalTexture":{"index":0}}, {"normalTexture":{"index":1}}])"));
-  EXPECT_EQ(l.normal_map.path, dir.path() / "a.png");
-  EXPECT_FALSE(l.color_map.present());
-  EXPECT_NE(std::find(l.warnings.begin(), l.warnings.end(),
-                      "primitives use more than one normal texture: materials[0].normalTexture is used for the "
-                      "whole mesh"),
-            l.warnings.end())
-      << ::testing::PrintToString(l.warnings);
+  ASSERT_EQ(l.maps.size(), 2u);
+  EXPECT_EQ(l.normal_map().path, dir.path() / "a.png");
+  EXPECT_EQ(l.maps[1].normal_map.path, dir.path() / "b.png");
+  EXPECT_FALSE(l.color_map().present());
+  EXPECT_FALSE(l.maps[1].color_map.present());
+  EXPECT_TRUE(l.warnings.empty()) << ::testing::PrintToString(l.warnings);
+  // A primitive of no material beside one with a map: a set without maps.
+  TempDir dir2;
+  std::string text = tiny_gltf(0.0f, 2);
+  const std::string from = R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)";
+  text.replace(text.find(from), from.size(),
+               R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1},
+                                           {"attributes":{"POSITION":0},"indices":1,"material":0}]}],
+                  "textures":[{"source":0}], "images":[{"uri":"a.png"}],
+                  "materials":[{"normalTexture":{"index":0}}],)");
+  const LoadedMesh mixed = load_mesh_file(dir2.write("mixed.gltf", text));
+  ASSERT_EQ(mixed.maps.size(), 2u);
+  EXPECT_FALSE(mixed.maps[0].any());
+  EXPECT_EQ(mixed.maps[1].normal_map.path, dir2.path() / "a.png");
+  EXPECT_EQ(mixed.triangle_maps, (std::vector<uint32_t>{0, 1}));
+}
+
+// Two materials drawing one embedded image share its pixels, decoded once.
+TEST(MeshLoader, GltfEmbeddedImageDecodedOnceForItsSets) {
+  TempDir dir;
+  const auto png = data_dir() / "BoxTextured-glTF" / "CesiumLogoFlat.png";
+  std::ifstream in(png, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text = tiny_gltf(0.0f, 2);
+  const std::string from = R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)";
+  text.replace(text.find(from), from.size(),
+               R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0},
+                                           {"attributes":{"POSITION":0},"indices":1,"material":1}]}],
+                  "textures":[{"source":0}], "images":[{"uri":"data:image/png;base64,)" + base64(bytes) + R"("}],
+                  "materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}},
+                               {"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},"normalTexture":{"index":0}}],)");
+  const LoadedMesh l = load_mesh_file(dir.write("embedded.gltf", text));
+  ASSERT_EQ(l.maps.size(), 2u);
+  ASSERT_NE(l.maps[0].color_map.pixels, nullptr);
+  EXPECT_EQ(l.maps[0].color_map.pixels, l.maps[1].color_map.pixels);
+  // The normal map reads the same image linear: its own decoding.
+  ASSERT_NE(l.maps[1].normal_map.pixels, nullptr);
+  EXPECT_NE(l.maps[1].normal_map.pixels, l.maps[1].color_map.pixels);
 }
 
 // A required extension pelt does not read must stop the load (glTF 2.0, section 3.12); a
@@ -695,7 +769,7 @@ TEST(MeshLoader, GltfTexCoordNamesTheUvSet) {
   const LoadedMesh one = load_mesh_file(uv_set_gltf(dir, true, color1));
   ASSERT_EQ(one.mesh.uvs.size(), 3u);
   for (const glm::vec2& uv : one.mesh.uvs) EXPECT_EQ(uv, glm::vec2(0.75f));
-  EXPECT_EQ(one.color_map.path, dir.path() / "a.png");
+  EXPECT_EQ(one.color_map().path, dir.path() / "a.png");
   const LoadedMesh zero =
       load_mesh_file(uv_set_gltf(dir, true, R"({"normalTexture":{"index":0,"texCoord":0}})"));
   ASSERT_EQ(zero.mesh.uvs.size(), 3u);
@@ -710,23 +784,23 @@ TEST(MeshLoader, GltfSamplersAndTextureTransformPlaceTheMaps) {
   TempDir dir;
   const std::string color = R"({"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})";
   const LoadedMesh plain = load_mesh_file(uv_set_gltf(dir, false, color));
-  EXPECT_EQ(plain.color_map.placement, MapPlacement{});
+  EXPECT_EQ(plain.color_map().placement, MapPlacement{});
   const LoadedMesh wrapped = load_mesh_file(uv_set_gltf(
       dir, false, color, R"("textures":[{"source":0,"sampler":0}],"samplers":[{"wrapS":33648,"wrapT":33071}])"));
-  EXPECT_EQ(wrapped.color_map.placement.wrap_u, raster::Wrap::Mirror);
-  EXPECT_EQ(wrapped.color_map.placement.wrap_v, raster::Wrap::Clamp);
-  EXPECT_FALSE(wrapped.color_map.placement.transforms());
+  EXPECT_EQ(wrapped.color_map().placement.wrap_u, raster::Wrap::Mirror);
+  EXPECT_EQ(wrapped.color_map().placement.wrap_v, raster::Wrap::Clamp);
+  EXPECT_FALSE(wrapped.color_map().placement.transforms());
   const LoadedMesh defaults = load_mesh_file(
       uv_set_gltf(dir, false, color, R"("textures":[{"source":0,"sampler":0}],"samplers":[{"magFilter":9729}])"));
-  EXPECT_EQ(defaults.color_map.placement, MapPlacement{});
+  EXPECT_EQ(defaults.color_map().placement, MapPlacement{});
 
   const std::string transformed = R"({"normalTexture":{"index":0,"extensions":{"KHR_texture_transform":
       {"offset":[0.5,0.25],"rotation":1.5707963267948966,"scale":[2,4]}}}})";
   const LoadedMesh t = load_mesh_file(uv_set_gltf(dir, false, transformed));
   // u' = 2 cos(r) u + 4 sin(r) v + 0.5, v' = -2 sin(r) u + 4 cos(r) v + 0.25
   const std::array<float, 6> want{0.0f, 4.0f, 0.5f, -2.0f, 0.0f, 0.25f};
-  for (int k = 0; k < 6; ++k) EXPECT_NEAR(t.normal_map.placement.m[size_t(k)], want[size_t(k)], 1e-6) << k;
-  EXPECT_EQ(t.normal_map.placement.wrap_u, raster::Wrap::Repeat);
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(t.normal_map().placement.m[size_t(k)], want[size_t(k)], 1e-6) << k;
+  EXPECT_EQ(t.normal_map().placement.wrap_u, raster::Wrap::Repeat);
 
   // The extension's texCoord picks the uv set.
   const LoadedMesh set1 = load_mesh_file(uv_set_gltf(

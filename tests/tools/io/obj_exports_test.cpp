@@ -89,7 +89,7 @@ TEST(ObjExports, MaterialLibrariesAreFoundWhereverTheRecordSays) {
   const auto map_of = [&](const std::string& name, const std::string& mtllib) {
     const LoadedMesh l = load_mesh_file(dir.write(name, "mtllib " + mtllib + "\n" + kQuad + use + kFace));
     EXPECT_TRUE(l.warnings.empty()) << name << ": " << ::testing::PrintToString(l.warnings);
-    return l.color_map.path;
+    return l.color_map().path;
   };
   EXPECT_EQ(map_of("spaced.obj", "my lib.mtl"), dir.path() / "tex.png");
   EXPECT_EQ(map_of("two.obj", "other.mtl my\\ lib.mtl"), dir.path() / "tex.png");
@@ -100,7 +100,7 @@ TEST(ObjExports, MaterialLibrariesAreFoundWhereverTheRecordSays) {
   const LoadedMesh again = load_mesh_file(dir.write(
       "again.obj", "mtllib other.mtl\nmtllib other.mtl\nmtllib mats\\b.mtl\n" + kQuad + "usemtl Material #2\n" + kFace));
   EXPECT_TRUE(again.warnings.empty()) << ::testing::PrintToString(again.warnings);
-  EXPECT_EQ(again.color_map.path, dir.path() / "mats" / "../tex.png");
+  EXPECT_EQ(again.color_map().path, dir.path() / "mats" / "../tex.png");
   // From another folder, the absolute path still finds it.
   std::filesystem::create_directories(dir.path() / "elsewhere");
   EXPECT_EQ(map_of("elsewhere/absolute.obj", (dir.path() / "my lib.mtl").string()), dir.path() / "tex.png");
@@ -113,7 +113,7 @@ TEST(ObjExports, MapsAreFoundBesideTheirLibrary) {
   dir.write("mats/textures/wood.png", "");
   dir.write("mats/sub.mtl", "newmtl m\nmap_Kd textures\\wood.png\n");
   const LoadedMesh l = load_mesh_file(dir.write("sub.obj", "mtllib mats/sub.mtl\n" + kQuad + "usemtl m\n" + kFace));
-  EXPECT_EQ(l.color_map.path, dir.path() / "mats" / "textures/wood.png");
+  EXPECT_EQ(l.color_map().path, dir.path() / "mats" / "textures/wood.png");
   EXPECT_TRUE(l.warnings.empty()) << ::testing::PrintToString(l.warnings);
 }
 
@@ -146,10 +146,10 @@ TEST(ObjExports, MapOptionsAreReadAtTheirArities) {
     const std::string lib = stem + ".mtl";
     dir.write(lib, "newmtl m\n" + cases[i].statement + "\n");
     const LoadedMesh l = load_mesh_file(dir.write(stem + ".obj", "mtllib " + lib + "\n" + kQuad + "usemtl m\n" + kFace));
-    EXPECT_EQ(l.color_map.path, dir.path() / "tex.png") << cases[i].statement;
-    EXPECT_EQ(l.color_map.placement.m, cases[i].m) << cases[i].statement;
-    EXPECT_EQ(l.color_map.placement.wrap_u, cases[i].wrap) << cases[i].statement;
-    EXPECT_EQ(l.color_map.placement.wrap_v, cases[i].wrap) << cases[i].statement;
+    EXPECT_EQ(l.color_map().path, dir.path() / "tex.png") << cases[i].statement;
+    EXPECT_EQ(l.color_map().placement.m, cases[i].m) << cases[i].statement;
+    EXPECT_EQ(l.color_map().placement.wrap_u, cases[i].wrap) << cases[i].statement;
+    EXPECT_EQ(l.color_map().placement.wrap_v, cases[i].wrap) << cases[i].statement;
     if (cases[i].warning.empty()) {
       EXPECT_TRUE(l.warnings.empty()) << cases[i].statement << ": " << ::testing::PrintToString(l.warnings);
     } else {
@@ -160,7 +160,7 @@ TEST(ObjExports, MapOptionsAreReadAtTheirArities) {
   }
   dir.write("none.mtl", "newmtl m\nmap_Kd -s 2\n");
   const LoadedMesh none = load_mesh_file(dir.write("none.obj", "mtllib none.mtl\n" + kQuad + "usemtl m\n" + kFace));
-  EXPECT_TRUE(none.color_map.path.empty());
+  EXPECT_TRUE(none.color_map().path.empty());
   ASSERT_EQ(none.warnings.size(), 1u) << ::testing::PrintToString(none.warnings);
   EXPECT_EQ(none.warnings[0], "`map_Kd` of material `m` in none.mtl names no file: no map is drawn");
 }
@@ -207,10 +207,10 @@ TEST(ObjExports, MapPlacementsAreCheckedAndKeptPerMap) {
   EXPECT_NE(bump.warnings[0].find("names a bump map"), std::string::npos) << bump.warnings[0];
   dir.write("two.mtl", "newmtl m\nmap_Kd -s 4 4 tex.png\nnorm -o 0.5 0.25 -clamp on tex.png\n");
   const LoadedMesh l = load_mesh_file(dir.write("two.obj", "mtllib two.mtl\n" + kQuad + "usemtl m\n" + kFace));
-  EXPECT_EQ(l.color_map.placement.m, (std::array<float, 6>{4, 0, 0, 0, 4, 0}));
-  EXPECT_EQ(l.color_map.placement.wrap_u, raster::Wrap::Repeat);
-  EXPECT_EQ(l.normal_map.placement.m, (std::array<float, 6>{1, 0, 0.5f, 0, 1, 0.25f}));
-  EXPECT_EQ(l.normal_map.placement.wrap_v, raster::Wrap::Clamp);
+  EXPECT_EQ(l.color_map().placement.m, (std::array<float, 6>{4, 0, 0, 0, 4, 0}));
+  EXPECT_EQ(l.color_map().placement.wrap_u, raster::Wrap::Repeat);
+  EXPECT_EQ(l.normal_map().placement.m, (std::array<float, 6>{1, 0, 0.5f, 0, 1, 0.25f}));
+  EXPECT_EQ(l.normal_map().placement.wrap_v, raster::Wrap::Clamp);
 }
 
 // tinyobjloader looks a `usemtl` name up when it meets the record, so a library named after the
@@ -222,12 +222,12 @@ TEST(ObjExports, AMaterialLibraryAfterItsUsemtlStillGivesTheMaterial) {
   dir.write("late.mtl", "newmtl Late Material\nmap_Kd -s 2 2 tex.png\n");
   const LoadedMesh l = load_mesh_file(
       dir.write("late.obj", joined({kQuad + "usemtl Late Material", "f 1/1 2/2 3/3", "mtllib late.mtl", "f 1/1 3/3 4/4"})));
-  EXPECT_EQ(l.color_map.path, dir.path() / "tex.png");
-  EXPECT_EQ(l.color_map.placement.m, (std::array<float, 6>{2, 0, 0, 0, 2, 0}));
+  EXPECT_EQ(l.color_map().path, dir.path() / "tex.png");
+  EXPECT_EQ(l.color_map().placement.m, (std::array<float, 6>{2, 0, 0, 0, 2, 0}));
   EXPECT_TRUE(l.warnings.empty()) << ::testing::PrintToString(l.warnings);
   const LoadedMesh none = load_mesh_file(
       dir.write("none.obj", joined({kQuad + "usemtl Missing", "f 1/1 2/2 3/3", "mtllib late.mtl", "f 1/1 3/3 4/4"})));
-  EXPECT_TRUE(none.color_map.path.empty());
+  EXPECT_TRUE(none.color_map().path.empty());
   ASSERT_EQ(none.warnings.size(), 2u) << ::testing::PrintToString(none.warnings);
   EXPECT_NE(none.warnings[0].find("Missing"), std::string::npos) << none.warnings[0];
   EXPECT_NE(none.warnings[1].find("no face follows a `usemtl` of a defined material"), std::string::npos)
@@ -245,7 +245,7 @@ TEST(ObjExports, AUsemtlCommentIsCutOnlyWhenTheWholeNameIsNoMaterials) {
   const LoadedMesh cut = load_mesh_file(dir.write(
       "cut.obj", joined({"mtllib c.mtl", kQuad + "usemtl Mat # the red one", "f 1/1 2/2 3/3", "usemtl Material #25",
                          "f 1/1 3/3 4/4"})));
-  EXPECT_EQ(cut.color_map.path, dir.path() / "a.png");
+  EXPECT_EQ(cut.color_map().path, dir.path() / "a.png");
   std::vector<std::string> about;
   for (const std::string& w : cut.warnings)
     if (w.find("Mat # the red one") != std::string::npos || w.find("not found") != std::string::npos) about.push_back(w);
@@ -254,7 +254,7 @@ TEST(ObjExports, AUsemtlCommentIsCutOnlyWhenTheWholeNameIsNoMaterials) {
                       "as a comment");
   const LoadedMesh whole = load_mesh_file(
       dir.write("whole.obj", joined({"mtllib c.mtl", kQuad + "usemtl Material #25", "f 1/1 2/2 3/3"})));
-  EXPECT_EQ(whole.color_map.path, dir.path() / "b.png");
+  EXPECT_EQ(whole.color_map().path, dir.path() / "b.png");
   EXPECT_TRUE(whole.warnings.empty()) << ::testing::PrintToString(whole.warnings);
 }
 
@@ -280,19 +280,20 @@ TEST(ObjExports, LibrariesWithMapsButNoUsemtlAreNamed) {
   dir.write("tex.png", "");
   dir.write("m.mtl", "newmtl m\nmap_Kd tex.png\n");
   const LoadedMesh l = load_mesh_file(dir.write("nouse.obj", "mtllib m.mtl\n" + kQuad + kFace));
-  EXPECT_TRUE(l.color_map.path.empty());
+  EXPECT_TRUE(l.color_map().path.empty());
   ASSERT_EQ(l.warnings.size(), 1u) << ::testing::PrintToString(l.warnings);
   EXPECT_NE(l.warnings[0].find("no face names a material (no `usemtl` record)"), std::string::npos) << l.warnings[0];
   // A `usemtl` after the last face names the material of no face (a review found it silent).
   const LoadedMesh after = load_mesh_file(dir.write("after.obj", "mtllib m.mtl\n" + kQuad + kFace + "usemtl m\n"));
-  EXPECT_TRUE(after.color_map.path.empty());
+  EXPECT_TRUE(after.color_map().path.empty());
   ASSERT_EQ(after.warnings.size(), 1u) << ::testing::PrintToString(after.warnings);
   EXPECT_NE(after.warnings[0].find("no face follows a `usemtl` of a defined material"), std::string::npos)
       << after.warnings[0];
 }
 
-// Faces before any `usemtl` have no material, yet take the first material's maps: said so.
-TEST(ObjExports, FacesWithoutAMaterialAreNamedWhenAMapCoversThem) {
+// Faces before any `usemtl` have no material: drawn without maps (until 2026-11-27 with the
+// first material's), and said so.
+TEST(ObjExports, FacesWithoutAMaterialAreDrawnWithoutMaps) {
   TempDir dir;
   dir.write("tex.png", "");
   dir.write("m.mtl", "newmtl m\nmap_Kd tex.png\n");
@@ -300,7 +301,11 @@ TEST(ObjExports, FacesWithoutAMaterialAreNamedWhenAMapCoversThem) {
       dir.write("mixed.obj", joined({"mtllib m.mtl", kQuad + "f 1/1 2/2 3/3", "usemtl m", "f 1/1 3/3 4/4"})));
   ASSERT_EQ(l.warnings.size(), 1u) << ::testing::PrintToString(l.warnings);
   EXPECT_EQ(l.warnings[0], "1 faces have no material (no `usemtl` before them, or one naming no material a library "
-                           "defines): the maps of `m` are drawn on them too");
+                           "defines): they are drawn without maps");
+  ASSERT_EQ(l.maps.size(), 2u);
+  EXPECT_FALSE(l.maps[0].any());
+  EXPECT_EQ(l.maps[1].color_map.path, dir.path() / "tex.png");
+  EXPECT_EQ(l.triangle_maps, (std::vector<uint32_t>{0, 1}));
 }
 
 }  // namespace

@@ -383,6 +383,43 @@ TEST(MemoryEstimate, ColourMapSizedFromItsHeader) {
   EXPECT_NE(e.parts[1].what.find("64 x 32"), std::string::npos) << e.parts[1].what;
 }
 
+// A mesh whose materials give two map sets: each image counted once (the colour map both
+// draw), the normal map once, and the parts' vertex copies counted exactly; the estimate still
+// bounds what the renderer holds.
+TEST(MemoryEstimate, MapSetsCountEachImageOnceAndThePartsCopies) {
+  SceneDir dir;
+  std::vector<uint8_t> px(16 * 8 * 3, 200);
+  io::write_image_atomic(dir.path() / "c.png", 16, 8, 3, io::PixelType::u8, px.data());
+  io::write_image_atomic(dir.path() / "n.png", 8, 8, 3, io::PixelType::u8, px.data());
+  dir.write("m.mtl", "newmtl a\nmap_Kd c.png\nnewmtl b\nmap_Kd c.png\nnorm n.png\n");
+  // Two triangles of each material, taking turns: 4 vertices each, those of the middle column in both.
+  dir.write("p.obj", "mtllib m.mtl\nv -1 0 1\nv 0 0 1\nv 1 0 1\nv -1 0 -1\nv 0 0 -1\nv 1 0 -1\n"
+                     "vt 0 0\nvt 0.5 0\nvt 1 0\nvt 0 1\nvt 0.5 1\nvt 1 1\nvn 0 1 0\n"
+                     "usemtl a\nf 1/1/1 2/2/1 5/5/1\nusemtl b\nf 2/2/1 3/3/1 6/6/1\nusemtl a\nf 1/1/1 5/5/1 4/4/1\n"
+                     "usemtl b\nf 2/2/1 6/6/1 5/5/1\n");
+  const io::Scene s = dir.scene(R"({"pelt": 1, "image": {"width": 10, "height": 10},
+      "objects": [{"mesh": "p.obj", "material": {"type": "lambert"}}]})");
+  const auto meshes = io::load_scene_meshes(s);
+  ASSERT_EQ(meshes[0].loaded.maps.size(), 2u);
+  const MemoryEstimate e = estimate_memory(s, meshes, 0, 0, 1, 1);
+  int colour = 0, normal = 0, split = 0;
+  for (const MemoryPart& p : e.parts) {
+    colour += p.kind == "colour maps";
+    normal += p.kind == "normal maps";
+    if (p.what.find("parts by material") != std::string::npos) {
+      ++split;
+      EXPECT_NE(p.what.find("mesh drawn in 2 parts by material, 8 vertex copies"), std::string::npos) << p.what;
+    }
+  }
+  EXPECT_EQ(colour, 1);
+  EXPECT_EQ(normal, 1);
+  EXPECT_EQ(split, 1);
+  RenderSettings rs;
+  rs.threads = 1;
+  const SceneRenderer r(s, meshes, rs);
+  EXPECT_GE(e.renderer_total(), r.memory_estimate());
+}
+
 TEST(MemoryEstimate, SaturatesInsteadOfWrapping) {
   EXPECT_EQ(image_bytes(INT_MAX, INT_MAX, 64), UINT64_MAX);  // 84 bytes x 4.6e18 pixels
   EXPECT_EQ(io::sat_mul(uint64_t{1} << 40, uint64_t{1} << 30), UINT64_MAX);

@@ -121,7 +121,9 @@ int run_info(const InfoOptions& o) {
       // The mesh file's materials give its faces several sets of maps.
       std::printf("       maps by material (%zu sets):\n", maps.size());
       for (const render::SceneRenderer::MapsDrawn& m : maps)
-        std::printf("         `%s`, %zu triangles: %s\n", m.material.c_str(), m.triangles, maps_line(m).c_str());
+        std::printf("         %s, %zu triangle%s: %s\n",
+                    m.material == io::kNoMaterial ? m.material.c_str() : ("`" + m.material + "`").c_str(), m.triangles,
+                    m.triangles == 1 ? "" : "s", maps_line(m).c_str());
     }
     // The blur's time is its pairs, and one under the budget can still take minutes: info
     // estimates them (RenderSettings::describe_only) and shows what --max-blur-pairs let through;

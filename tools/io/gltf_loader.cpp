@@ -66,6 +66,7 @@ class GltfReader {
       throw InputError(file_, "", "the default scene has no triangles");
     if (!all_uvs_) {
       if (any_uvs_) out_.warnings.push_back("some primitives have no TEXCOORD_0: uvs dropped");
+      out_.uvs_dropped = any_uvs_;
       out_.mesh.uvs.clear();
     }
     // Each primitive keeps its material's maps; a file whose primitives all use one set of
@@ -74,6 +75,9 @@ class GltfReader {
     if (std::any_of(sets_.begin(), sets_.end(), [](const MeshMaps& m) { return m.any(); })) {
       out_.maps = std::move(sets_);
       if (out_.maps.size() > 1) out_.triangle_maps = std::move(triangle_maps_);
+      if (unmaterialed_triangles_ > 0)
+        out_.warnings.push_back(std::to_string(unmaterialed_triangles_) + " triangles of primitives without a material (" +
+                                unmaterialed_ + ", ...) are drawn without the file's maps");
     }
     // Every vertex has a normal now, the file's or a flat one: only zero-length ones are replaced.
     finish_normals(out_, true, true, NormalSharing::per_vertex);
@@ -599,8 +603,13 @@ class GltfReader {
       };
       append_triangles(prim.mode, idx, base, mirrored);
       if (flat) make_flat(base, first_index);
-      if (const size_t added = (m.indices.size() - first_index) / 3; added > 0)
+      if (const size_t added = (m.indices.size() - first_index) / 3; added > 0) {
         triangle_maps_.insert(triangle_maps_.end(), added, maps_of(prim.material));
+        if (prim.material < 0) {
+          if (unmaterialed_.empty()) unmaterialed_ = pw;
+          unmaterialed_triangles_ += added;
+        }
+      }
     }
   }
 
@@ -759,6 +768,7 @@ class GltfReader {
     if (const auto same = std::find(set_keys_.begin(), set_keys_.end(), key); same != set_keys_.end())
       return set_of_material_[material] = uint32_t(same - set_keys_.begin());
     MeshMaps maps;
+    maps.material = kNoMaterial;
     if (mat) {
       maps.material = mat->name.empty() ? mw : mat->name;
       if (std::get<0>(key) >= 0) {
@@ -855,6 +865,8 @@ class GltfReader {
   uint64_t deformed_ = 0;                          // vertex values moved by morphs and skins
   bool all_uvs_ = true, any_uvs_ = false;
   std::vector<MeshMaps> sets_;                 // maps_of's, in the order of their first primitive
+  std::string unmaterialed_;                   // the first drawn primitive without a material
+  uint64_t unmaterialed_triangles_ = 0;        // and the triangles of all such primitives
   std::vector<uint32_t> triangle_maps_;        // each triangle's set in sets_
   std::map<int, uint32_t> set_of_material_;    // by material index (-1: none)
   std::vector<MapsKey> set_keys_;              // sets_'s images and placements

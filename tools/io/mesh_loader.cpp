@@ -97,12 +97,10 @@ void validate_mesh(const Mesh& m, const std::string& file) {
                            std::to_string(n) + " vertices)");
 }
 
-namespace {
-const TextureRef kNoTexture{};
-}  // namespace
-
-const TextureRef& LoadedMesh::color_map() const { return maps.empty() ? kNoTexture : maps[0].color_map; }
-const TextureRef& LoadedMesh::normal_map() const { return maps.empty() ? kNoTexture : maps[0].normal_map; }
+const MeshMaps& LoadedMesh::set(size_t k) const {
+  static const MeshMaps kNoMaps{};
+  return maps.empty() && k == 0 ? kNoMaps : maps.at(k);
+}
 
 LoadedMesh load_mesh_file(const std::filesystem::path& path, const Budget& budget) {
   const std::string file = path.string();
@@ -120,8 +118,20 @@ LoadedMesh load_mesh_file(const std::filesystem::path& path, const Budget& budge
                                    "` (expected .obj, .gltf or .glb)");
   out.format = ext == ".obj" ? MeshFormat::obj : MeshFormat::gltf;
   validate_mesh(out.mesh, file);
-  if (!out.triangle_maps.empty() && out.triangle_maps.size() != out.mesh.triangle_count())
-    throw std::logic_error("load_mesh_file: a map set per triangle expected");
+  // The renderer draws a part per set: each set has a triangle, and each triangle a set.
+  if (out.maps.size() > 1) {
+    std::vector<char> used(out.maps.size(), 0);
+    bool in_range = true;
+    for (const uint32_t k : out.triangle_maps) {
+      in_range &= k < used.size();
+      if (in_range) used[k] = 1;
+    }
+    if (!in_range || out.triangle_maps.size() != out.mesh.triangle_count() ||
+        std::count(used.begin(), used.end(), 1) != std::ptrdiff_t(used.size()))
+      throw std::logic_error("load_mesh_file: each triangle's map set expected, and a triangle of each set");
+  } else if (!out.triangle_maps.empty()) {
+    throw std::logic_error("load_mesh_file: triangle_maps without two sets");
+  }
   return out;
 }
 

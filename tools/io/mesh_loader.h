@@ -32,10 +32,14 @@ enum class MeshFormat { builtin, obj, gltf };
 
 // The maps a material of the file draws, as far as pelt reads a material: faces of two
 // materials naming the same maps (the same images, placed alike) share one set.
+// MeshMaps::material of faces that name no material.
+inline constexpr const char* kNoMaterial = "(no material)";
+
 struct MeshMaps {
   TextureRef color_map;   // glTF baseColorTexture / OBJ map_Kd
   TextureRef normal_map;  // glTF normalTexture / OBJ norm (a bump map is only warned of)
-  std::string material;   // the first material drawn with these maps, as the file names it (messages)
+  // The first material drawn with these maps, as the file names it, or kNoMaterial (messages).
+  std::string material;
 
   bool any() const { return color_map.present() || normal_map.present(); }
 };
@@ -49,14 +53,18 @@ struct LoadedMesh {
   std::vector<MeshMaps> maps;
   // Per triangle, its set in `maps`; empty when every triangle takes maps[0] (or there is none).
   std::vector<uint32_t> triangle_maps;
+  // Some faces had texture coordinates and others none, so none were kept (a warning says so).
+  bool uvs_dropped = false;
   // Things that were accepted but changed or ignored, to be shown to the user (e.g. "not
   // every vertex has a normal: all normals computed from the triangles").
   std::vector<std::string> warnings;
 
+  // Map set k; for k = 0 of a mesh without sets, an empty one (the whole mesh draws no map).
+  const MeshMaps& set(size_t k) const;
   // The first face's maps (an empty reference when it has none): the whole mesh's when it has
   // one set.
-  const TextureRef& color_map() const;
-  const TextureRef& normal_map() const;
+  const TextureRef& color_map() const { return set(0).color_map; }
+  const TextureRef& normal_map() const { return set(0).normal_map; }
   // The set of triangle t.
   uint32_t maps_of(size_t t) const { return triangle_maps.empty() ? 0 : triangle_maps[t]; }
 };

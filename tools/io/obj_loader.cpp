@@ -538,6 +538,7 @@ void take_material_maps(LoadedMesh& out, const std::vector<tinyobj::material_t>&
                         const std::vector<char>& material_used, const std::vector<int>& triangle_material,
                         size_t faces_without_material) {
   std::vector<MeshMaps> sets_of(materials.size() + 1);  // by material id; the last: no material
+  sets_of.back().material = kNoMaterial;
   for (size_t id = 0; id < materials.size(); ++id) {
     if (!material_used[id]) continue;
     const tinyobj::material_t& mat = materials[id];
@@ -580,7 +581,7 @@ void take_material_maps(LoadedMesh& out, const std::vector<tinyobj::material_t>&
   if (faces_without_material > 0)
     out.warnings.push_back(std::to_string(faces_without_material) +
                            " faces have no material (no `usemtl` before them, or one naming no material a library "
-                           "defines): they are drawn without maps");
+                           "defines): they are drawn without the file's maps");
 }
 
 }  // namespace
@@ -765,6 +766,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   add_library_warnings(out, shown_name(untrue_warnings_dropped(warnings, first_of_name, found)));
   if (!all_uvs) {
     if (nt > 0) out.warnings.push_back("some vertices have no texture coordinate: uvs dropped");
+    out.uvs_dropped = nt > 0;
     m.uvs.clear();
   }
   finish_normals(out, all_normals, nn > 0, NormalSharing::per_position, smoothing);

@@ -94,17 +94,19 @@ MemoryPart mesh_part(const io::SceneObject& so, const Mesh& m, size_t i) {
   return p;
 }
 
-// A mesh drawn in parts, one per map set of its file's materials: each part's copies of the
-// vertices it uses (a vertex on a border between parts in each), with their varyings and
-// tangent frames, and each triangle's number in the whole mesh (the renderer's split_parts).
-MemoryPart split_part(const io::SceneObject& so, const io::LoadedMesh& loaded, size_t i) {
-  const Mesh& m = loaded.mesh;
-  const size_t sets = loaded.maps.size();
-  std::vector<std::vector<uint32_t>> triangles(sets);
-  for (size_t t = 0; t < loaded.triangle_maps.size(); ++t) triangles[loaded.triangle_maps[t]].push_back(uint32_t(t));
+// A mesh drawn in parts (mesh_parts): each part's copies of the vertices it uses (a vertex on a
+// border between parts in each), with their varyings and tangent frames, and each triangle's
+// number in the whole mesh (the renderer's split_parts); and the copies' count.
+struct SplitPart {
+  MemoryPart part;
+  uint64_t vertices = 0;
+};
+SplitPart split_part(const io::SceneObject& so, const Mesh& m, const MeshParts& parts, size_t i) {
+  std::vector<std::vector<uint32_t>> triangles(parts.count());
+  for (size_t t = 0; t < parts.triangle_part.size(); ++t) triangles[parts.triangle_part[t]].push_back(uint32_t(t));
   std::vector<uint32_t> seen(m.positions.size(), UINT32_MAX);
   uint64_t copies = 0;
-  for (size_t k = 0; k < sets; ++k)
+  for (size_t k = 0; k < parts.count(); ++k)
     for (const uint32_t t : triangles[k])
       for (int c = 0; c < 3; ++c)
         if (uint32_t& s = seen[m.indices[3 * size_t(t) + size_t(c)]]; s != k) {
@@ -115,14 +117,16 @@ MemoryPart split_part(const io::SceneObject& so, const io::LoadedMesh& loaded, s
                     so.material.skin.multiple_scattering == shading::MultipleScattering::normal_blur;
   const uint64_t varyings = (blur ? SurfaceVaryings::kCountBlurred : SurfaceVaryings::kCount) + 4;
   const uint64_t per_vertex = 2 * sizeof(glm::vec3) + sizeof(glm::vec2) + varyings * sizeof(float);
-  MemoryPart p;
+  SplitPart out;
+  out.vertices = copies;
+  MemoryPart& p = out.part;
   p.kind = "meshes";
   p.object = int(i);
   p.field = object_field(i) + ".mesh";
-  p.what = "mesh drawn in " + std::to_string(sets) + " parts by material, " + std::to_string(copies) +
+  p.what = "mesh drawn in " + std::to_string(parts.count()) + " parts by material, " + std::to_string(copies) +
            " vertex copies";
   p.bytes = sat_add(sat_mul(copies, per_vertex), sat_mul(uint64_t(m.indices.size() / 3), 4 * sizeof(uint32_t)));
-  return p;
+  return out;
 }
 
 // A mip chain's working set while it is built: level 0 packed, 4 bytes a texel, and level 1
@@ -270,6 +274,38 @@ std::optional<MapSource> map_source(const std::filesystem::path& from_scene, con
   return std::nullopt;
 }
 
+MapImage map_image(const char* kind, const MapSource& src) {
+  return {kind, src.file ? src.file->string() : std::string(), static_cast<const void*>(src.pixels)};
+}
+
+MeshParts mesh_parts(const io::SceneObject& so, const io::LoadedMesh& loaded) {
+  // A map as a part draws it: its image and where it lies (none: an empty image).
+  const auto drawn = [](const char* kind, const std::filesystem::path& from_scene, const io::TextureRef& named) {
+    const std::optional<MapSource> src = map_source(from_scene, named);
+    if (!src) return std::make_pair(MapImage{}, io::MapPlacement{});
+    return std::make_pair(map_image(kind, *src), src->named_by_mesh ? named.placement : io::MapPlacement{});
+  };
+  using Key = std::pair<std::pair<MapImage, io::MapPlacement>, std::pair<MapImage, io::MapPlacement>>;
+  std::vector<Key> keys;
+  MeshParts parts;
+  for (size_t k = 0; k < std::max<size_t>(1, loaded.maps.size()); ++k) {
+    const io::MeshMaps& set = loaded.set(k);
+    const Key key{drawn("color_map", so.material.color_map, set.color_map),
+                  drawn("normal_map", so.material.normal_map, set.normal_map)};
+    const auto same = std::find(keys.begin(), keys.end(), key);
+    parts.part_of_set.push_back(uint32_t(same - keys.begin()));
+    if (same == keys.end()) {
+      keys.push_back(key);
+      parts.first_set.push_back(uint32_t(k));
+    }
+  }
+  if (parts.count() > 1) {
+    parts.triangle_part.reserve(loaded.triangle_maps.size());
+    for (const uint32_t set : loaded.triangle_maps) parts.triangle_part.push_back(parts.part_of_set[set]);
+  }
+  return parts;
+}
+
 std::string map_asked_by(const io::Scene& scene, size_t i, const char* map, bool named_by_mesh) {
   const std::string object = object_field(i);
   if (named_by_mesh)
@@ -350,23 +386,19 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
     const Mesh& m = meshes[i].loaded.mesh;
     e.parts.push_back(mesh_part(so, m, i));
     // Its draw a frame, and what an object costs however small: its shader, its draw, the
-    // small vectors of each (about 13 KB an object measured over 10,648 spheres).
+    // small vectors of each (about 13 KB an object measured over 10,648 spheres), and as much
+    // for each further part (13-14 KB a part measured over 10,000 parts).
     constexpr uint64_t kObjectBytes = 16 << 10;
-    frame_parts.push_back({object_field(i) + ".mesh",
-                           "rasterizer's set-up of its " + std::to_string(m.triangle_count()) + " triangles a frame",
-                           sat_add(raster_bytes(m.positions.size(), m.triangle_count()), kObjectBytes),
-                           std::string(kSetupsKind), int(i)});
     const io::LoadedMesh& loaded = meshes[i].loaded;
-    // Each image once, however many of the file's map sets draw it (the renderer's load_map).
-    std::set<std::tuple<std::string, std::string, const void*>> counted;
+    const MeshParts parts = mesh_parts(so, loaded);
+    // Each image once, however many parts draw it (the renderer's load_map).
+    std::set<MapImage> counted;
     bool tangents_counted = false;
-    const size_t sets = std::max<size_t>(1, loaded.maps.size());
-    for (size_t k = 0; k < sets; ++k) {
-      static const io::MeshMaps kNoMaps{};
-      const io::MeshMaps& set = loaded.maps.empty() ? kNoMaps : loaded.maps[k];
+    for (const uint32_t k : parts.first_set) {
+      const io::MeshMaps& set = loaded.set(k);
       const auto once = [&](const char* key, const std::filesystem::path& from_scene, const io::TextureRef& named) {
         const std::optional<MapSource> src = map_source(from_scene, named);
-        return src && counted.emplace(key, src->file ? src->file->string() : std::string(), src->pixels).second;
+        return src && counted.insert(map_image(key, *src)).second;
       };
       if (once("color_map", so.material.color_map, set.color_map))
         e.parts.push_back(map_part(scene, i, "color_map", "colour map", so.material.color_map, set.color_map, 0, ""));
@@ -378,7 +410,19 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
         tangents_counted = true;
       }
     }
-    if (sets > 1) e.parts.push_back(split_part(so, loaded, i));
+    // The parts' draws set up their own vertex copies, every one at once.
+    uint64_t draw_vertices = m.positions.size();
+    if (parts.count() > 1) {
+      SplitPart split = split_part(so, m, parts, i);
+      draw_vertices = split.vertices;
+      e.parts.push_back(std::move(split.part));
+    }
+    frame_parts.push_back({object_field(i) + ".mesh",
+                           "rasterizer's set-up of its " + std::to_string(m.triangle_count()) + " triangles a frame" +
+                               (parts.count() > 1 ? " in " + std::to_string(parts.count()) + " draws" : ""),
+                           sat_add(raster_bytes(draw_vertices, m.triangle_count()),
+                                   sat_mul(kObjectBytes, uint64_t(parts.count()))),
+                           std::string(kSetupsKind), int(i)});
     if (so.fur) add_fur_parts(scene, meshes[i], i, threads, fur_drawn, e.parts, frame_parts);
     if (!so.fur_length_map.empty()) {  // read as floats and sampled once, then freed
       const std::string field = object_field(i) + ".fur.length_map";

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <vector>
 
 #include "tools/io/budget.h"
@@ -132,6 +133,23 @@ struct MapSource {
   bool named_by_mesh = false;
 };
 std::optional<MapSource> map_source(const std::filesystem::path& from_scene, const io::TextureRef& named);
+
+// The image a map reads (`kind`: "color_map" or "normal_map", whose encodings differ): its
+// file, or its pixels decoded from inside the mesh file. The renderer reads each image once,
+// and the estimate counts it once, by this key.
+using MapImage = std::tuple<std::string, std::string, const void*>;
+MapImage map_image(const char* kind, const MapSource& src);
+
+// The parts an object is drawn in: one per distinct pair of maps (image and placement) once the
+// scene's own maps replace the mesh file's, so that faces drawing alike are one part (one
+// draw, one tangent frame over them all). The renderer draws them, the estimate counts them.
+struct MeshParts {
+  std::vector<uint32_t> part_of_set;  // per map set of the file (io::LoadedMesh::maps), its part
+  std::vector<uint32_t> first_set;    // per part, the first set drawn in it (its name, its maps)
+  std::vector<uint32_t> triangle_part;  // per triangle, its part; empty when there is one part
+  size_t count() const { return first_set.size(); }
+};
+MeshParts mesh_parts(const io::SceneObject& so, const io::LoadedMesh& loaded);
 
 // Who asks for object i's colour or normal map (`map`: "color_map" or "normal_map"), for the
 // message of an image that cannot be read, whose own name may be all a user would see:

@@ -140,7 +140,8 @@ constexpr MapKind kNormalMap{"normal_map", io::ColorEncoding::linear, raster::Te
 // empty). Colour maps: glTF baseColorTexture, MTL map_Kd; normal maps: glTF normalTexture,
 // MTL norm; either only on a mesh with texture coordinates.
 void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind, const std::filesystem::path& from_scene,
-                     const io::TextureRef& named, io::MeshFormat format, const Mesh& mesh, const io::Budget& budget,
+                     const io::TextureRef& named, const std::string& material, const io::LoadedMesh& loaded,
+                     const Mesh& mesh, const io::Budget& budget,
                      const raster::ParallelFor& parallel, raster::Texture& out, FrameStats& stats,
                      std::vector<std::filesystem::path>& inputs) {
   const io::SceneObject& so = scene.objects[index];
@@ -154,13 +155,17 @@ void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind, 
     throw io::InputError(scene.file.string(),
                          src->named_by_mesh ? object + ".mesh" : object + ".material." + kind.field,
                          std::string("a ") + kind.field + " needs texture coordinates, and mesh `" + so.mesh +
-                             "` has none" + (src->named_by_mesh ? " (the file names the map)" : ""));
+                             "` has none" +
+                             (loaded.uvs_dropped ? ": some of its faces have none, so none were kept" : "") +
+                             (!src->named_by_mesh ? ""
+                              : material.empty() ? " (the file names the map)"
+                                                 : " (the file's material `" + material + "` names the map)"));
   io::ImageRGBA read;
   if (src->file) {
     inputs.push_back(*src->file);
     // A colour map's PNG may say it holds linear values (gAMA 1.0): honoured, but for a map a
     // glTF names, whose specification tells loaders to ignore a PNG's gamma.
-    const bool gltf_names = src->named_by_mesh && format == io::MeshFormat::gltf;
+    const bool gltf_names = src->named_by_mesh && loaded.format == io::MeshFormat::gltf;
     const io::ColorEncoding encoding = kind.file_encoding == io::ColorEncoding::srgb && !gltf_names
                                            ? io::ColorEncoding::srgb_unless_linear
                                            : kind.file_encoding;
@@ -182,12 +187,12 @@ void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind, 
   }
 }
 
-// Gives each part (one per map set) its triangles, in the mesh's order, with their own copies
+// Gives each part (mesh_parts) its triangles, in the mesh's order, with their own copies
 // of the vertices they use (positions, normals, uvs and the `vc` varyings of each), and the
 // mesh's number of each triangle.
-void split_parts(const Mesh& m, const std::vector<float>& varyings, int vc, const std::vector<uint32_t>& triangle_maps,
+void split_parts(const Mesh& m, const std::vector<float>& varyings, int vc, const std::vector<uint32_t>& triangle_part,
                  std::vector<SurfacePart>& parts) {
-  for (size_t t = 0; t < triangle_maps.size(); ++t) parts[triangle_maps[t]].triangle_ids.push_back(uint32_t(t));
+  for (size_t t = 0; t < triangle_part.size(); ++t) parts[triangle_part[t]].triangle_ids.push_back(uint32_t(t));
   std::vector<uint32_t> local(m.vertex_count(), UINT32_MAX);  // the part's number of each mesh vertex
   for (SurfacePart& part : parts) {
     Mesh& pm = part.mesh;
@@ -210,13 +215,16 @@ void split_parts(const Mesh& m, const std::vector<float>& varyings, int vc, cons
   }
 }
 
-// "`a`, `b` and `c`": the parts' materials, for messages.
+// "`a`, `b` and `c`": the parts' materials, for messages; past four, "`a`, `b`, `c` and 7 more".
 std::string part_names(const std::vector<SurfacePart>& parts) {
+  constexpr size_t kNamed = 4;
+  const size_t named = parts.size() > kNamed ? kNamed - 1 : parts.size();
   std::string out;
-  for (size_t k = 0; k < parts.size(); ++k) {
+  for (size_t k = 0; k < named; ++k) {
     if (k > 0) out += k + 1 == parts.size() ? " and " : ", ";
-    out += "`" + parts[k].material + "`";
+    out += parts[k].material == io::kNoMaterial ? parts[k].material : "`" + parts[k].material + "`";
   }
+  if (named < parts.size()) out += " and " + std::to_string(parts.size() - named) + " more";
   return out;
 }
 
@@ -373,39 +381,38 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     // Internally v = 0 is the top row of an image (glTF); OBJ files count v from the bottom, and
     // place their maps (MTL -s, -o) in their own uvs.
     const io::LoadedMesh& loaded = meshes[i].loaded;  // its mesh moved out above; its maps kept
-    const io::MeshFormat format = loaded.format;
-    const bool v_up = format == io::MeshFormat::obj;
+    const bool v_up = loaded.format == io::MeshFormat::obj;
     if (v_up)
       for (glm::vec2& uv : obj->mesh.uvs) uv.y = 1.0f - uv.y;
     const auto ours = [v_up](const io::MapPlacement& p) { return v_up ? io::flipped_v(p) : p; };
     // Each image is read once, however many parts draw it: the scene's map (every part's),
     // or a file's or embedded image the mesh names.
-    std::map<std::tuple<const char*, std::string, const void*>, const raster::Texture*> read;
-    const auto load_map = [&](const MapKind& kind, const std::filesystem::path& from_scene,
-                              const io::TextureRef& named, io::MapPlacement& file_placement) -> const raster::Texture* {
+    std::map<MapImage, const raster::Texture*> read;
+    const auto load_map = [&](const MapKind& kind, const std::filesystem::path& from_scene, const io::TextureRef& named,
+                              const std::string& material, io::MapPlacement& file_placement) -> const raster::Texture* {
       const std::optional<MapSource> src = map_source(from_scene, named);
       if (!src) return nullptr;
-      const auto key = std::make_tuple(kind.field, src->file ? src->file->string() : std::string(),
-                                       static_cast<const void*>(src->pixels));
       file_placement = src->named_by_mesh ? named.placement : io::MapPlacement{};
+      const MapImage key = map_image(kind.field, *src);
       if (const auto it = read.find(key); it != read.end()) return it->second;
       auto tex = std::make_unique<raster::Texture>();
-      load_object_map(scene, i, kind, from_scene, named, format, obj->mesh, settings.budget, parallel, *tex,
+      load_object_map(scene, i, kind, from_scene, named, material, loaded, obj->mesh, settings.budget, parallel, *tex,
                       setup_stats_, input_files_);
       obj->textures.push_back(std::move(tex));
       return read[key] = obj->textures.back().get();
     };
-    const size_t part_count = std::max<size_t>(1, loaded.maps.size());
+    const MeshParts parts = mesh_parts(so, loaded);
     bool any_map = false, any_normal_map = false;
-    for (size_t k = 0; k < part_count; ++k) {
-      static const io::MeshMaps kNoMaps{};
-      const io::MeshMaps& set = loaded.maps.empty() ? kNoMaps : loaded.maps[k];
+    for (const uint32_t k : parts.first_set) {
+      const io::MeshMaps& set = loaded.set(k);
       SurfacePart& part = obj->parts.emplace_back();
-      part.material = part_count > 1 ? set.material : std::string();
+      part.material = parts.count() > 1 ? set.material : std::string();
       part.desc = obj->material;
-      part.desc.color_map = load_map(kColorMap, so.material.color_map, set.color_map, part.file_color_placement);
+      part.desc.color_map =
+          load_map(kColorMap, so.material.color_map, set.color_map, set.material, part.file_color_placement);
       part.desc.color_placement = ours(part.file_color_placement);
-      part.desc.normal_map = load_map(kNormalMap, so.material.normal_map, set.normal_map, part.file_normal_placement);
+      part.desc.normal_map =
+          load_map(kNormalMap, so.material.normal_map, set.normal_map, set.material, part.file_normal_placement);
       part.desc.normal_placement = ours(part.file_normal_placement);
       any_map |= part.desc.color_map || part.desc.normal_map;
       any_normal_map |= part.desc.normal_map != nullptr;
@@ -448,13 +455,14 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
         for (int c = 0; c < 3; ++c)
           for (int k = 0; k < 3; ++k) dst[SurfaceVaryings::kBlurred + 3 * c + k] = blurred.channel[c][3 * v + k];
     }
-    if (part_count > 1) {
-      split_parts(m, obj->varyings, vc, loaded.triangle_maps, obj->parts);
+    const bool split = parts.count() > 1;
+    if (split) {
+      split_parts(m, obj->varyings, vc, parts.triangle_part, obj->parts);
       obj->varyings = {};  // each part has its own
     }
     for (SurfacePart& part : obj->parts) {
-      const Mesh& pm = part_count > 1 ? part.mesh : m;
-      float* const varyings = part_count > 1 ? part.varyings.data() : obj->varyings.data();
+      const Mesh& pm = split ? part.mesh : m;
+      float* const varyings = split ? part.varyings.data() : obj->varyings.data();
       if (part.desc.normal_map) {
         const io::MapPlacement& np = part.desc.normal_placement;
         // The frame of the normal map's own uvs: a rotation or a negative scale turns it.
@@ -564,7 +572,7 @@ std::vector<SceneRenderer::MapsDrawn> SceneRenderer::maps_drawn(size_t object) c
   for (const SurfacePart& p : objects_[object]->parts) {
     MapsDrawn& m = out.emplace_back();
     m.material = p.material;
-    m.triangles = p.triangle_ids.empty() ? objects_[object]->mesh.triangle_count() : p.triangle_ids.size();
+    m.triangles = objects_[object]->parts.size() == 1 ? objects_[object]->mesh.triangle_count() : p.triangle_ids.size();
     m.color = p.desc.color_map != nullptr;
     m.normal = p.desc.normal_map != nullptr;
     m.color_placement = p.file_color_placement;
@@ -618,7 +626,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   for (const auto& o : objects_)
     for (const SurfacePart& p : o->parts) {
       p.shader->set_view(lights_, camera.eye);
-      const bool whole = p.triangle_ids.empty();  // one part: the object's own arrays
+      const bool whole = o->parts.size() == 1;  // the object's own arrays
       const Mesh& m = whole ? o->mesh : p.mesh;
       raster::DrawCall d;
       d.positions = m.positions.data();

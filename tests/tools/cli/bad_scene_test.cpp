@@ -115,9 +115,18 @@ INSTANTIATE_TEST_SUITE_P(
                  "pelt: unsupported format version 2.5"},
         // Without uvs every pixel would read one texel of the map.
         BadScene{"ColourMapWithoutUvs", scene_with_object(R"({"mesh": "nouv.obj", "material": {"type": "lambert"}})"),
-                 "objects[0].mesh: a color_map needs texture coordinates, and mesh `nouv.obj` has none (the file names the map)",
+                 "objects[0].mesh: a color_map needs texture coordinates, and mesh `nouv.obj` has none (the file's "
+                 "material `a` names the map)",
                  {{"nouv.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n"},
-                  {"m.mtl", "newmtl a\nmap_Kd c.ppm\n"}, {"c.ppm", "P3\n1 1\n255\n255 0 0\n"}}}),
+                  {"m.mtl", "newmtl a\nmap_Kd c.ppm\n"}, {"c.ppm", "P3\n1 1\n255\n255 0 0\n"}}},
+        // Faces of a mapped material have uvs, faces of another none: the loader kept none, and
+        // the message says why rather than that the file has none.
+        BadScene{"ColourMapWhereSomeFacesLackUvs", scene_with_object(R"({"mesh": "some.obj", "material": {"type": "lambert"}})"),
+                 "objects[0].mesh: a color_map needs texture coordinates, and mesh `some.obj` has none: some of its "
+                 "faces have none, so none were kept (the file's material `a` names the map)",
+                 {{"some.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl a\n"
+                               "f 1/1 2/2 3/3\nusemtl plain\nf 1 3 2\n"},
+                  {"m.mtl", "newmtl a\nmap_Kd c.ppm\nnewmtl plain\n"}, {"c.ppm", "P3\n1 1\n255\n255 0 0\n"}}}),
     [](const ::testing::TestParamInfo<BadScene>& info) { return std::string(info.param.name); });
 
 // An animated light that leaves the shader's range at some frame is refused before any frame is

@@ -513,6 +513,11 @@ TEST(MeshLoader, GltfNormalTextureIsThePrimitivesNormalMap) {
   const LoadedMesh mixed = load_mesh_file(dir2.write("mixed.gltf", text));
   ASSERT_EQ(mixed.maps.size(), 2u);
   EXPECT_FALSE(mixed.maps[0].any());
+  EXPECT_EQ(mixed.maps[0].material, kNoMaterial);
+  ASSERT_FALSE(mixed.warnings.empty());
+  EXPECT_EQ(mixed.warnings[0],
+            "1 triangles of primitives without a material (meshes[0].primitives[0], ...) are drawn without the file's "
+            "maps");
   EXPECT_EQ(mixed.maps[1].normal_map.path, dir2.path() / "a.png");
   EXPECT_EQ(mixed.triangle_maps, (std::vector<uint32_t>{0, 1}));
 }

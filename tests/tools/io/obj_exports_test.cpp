@@ -301,7 +301,8 @@ TEST(ObjExports, FacesWithoutAMaterialAreDrawnWithoutMaps) {
       dir.write("mixed.obj", joined({"mtllib m.mtl", kQuad + "f 1/1 2/2 3/3", "usemtl m", "f 1/1 3/3 4/4"})));
   ASSERT_EQ(l.warnings.size(), 1u) << ::testing::PrintToString(l.warnings);
   EXPECT_EQ(l.warnings[0], "1 faces have no material (no `usemtl` before them, or one naming no material a library "
-                           "defines): they are drawn without maps");
+                           "defines): they are drawn without the file's maps");
+  EXPECT_EQ(l.maps[0].material, kNoMaterial);
   ASSERT_EQ(l.maps.size(), 2u);
   EXPECT_FALSE(l.maps[0].any());
   EXPECT_EQ(l.maps[1].color_map.path, dir.path() / "tex.png");

@@ -147,6 +147,38 @@ TEST(MeshMaterials, FurColourMapNeedsOneMap) {
   with_scene_map.objects[0].material.color_map = dir.path() / "red.png";
   const FrameImage img = render_at(with_scene_map, {});
   EXPECT_EQ(pixels_of(img, 2), 0);  // the scene's red map everywhere
+  EXPECT_GT(pixels_of(img, 0), 300);
+}
+
+// The scene's map replaces the file's on every face: faces whose materials differed only in that
+// map draw alike, as one part (one draw, one tangent frame for a normal map over them all), and
+// a normal map the scene names lights the patch as it lights the mesh without materials.
+TEST(MeshMaterials, TheScenesMapsJoinThePartsTheyMakeAlike) {
+  SceneDir dir;
+  write_flat_map(dir, "red.png", 255, 0, 0);
+  write_flat_map(dir, "blue.png", 0, 0, 255);
+  std::vector<uint8_t> px;
+  for (int i = 0; i < 16; ++i) px.insert(px.end(), {230, 150, 200});
+  io::write_image_atomic(dir.path() / "n.png", 4, 4, 3, io::PixelType::u8, px.data());
+  write_patch(dir, "newmtl a\nmap_Kd red.png\nnewmtl b\nmap_Kd blue.png\n");
+  dir.write("plain.obj", patch_obj("", {"", "", "", ""}));
+  io::Scene both = scene_of(dir, {"both.obj"}, "lambert");
+  both.objects[0].material.color_map = dir.path() / "red.png";
+  both.objects[0].material.normal_map = dir.path() / "n.png";
+  io::Scene plain = both;
+  plain.objects[0].mesh_path = dir.path() / "plain.obj";
+  plain.objects[0].mesh = plain.objects[0].mesh_path.string();
+  RenderSettings rs;
+  const SceneRenderer joined(both, rs);
+  ASSERT_EQ(joined.maps_drawn(0).size(), 1u);
+  EXPECT_EQ(joined.maps_drawn(0)[0].triangles, 4u);
+  EXPECT_TRUE(same_pixels(render_at(both, {}), render_at(plain, {})));
+  // Only the colour map named by the scene: the normal maps (none) agree, one part again.
+  both.objects[0].material.normal_map.clear();
+  EXPECT_EQ(SceneRenderer(both, rs).maps_drawn(0).size(), 1u);
+  // Without the scene's maps, two parts.
+  both.objects[0].material.color_map.clear();
+  EXPECT_EQ(SceneRenderer(both, rs).maps_drawn(0).size(), 2u);
 }
 
 }  // namespace

@@ -127,6 +127,7 @@ struct alignas(64) TileScratch {
   // is opened by AppendTranslucent, which records it here). Then the slot's latest triangle.
   alignas(64) uint8_t block_slot[kBlocksPerTile] = {};
   alignas(64) const TriSetup* batch_tri[kBatchBlocks];
+  alignas(64) uint32_t batch_id[kBatchBlocks];  // alpha-tested slots: the slot's triangle's setup_id
   alignas(64) uint32_t lane_prim[kBatchLanes];
   alignas(64) float lane_depth[kBatchLanes];
   alignas(64) float varyings[kMaxVaryings][kBatchLanes];
@@ -134,6 +135,7 @@ struct alignas(64) TileScratch {
 
   std::vector<TranslucentRef> translucent;
   std::vector<TranslucentRef> translucent_scratch;  // the tile sort's second buffer
+  std::vector<TranslucentRef> alpha_tested;         // opaque items of alpha-tested draws, in order
 
   // Pass 2: the visible triangles of each block, with their lanes.
   struct Visible {

@@ -33,6 +33,15 @@ struct PipelineState {
   bool depth_write = true;
   CullMode cull = CullMode::None;
   BlendMode blend = BlendMode::Opaque;
+  // Opaque draws: a fragment whose shaded alpha is below alpha_cutoff (or NaN) is discarded
+  // before the depth test writes, so a cut-out (a leaf, an eyelash card) hides what lies
+  // behind it only where it is drawn; a kept fragment is stored opaque (alpha 1). Such a
+  // draw is shaded twice: for its alpha where it passes the depth test, and again, as every
+  // opaque draw, where it is visible. After every draw without it (the tile's opaque
+  // triangles first, then the alpha-tested ones in submission order): two surfaces at one
+  // depth keep the plain opaque one.
+  bool alpha_test = false;
+  float alpha_cutoff = 0.5f;
 };
 
 // A batch of fragments of ONE draw, in whole 4x4 blocks. Lane l of a block is pixel

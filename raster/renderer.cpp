@@ -259,6 +259,8 @@ void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& opti
       throw std::invalid_argument("draw call without positions, indices or shader");
     if (d.varying_count > kMaxVaryings || (d.varying_count > 0 && !d.varyings))
       throw std::invalid_argument("draw call varyings: count above kMaxVaryings or no data");
+    if (d.state.alpha_test && !(d.state.alpha_cutoff >= 0.0f && d.state.alpha_cutoff <= 1.0f))
+      throw std::invalid_argument("draw call alpha_cutoff outside [0, 1]");
   }
   Impl& im = *impl_;
   const auto t0 = Clock::now();

@@ -3,6 +3,8 @@
 //
 // Pass 1, opaque visibility: coverage (exact int32 edge equations, hierarchical 16x16
 //   then 4x4 rejection) and the depth test; writes depth and the visible triangle.
+//   Alpha-tested draws follow: fragments that pass the depth test are shaded in batches,
+//   and those whose alpha reaches the cutoff are depth-tested again and written.
 // Pass 2, opaque shading: each visible pixel is shaded once, by the triangle that owns it.
 // Pass 3, translucent: fragments depth-tested against pass 1, shaded in batches and
 //   blended src-over in order (submission order or back to front per tile).
@@ -325,9 +327,16 @@ void Interpolate(TileScratch& s, uint32_t i, const TriSetup& t, const TriVarying
   s.batch_mask[i] = static_cast<uint16_t>(s.batch_mask[i] | bits);
 }
 
-// Runs the draw's shader on the batch, then stores (opaque) or blends (translucent) its
-// output into the tile, block after block in batch order.
-void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
+// What a flush does with the shader's output.
+enum class Flush {
+  store,       // opaque colour into the tile
+  blend,       // translucent colour onto it
+  alpha_test,  // no colour: depth and visibility where alpha reaches the draw's cutoff
+};
+
+// Runs the draw's shader on the batch, then stores, blends or alpha-tests its output in the
+// tile, block after block in batch order.
+void FlushBatch(const FrameView& frame, TileScratch& s, Flush mode) {
   const uint32_t nb = s.batch_blocks;
   if (nb == 0) return;
   s.batch_blocks = 0;
@@ -365,6 +374,26 @@ void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
   s.lanes_shaded += uint64_t{nb} * kBlockLanes;
   const bool additive = draw.state.blend == BlendMode::Additive;
   const bool exact = frame.options.sort == SortMode::Exact;
+  const bool blend = mode == Flush::blend;
+  if (mode == Flush::alpha_test) {
+    // Slot by slot in submission order, each slot one triangle's passed lanes: an earlier
+    // slot's written depth is seen by the next (the test at append time was against the
+    // depth before the batch).
+    const auto cutoff = hn::Set(df, draw.state.alpha_cutoff);
+    DispatchDepth(draw.state, [&]<DepthFunc F, bool W>() {
+      for (uint32_t i = 0; i < nb; ++i) {
+        uint32_t kept = 0;
+        for (size_t g = 0; g * n < kBlockLanes; ++g)
+          kept |= MaskToBits(df, hn::Ge(hn::Load(df, s.out[3] + i * kBlockLanes + g * n), cutoff)) << (g * n);
+        kept &= s.batch_mask[i];
+        if (kept == 0) continue;
+        s.fragments_visible += std::popcount(DepthTestBlock<F, W, true>(*s.batch_tri[i], s.batch_x[i], s.batch_y[i],
+                                                                         s.batch_offset[i], kept, s.batch_id[i], s));
+      }
+    });
+    return;
+  }
+  const bool cut_out = draw.state.alpha_test;  // its kept fragments are opaque
 
   const uint32_t group_bits = GroupBits();
   for (uint32_t i = 0; i < nb; ++i) {
@@ -377,7 +406,8 @@ void FlushBatch(const FrameView& frame, TileScratch& s, bool blend) {
       if (!blend) {
         for (int c = 0; c < 4; ++c) {
           float* dst = s.color[c] + off + g * n;
-          hn::Store(hn::IfThenElse(m, hn::Load(df, s.out[c] + lane), hn::Load(df, dst)), df, dst);
+          const auto v = c == 3 && cut_out ? hn::Set(df, 1.0f) : hn::Load(df, s.out[c] + lane);
+          hn::Store(hn::IfThenElse(m, v, hn::Load(df, dst)), df, dst);
         }
         continue;
       }
@@ -433,9 +463,9 @@ HWY_INLINE void CountOverdraw(TileScratch& s, uint32_t blk, uint32_t bits) {
 // Opens a batch slot for block `blk` of `draw` (flushing first when the batch holds
 // another draw or is full); its lanes are filled by Interpolate.
 uint32_t OpenSlot(const FrameView& frame, TileScratch& s, uint32_t draw, int32_t px, int32_t py,
-                  uint32_t blk, bool blend) {
-  if (s.batch_blocks > 0 && s.batch_draw != draw) FlushBatch(frame, s, blend);
-  if (s.batch_blocks == kBatchBlocks) FlushBatch(frame, s, blend);
+                  uint32_t blk, Flush mode) {
+  if (s.batch_blocks > 0 && s.batch_draw != draw) FlushBatch(frame, s, mode);
+  if (s.batch_blocks == kBatchBlocks) FlushBatch(frame, s, mode);
   const uint32_t i = s.batch_blocks++;
   s.batch_draw = draw;
   s.batch_mask[i] = 0;
@@ -468,7 +498,7 @@ void AppendTranslucent(const FrameView& frame, TileScratch& s, const TriSetup& t
     s.batch_tri[i] = &t;
     return;
   }
-  const uint32_t slot = OpenSlot(frame, s, t.draw, px, py, blk, true);
+  const uint32_t slot = OpenSlot(frame, s, t.draw, px, py, blk, Flush::blend);
   Interpolate(s, slot, t, tv, bits, true);
   s.block_slot[blk] = static_cast<uint8_t>(slot);
   s.batch_tri[slot] = &t;
@@ -734,6 +764,7 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   }
   ClearTile(frame, tx0, ty0, s);
   s.translucent.clear();
+  s.alpha_tested.clear();
   s.fragments.clear();
   s.batch_blocks = 0;
 
@@ -744,6 +775,10 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
       s.translucent.push_back({&t, id, t.sort_key});
       return;
     }
+    if (draw.state.alpha_test) {
+      s.alpha_tested.push_back({&t, id, t.sort_key});
+      return;
+    }
     TileEdges te;
     if (!tile_region_edges(t, tx0, ty0, te)) return;
     DispatchDepth(draw.state, [&]<DepthFunc F, bool W>() {
@@ -752,6 +787,34 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
       });
     });
   });
+
+  // Pass 1, alpha-tested draws: each triangle's fragments that pass the depth test as it
+  // stands, one slot per (triangle, block) so that a slot's lanes are one triangle's (its
+  // visibility id) and its derivatives its own; FlushBatch keeps those whose alpha reaches
+  // the cutoff and tests them again, in order.
+  for (const TranslucentRef& ref : s.alpha_tested) {
+    const TriSetup& t = *ref.tri;
+    const DrawCall& draw = frame.draws[t.draw];
+    TileEdges te;
+    if (!tile_region_edges(t, tx0, ty0, te)) continue;
+    TriVaryings tv;  // made at the first block with a fragment
+    bool tv_made = false;
+    DispatchDepth(draw.state, [&]<DepthFunc F, bool W>() {
+      ForEachCoveredBlock(te, tx0, ty0, s.block_valid, [&](int32_t px, int32_t py, uint32_t blk, uint32_t bits) {
+        const uint32_t passed = DepthTestBlock<F, false, false>(t, px, py, blk, bits, ref.id, s);
+        if (!passed) return;
+        if (!tv_made) {
+          MakeTriVaryings(frame, t, tv);
+          tv_made = true;
+        }
+        const uint32_t slot = OpenSlot(frame, s, t.draw, px, py, blk, Flush::alpha_test);
+        Interpolate(s, slot, t, tv, passed, true);
+        s.batch_tri[slot] = &t;
+        s.batch_id[slot] = ref.id;
+      });
+    });
+  }
+  FlushBatch(frame, s, Flush::alpha_test);
 
   // Pass 2: shade each visible opaque pixel once, with the triangle that owns it. The
   // visible triangles of a block share one batch slot (per draw), so the shader sees
@@ -821,13 +884,13 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
                            s.visible[k - 1].draw == v.draw && s.batch_blocks > 0 && !derivatives;
     const int32_t px = tx0 + int32_t(v.block % kBlocksPerTileSide) * kBlockSize;
     const int32_t py = ty0 + int32_t(v.block / kBlocksPerTileSide) * kBlockSize;
-    const uint32_t slot = same_slot ? s.batch_blocks - 1 : OpenSlot(frame, s, v.draw, px, py, v.block, false);
+    const uint32_t slot = same_slot ? s.batch_blocks - 1 : OpenSlot(frame, s, v.draw, px, py, v.block, Flush::store);
     TriVaryings tv;
     MakeTriVaryings(frame, *v.tri, tv);
     Interpolate(s, slot, *v.tri, tv, v.bits, derivatives);
     s.pixels_shaded += std::popcount(v.bits);
   }
-  FlushBatch(frame, s, false);
+  FlushBatch(frame, s, Flush::store);
 
   // Pass 3: translucent fragments, back to front per tile when asked.
   // Back to front; equal keys keep submission order, which setup ids follow (frame.h).
@@ -866,7 +929,7 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
       });
     });
   }
-  FlushBatch(frame, s, true);
+  FlushBatch(frame, s, Flush::blend);
   if (frame.options.sort == SortMode::Exact) CompositeExact(s);
 
   ResolveTile(frame, tx0, ty0, s);

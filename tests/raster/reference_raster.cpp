@@ -26,7 +26,8 @@ bool reference_covers(const int32_t x[3], const int32_t y[3], int32_t px, int32_
   return true;
 }
 
-ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int height, bool record_fragments) {
+ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int height, bool record_fragments,
+                                const ReferenceAlpha& alpha) {
   ReferenceImage img;
   img.width = width;
   img.height = height;
@@ -36,8 +37,10 @@ ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int 
   if (record_fragments) img.fragments.resize(size_t(width) * height);
   const Viewport vp{width, height};
   const ClipBounds bounds = make_clip_bounds(width, height);
-  for (size_t draw = 0; draw < draws.size(); ++draw) {
+  for (size_t pass = 0; pass < 2 * draws.size(); ++pass) {
+    const size_t draw = pass % draws.size();
     const DrawCall& d = draws[draw];
+    if (d.state.alpha_test != (pass >= draws.size())) continue;  // alpha-tested draws second
     for (uint32_t p = 0; p < d.triangle_count; ++p) {
       glm::vec4 c[3];
       bool bad = false;
@@ -79,6 +82,7 @@ ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int 
               img.count[size_t(py) * width + px] = 0xDEADu;
               continue;
             }
+            if (d.state.alpha_test && !(alpha(uint32_t(draw), p, px, py) >= d.state.alpha_cutoff)) continue;
             const float z = eval_depth(setup, px, py);
             float& zb = img.depth[size_t(py) * width + px];
             const bool pass = d.state.depth_func == DepthFunc::Always ? true

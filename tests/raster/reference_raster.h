@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -28,9 +29,15 @@ struct ReferenceImage {
   std::vector<std::vector<ReferenceFragment>> fragments;
 };
 
-// Opaque draws only (state.blend == Opaque), in order; honours depth_func and cull.
+// A fragment's alpha, for alpha-tested draws: of draw `draw`'s triangle `primitive` at pixel
+// (px, py).
+using ReferenceAlpha = std::function<float(uint32_t draw, uint32_t primitive, int px, int py)>;
+
+// Opaque draws only (state.blend == Opaque), in order; honours depth_func and cull. Draws with
+// state.alpha_test come after all the others, in their order, and keep only fragments whose
+// `alpha` reaches the cutoff (the renderer's contract, PipelineState::alpha_test).
 ReferenceImage reference_render(std::span<const DrawCall> draws, int width, int height,
-                                bool record_fragments = false);
+                                bool record_fragments = false, const ReferenceAlpha& alpha = {});
 
 // Inside test of pixel (px, py) against a triangle of snapped vertices (1/256 pixel,
 // y down) with positive orientation, by the literal top-left rule.

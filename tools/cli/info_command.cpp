@@ -109,13 +109,25 @@ int run_info(const InfoOptions& o) {
       return std::string(kind) + (scene_names ? " (the scene's)" : " (the mesh file's: " + io::describe(p) + ")");
     };
     const auto maps_line = [&](const render::SceneRenderer::MapsDrawn& m) {
-      if (!m.color && !m.normal) return std::string("none");
+      std::string alpha;  // the mesh file's material's alpha, as drawn
+      char factor[48] = "";
+      if (m.alpha_factor != 1.0f) std::snprintf(factor, sizeof factor, " x %g", double(m.alpha_factor));
+      const std::string of = std::string(m.color ? "the colour map's alpha" : "alpha 1") + factor;
+      if (m.alpha_mode == io::AlphaMode::mask) {
+        char cut[48];
+        std::snprintf(cut, sizeof cut, "%g", double(m.alpha_cutoff));
+        alpha = "cut out where " + of + " is below " + cut;
+      } else if (m.alpha_mode == io::AlphaMode::blend) {
+        alpha = "blended by " + of;
+      }
+      if (!m.color && !m.normal) return alpha.empty() ? std::string("none") : alpha;
       return (m.color ? map_line("colour", !o.material.color_map.empty(), m.color_placement) : std::string()) +
              (m.color && m.normal ? ", " : "") +
-             (m.normal ? map_line("normal", !o.material.normal_map.empty(), m.normal_placement) : std::string());
+             (m.normal ? map_line("normal", !o.material.normal_map.empty(), m.normal_placement) : std::string()) +
+             (alpha.empty() ? "" : "; " + alpha);
     };
     const std::vector<render::SceneRenderer::MapsDrawn> maps = r.maps_drawn(i);
-    if (maps.size() == 1 && (maps[0].color || maps[0].normal)) {
+    if (maps.size() == 1 && (maps[0].color || maps[0].normal || maps[0].alpha_mode != io::AlphaMode::opaque)) {
       std::printf("       maps: %s\n", maps_line(maps[0]).c_str());
     } else if (maps.size() > 1) {
       // The mesh file's materials give its faces several sets of maps.

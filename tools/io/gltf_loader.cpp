@@ -742,8 +742,9 @@ class GltfReader {
     return p;
   }
 
-  // A map set's colour image and placement, normal image and placement (-1: no map).
-  using MapsKey = std::tuple<int, MapPlacement, int, MapPlacement>;
+  // A map set's colour image and placement, normal image and placement (-1: no map), and its
+  // alpha: mode, cutoff and factor.
+  using MapsKey = std::tuple<int, MapPlacement, int, MapPlacement, AlphaMode, float, float>;
 
   // The map set of a primitive's material (-1: none) in sets_, added at its first use: a
   // material's maps, read once, and shared with an earlier material that names the same
@@ -755,11 +756,21 @@ class GltfReader {
                                                                                : nullptr;
     const std::string mw = "materials[" + std::to_string(material) + "]";
     const std::string cw = mw + ".pbrMetallicRoughness.baseColorTexture", nw = mw + ".normalTexture";
-    MapsKey key{-1, {}, -1, {}};
+    MapsKey key{-1, {}, -1, {}, AlphaMode::opaque, 0.5f, 1.0f};
     if (mat) {
       note_undrawn(*mat, mw);
       const tinygltf::TextureInfo& color = mat->pbrMetallicRoughness.baseColorTexture;
-      if (color.index >= 0) key = {image_source(color.index, cw), placement_of(color), -1, {}};
+      if (color.index >= 0) {
+        std::get<0>(key) = image_source(color.index, cw);
+        std::get<1>(key) = placement_of(color);
+      }
+      // check_fields_as_written has checked the mode's word, the cutoff and the factor.
+      if (mat->alphaMode == "MASK" || mat->alphaMode == "BLEND") {
+        const std::vector<double>& f = mat->pbrMetallicRoughness.baseColorFactor;
+        std::get<4>(key) = mat->alphaMode == "MASK" ? AlphaMode::mask : AlphaMode::blend;
+        std::get<5>(key) = mat->alphaMode == "MASK" ? float(mat->alphaCutoff) : 0.5f;
+        std::get<6>(key) = f.size() == 4 ? float(f[3]) : 1.0f;
+      }
       if (mat->normalTexture.index >= 0) {
         std::get<2>(key) = image_source(mat->normalTexture.index, nw);
         std::get<3>(key) = placement_of(mat->normalTexture);
@@ -769,6 +780,9 @@ class GltfReader {
       return set_of_material_[material] = uint32_t(same - set_keys_.begin());
     MeshMaps maps;
     maps.material = kNoMaterial;
+    maps.alpha_mode = std::get<4>(key);
+    maps.alpha_cutoff = std::get<5>(key);
+    maps.alpha_factor = std::get<6>(key);
     if (mat) {
       maps.material = mat->name.empty() ? mw : mat->name;
       if (std::get<0>(key) >= 0) {
@@ -787,21 +801,18 @@ class GltfReader {
   }
 
   // What a drawn primitive's material asks for that pelt does not draw (the scene's material
-  // decides colour and shading; a mesh file gives maps): said once per material, so that a
-  // cut-out drawn whole or a tint not applied is no surprise.
+  // decides colour and shading; a mesh file gives maps and alpha): said once per material, so
+  // that a tint not applied is no surprise. Until 2026-11-27 alphaMode MASK and BLEND were
+  // warned of and drawn opaque.
   void note_undrawn(const tinygltf::Material& mat, const std::string& mw) {
-    const bool opaque = mat.alphaMode.empty() || mat.alphaMode == "OPAQUE";
-    if (!opaque)
-      out_.warnings.push_back(mw + ".alphaMode " + mat.alphaMode +
-                              " is not drawn: the mesh is drawn opaque, its base colour's alpha unused (cut-outs and "
-                              "transparency show whole)");
     const std::vector<double>& f = mat.pbrMetallicRoughness.baseColorFactor;
-    // The factor's alpha means nothing to an opaque material.
-    if (f.size() == 4 && (f[0] != 1.0 || f[1] != 1.0 || f[2] != 1.0 || (!opaque && f[3] != 1.0))) {
+    // The factor's alpha is drawn (MASK, BLEND) or means nothing (OPAQUE).
+    if (f.size() == 4 && (f[0] != 1.0 || f[1] != 1.0 || f[2] != 1.0)) {
       char factor[128];
       std::snprintf(factor, sizeof factor, "[%g, %g, %g, %g]", f[0], f[1], f[2], f[3]);
       out_.warnings.push_back(mw + ".pbrMetallicRoughness.baseColorFactor " + factor +
-                              " is not applied: the scene's material colour is the albedo (times the map)");
+                              " is not applied to the colour: the scene's material colour is the albedo (times the "
+                              "map)");
     }
     // The emissive texture is multiplied by the factor, [0, 0, 0] unless given: light only with a factor.
     const std::vector<double>& e = mat.emissiveFactor;
@@ -1116,6 +1127,30 @@ void check_fields_as_written(const std::string& text, const std::string& file) {
     if (m.is_object() && m.contains("pbrMetallicRoughness"))
       texture_info(m["pbrMetallicRoughness"], json_child(p, "pbrMetallicRoughness"), "baseColorTexture");
     texture_info(m, p, "normalTexture");
+    if (!m.is_object()) return;
+    // pelt draws the alpha: a word or a value tinygltf would pass on unread is refused.
+    if (m.contains("alphaMode")) {
+      const auto& mode = m["alphaMode"];
+      if (!mode.is_string() || (mode != "OPAQUE" && mode != "MASK" && mode != "BLEND"))
+        throw InputError(file, json_child(p, "alphaMode"), mode.dump() + " is no alpha mode: OPAQUE, MASK or BLEND");
+    }
+    if (m.contains("alphaCutoff")) {
+      const auto& c = m["alphaCutoff"];
+      // Above 1 no fragment's alpha would reach it: the surface would vanish without a word.
+      if (!c.is_number() || !(c.template get<double>() >= 0.0 && c.template get<double>() <= 1.0))
+        throw InputError(file, json_child(p, "alphaCutoff"),
+                         c.dump() + " is no cutoff: a number from 0 to 1 (alpha is at most 1)");
+    }
+    if (m.contains("pbrMetallicRoughness") && m["pbrMetallicRoughness"].is_object() &&
+        m["pbrMetallicRoughness"].contains("baseColorFactor")) {
+      const auto& f = m["pbrMetallicRoughness"]["baseColorFactor"];
+      const std::string where = json_child(json_child(p, "pbrMetallicRoughness"), "baseColorFactor");
+      if (!f.is_array() || f.size() != 4)
+        throw InputError(file, where, "must be an array of 4 numbers");
+      for (size_t k = 0; k < 4; ++k)
+        if (!f[k].is_number() || !(f[k].template get<double>() >= 0.0 && f[k].template get<double>() <= 1.0))
+          throw InputError(file, json_index(where, k), f[k].dump() + " is outside [0, 1]");
+    }
   });
   const size_t samplers = doc.is_object() && doc.contains("samplers") && doc["samplers"].is_array()
                               ? doc["samplers"].size() : 0;

@@ -32,6 +32,11 @@ enum class MeshFormat { builtin, obj, gltf };
 
 // The maps a material of the file draws, as far as pelt reads a material: faces of two
 // materials naming the same maps (the same images, placed alike) share one set.
+// How a material's alpha draws (glTF's alphaMode; OBJ materials are opaque): the base colour
+// map's alpha times the factor's is ignored (opaque), cuts the surface out where it is below
+// the cutoff (mask), or blends it over what lies behind (blend).
+enum class AlphaMode { opaque, mask, blend };
+
 // MeshMaps::material of faces that name no material.
 inline constexpr const char* kNoMaterial = "(no material)";
 
@@ -40,8 +45,12 @@ struct MeshMaps {
   TextureRef normal_map;  // glTF normalTexture / OBJ norm (a bump map is only warned of)
   // The first material drawn with these maps, as the file names it, or kNoMaterial (messages).
   std::string material;
+  AlphaMode alpha_mode = AlphaMode::opaque;
+  float alpha_cutoff = 0.5f;  // mask: the least alpha kept
+  float alpha_factor = 1.0f;  // mask, blend: times the colour map's alpha (glTF baseColorFactor's)
 
-  bool any() const { return color_map.present() || normal_map.present(); }
+  // Whether the faces draw otherwise than with no map.
+  bool any() const { return color_map.present() || normal_map.present() || alpha_mode != AlphaMode::opaque; }
 };
 
 struct LoadedMesh {

@@ -274,8 +274,8 @@ std::optional<MapSource> map_source(const std::filesystem::path& from_scene, con
   return std::nullopt;
 }
 
-MapImage map_image(const char* kind, const MapSource& src) {
-  return {kind, src.file ? src.file->string() : std::string(), static_cast<const void*>(src.pixels)};
+MapImage map_image(const char* kind, const MapSource& src, bool alpha) {
+  return {kind, alpha, src.file ? src.file->string() : std::string(), static_cast<const void*>(src.pixels)};
 }
 
 MeshParts mesh_parts(const io::SceneObject& so, const io::LoadedMesh& loaded) {
@@ -285,13 +285,15 @@ MeshParts mesh_parts(const io::SceneObject& so, const io::LoadedMesh& loaded) {
     if (!src) return std::make_pair(MapImage{}, io::MapPlacement{});
     return std::make_pair(map_image(kind, *src), src->named_by_mesh ? named.placement : io::MapPlacement{});
   };
-  using Key = std::pair<std::pair<MapImage, io::MapPlacement>, std::pair<MapImage, io::MapPlacement>>;
+  using Key = std::tuple<std::pair<MapImage, io::MapPlacement>, std::pair<MapImage, io::MapPlacement>, io::AlphaMode,
+                         float, float>;
   std::vector<Key> keys;
   MeshParts parts;
   for (size_t k = 0; k < std::max<size_t>(1, loaded.maps.size()); ++k) {
     const io::MeshMaps& set = loaded.set(k);
     const Key key{drawn("color_map", so.material.color_map, set.color_map),
-                  drawn("normal_map", so.material.normal_map, set.normal_map)};
+                  drawn("normal_map", so.material.normal_map, set.normal_map), set.alpha_mode, set.alpha_cutoff,
+                  set.alpha_factor};
     const auto same = std::find(keys.begin(), keys.end(), key);
     parts.part_of_set.push_back(uint32_t(same - keys.begin()));
     if (same == keys.end()) {
@@ -396,14 +398,15 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
     bool tangents_counted = false;
     for (const uint32_t k : parts.first_set) {
       const io::MeshMaps& set = loaded.set(k);
-      const auto once = [&](const char* key, const std::filesystem::path& from_scene, const io::TextureRef& named) {
+      const auto once = [&](const char* key, const std::filesystem::path& from_scene, const io::TextureRef& named,
+                            bool alpha) {
         const std::optional<MapSource> src = map_source(from_scene, named);
-        return src && counted.insert(map_image(key, *src)).second;
+        return src && counted.insert(map_image(key, *src, alpha)).second;
       };
-      if (once("color_map", so.material.color_map, set.color_map))
+      if (once("color_map", so.material.color_map, set.color_map, keeps_alpha(set)))
         e.parts.push_back(map_part(scene, i, "color_map", "colour map", so.material.color_map, set.color_map, 0, ""));
       // A normal map brings the four tangent-frame varyings per vertex, and the frames.
-      if (once("normal_map", so.material.normal_map, set.normal_map)) {
+      if (once("normal_map", so.material.normal_map, set.normal_map, false)) {
         const uint64_t tangents = tangents_counted ? 0 : sat_mul(uint64_t(m.positions.size()), 2 * 4 * sizeof(float));
         e.parts.push_back(map_part(scene, i, "normal_map", "normal map", so.material.normal_map, set.normal_map,
                                    tangents, tangents_counted ? "" : ", and the tangent frames"));

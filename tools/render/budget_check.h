@@ -134,15 +134,18 @@ struct MapSource {
 };
 std::optional<MapSource> map_source(const std::filesystem::path& from_scene, const io::TextureRef& named);
 
-// The image a map reads (`kind`: "color_map" or "normal_map", whose encodings differ): its
-// file, or its pixels decoded from inside the mesh file. The renderer reads each image once,
-// and the estimate counts it once, by this key.
-using MapImage = std::tuple<std::string, std::string, const void*>;
-MapImage map_image(const char* kind, const MapSource& src);
+// The image a map reads (`kind`: "color_map" or "normal_map", whose encodings differ, and
+// whether a colour map keeps its alpha): its file, or its pixels decoded from inside the mesh
+// file. The renderer reads each image once, and the estimate counts it once, by this key.
+using MapImage = std::tuple<std::string, bool, std::string, const void*>;
+MapImage map_image(const char* kind, const MapSource& src, bool alpha = false);
+// Whether a map set's colour map is read with its alpha (the material draws it).
+inline bool keeps_alpha(const io::MeshMaps& set) { return set.alpha_mode != io::AlphaMode::opaque; }
 
-// The parts an object is drawn in: one per distinct pair of maps (image and placement) once the
-// scene's own maps replace the mesh file's, so that faces drawing alike are one part (one
-// draw, one tangent frame over them all). The renderer draws them, the estimate counts them.
+// The parts an object is drawn in: one per distinct pair of maps (image and placement) and
+// alpha (mode, cutoff, factor) once the scene's own maps replace the mesh file's, so that faces
+// drawing alike are one part (one draw, one tangent frame over them all). The renderer draws
+// them, the estimate counts them.
 struct MeshParts {
   std::vector<uint32_t> part_of_set;  // per map set of the file (io::LoadedMesh::maps), its part
   std::vector<uint32_t> first_set;    // per part, the first set drawn in it (its name, its maps)

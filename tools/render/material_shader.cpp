@@ -20,6 +20,7 @@ struct alignas(64) Scratch {
   alignas(64) float texel[4][kLanes];
   alignas(64) float layers[9][kLanes];
   alignas(64) float normal[3][kLanes];  // the normal-mapped shading normal
+  alignas(64) float alpha[kLanes];      // the colour map's alpha, when the material draws it
 };
 thread_local Scratch tls_scratch;
 
@@ -48,6 +49,7 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
                   texel, desc_.double_precision);
     for (int c = 0; c < 3; ++c)
       for (size_t i = 0; i < n; ++i) s.albedo[c][i] = base[c] * s.texel[c][i];
+    if (desc_.draws_alpha) std::copy(s.texel[3], s.texel[3] + n, s.alpha);  // the normal map reuses texel
   } else {
     for (int c = 0; c < 3; ++c) std::fill(s.albedo[c], s.albedo[c] + n, base[c]);
   }
@@ -113,6 +115,13 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
   }
   if (picked)
     for (int c = 0; c < 3; ++c) std::copy(picked[c], picked[c] + n, b.out[c]);
+  if (desc_.draws_alpha) {
+    const float f = desc_.alpha_factor;
+    if (desc_.color_map)
+      for (size_t i = 0; i < n; ++i) b.out[3][i] *= f * s.alpha[i];
+    else
+      for (size_t i = 0; i < n; ++i) b.out[3][i] *= f;
+  }
   // The skin shader returns colour premultiplied by Opacity (RenderMan's Ci = Oi * ...), the
   // rasterizer blends a straight source colour (AlphaOver multiplies it by alpha): undo the
   // premultiplication once, or a translucent skin layer would count its opacity twice. Opacity 0 gives alpha 0, which blends to nothing.

@@ -35,6 +35,11 @@ struct MaterialDesc {
   // normal map's own, taken from the uvs its placement transforms.
   io::MapPlacement color_placement, normal_placement;
   raster::Filter filter = raster::Filter::Trilinear;  // of the colour and normal maps
+  // A mesh file's material whose alpha draws (glTF alphaMode MASK or BLEND): the output alpha
+  // is multiplied by alpha_factor and by the colour map's alpha (a texture that keeps it);
+  // the draw tests or blends it (raster::PipelineState).
+  bool draws_alpha = false;
+  float alpha_factor = 1.0f;
   bool double_precision = false;  // shading and sampling by the double references
 };
 

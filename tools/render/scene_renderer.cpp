@@ -36,6 +36,8 @@ struct SurfacePart {
   std::vector<float> varyings;
   std::vector<uint32_t> triangle_ids;
   io::MapPlacement file_color_placement, file_normal_placement;  // as the mesh file gives them (pelt info)
+  io::AlphaMode alpha_mode = io::AlphaMode::opaque;  // its draw: alpha-tested (mask) or blended
+  float alpha_cutoff = 0.5f;
 };
 
 struct SceneRenderer::Object {
@@ -140,8 +142,8 @@ constexpr MapKind kNormalMap{"normal_map", io::ColorEncoding::linear, raster::Te
 // empty). Colour maps: glTF baseColorTexture, MTL map_Kd; normal maps: glTF normalTexture,
 // MTL norm; either only on a mesh with texture coordinates.
 void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind, const std::filesystem::path& from_scene,
-                     const io::TextureRef& named, const std::string& material, const io::LoadedMesh& loaded,
-                     const Mesh& mesh, const io::Budget& budget,
+                     const io::TextureRef& named, const std::string& material, bool alpha,
+                     const io::LoadedMesh& loaded, const Mesh& mesh, const io::Budget& budget,
                      const raster::ParallelFor& parallel, raster::Texture& out, FrameStats& stats,
                      std::vector<std::filesystem::path>& inputs) {
   const io::SceneObject& so = scene.objects[index];
@@ -170,15 +172,15 @@ void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind, 
                                            ? io::ColorEncoding::srgb_unless_linear
                                            : kind.file_encoding;
     read = asked_by(map_asked_by(scene, index, kind.field, src->named_by_mesh),
-                    [&] { return io::read_image_rgba(*src->file, encoding, budget, 3); });  // alpha unused
+                    [&] { return io::read_image_rgba(*src->file, encoding, budget, alpha ? 4 : 3); });
   }
   const io::ImageRGBA& img = src->file ? read : *src->pixels;
-  // No material draws a map's alpha (glTF's default OPAQUE mode ignores it; the fur's colour
-  // takes the map's colour alone). Drawn as straight alpha, a texel of alpha 0 took its
-  // neighbours' colour, a minified stripe of alpha 8/255 vanished from the average, and a 4th
-  // channel that is no alpha was refused.
+  // Only a mesh file's material whose alpha mode is MASK or BLEND draws a map's alpha (glTF's
+  // default OPAQUE mode ignores it; the fur's colour takes the map's colour alone). Drawn as
+  // straight alpha otherwise, a texel of alpha 0 took its neighbours' colour, a minified stripe
+  // of alpha 8/255 vanished from the average, and a 4th channel that is no alpha was refused.
   if (auto e = raster::Texture::from_linear_float(img.width, img.height, img.rgba.data(), kind.texels, out, parallel,
-                                                  raster::SourceAlpha::ignored)) {
+                                                  alpha ? raster::SourceAlpha::straight : raster::SourceAlpha::ignored)) {
     // The raster's name for its input buffer (rgba[k]) means nothing to the user: the texel and
     // channel are in the reason, and the scene field that asked for the map follows it.
     const std::string field = e->field.rfind("rgba", 0) == 0 ? std::string() : e->field;
@@ -389,15 +391,16 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     // or a file's or embedded image the mesh names.
     std::map<MapImage, const raster::Texture*> read;
     const auto load_map = [&](const MapKind& kind, const std::filesystem::path& from_scene, const io::TextureRef& named,
-                              const std::string& material, io::MapPlacement& file_placement) -> const raster::Texture* {
+                              const std::string& material, bool alpha,
+                              io::MapPlacement& file_placement) -> const raster::Texture* {
       const std::optional<MapSource> src = map_source(from_scene, named);
       if (!src) return nullptr;
       file_placement = src->named_by_mesh ? named.placement : io::MapPlacement{};
-      const MapImage key = map_image(kind.field, *src);
+      const MapImage key = map_image(kind.field, *src, alpha);
       if (const auto it = read.find(key); it != read.end()) return it->second;
       auto tex = std::make_unique<raster::Texture>();
-      load_object_map(scene, i, kind, from_scene, named, material, loaded, obj->mesh, settings.budget, parallel, *tex,
-                      setup_stats_, input_files_);
+      load_object_map(scene, i, kind, from_scene, named, material, alpha, loaded, obj->mesh, settings.budget, parallel,
+                      *tex, setup_stats_, input_files_);
       obj->textures.push_back(std::move(tex));
       return read[key] = obj->textures.back().get();
     };
@@ -408,11 +411,15 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       SurfacePart& part = obj->parts.emplace_back();
       part.material = parts.count() > 1 ? set.material : std::string();
       part.desc = obj->material;
-      part.desc.color_map =
-          load_map(kColorMap, so.material.color_map, set.color_map, set.material, part.file_color_placement);
+      part.desc.color_map = load_map(kColorMap, so.material.color_map, set.color_map, set.material, keeps_alpha(set),
+                                     part.file_color_placement);
       part.desc.color_placement = ours(part.file_color_placement);
       part.desc.normal_map =
-          load_map(kNormalMap, so.material.normal_map, set.normal_map, set.material, part.file_normal_placement);
+          load_map(kNormalMap, so.material.normal_map, set.normal_map, set.material, false, part.file_normal_placement);
+      part.alpha_mode = set.alpha_mode;
+      part.alpha_cutoff = set.alpha_cutoff;
+      part.desc.draws_alpha = set.alpha_mode != io::AlphaMode::opaque;
+      part.desc.alpha_factor = set.alpha_factor;
       part.desc.normal_placement = ours(part.file_normal_placement);
       any_map |= part.desc.color_map || part.desc.normal_map;
       any_normal_map |= part.desc.normal_map != nullptr;
@@ -577,6 +584,9 @@ std::vector<SceneRenderer::MapsDrawn> SceneRenderer::maps_drawn(size_t object) c
     m.normal = p.desc.normal_map != nullptr;
     m.color_placement = p.file_color_placement;
     m.normal_placement = p.file_normal_placement;
+    m.alpha_mode = p.alpha_mode;
+    m.alpha_cutoff = p.alpha_cutoff;
+    m.alpha_factor = p.desc.alpha_factor;
   }
   return out;
 }
@@ -642,9 +652,13 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
       // Single-sided (the default) culls back faces: they cannot be seen on a closed mesh,
       // and skipping them halves the set-up and depth work of a dense scan.
       d.state.cull = o->double_sided ? raster::CullMode::None : raster::CullMode::Back;
-      if (o->translucent) {
+      // A translucent skin blends every part, a cut-out one's alpha too (as BLEND).
+      if (o->translucent || p.alpha_mode == io::AlphaMode::blend) {
         d.state.blend = raster::BlendMode::AlphaOver;
         d.state.depth_write = false;
+      } else if (p.alpha_mode == io::AlphaMode::mask) {
+        d.state.alpha_test = true;
+        d.state.alpha_cutoff = p.alpha_cutoff;
       }
       draws.push_back(d);
     }

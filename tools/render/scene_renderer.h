@@ -117,6 +117,8 @@ class SceneRenderer {
     size_t triangles = 0;
     bool color = false, normal = false;
     io::MapPlacement color_placement, normal_placement;
+    io::AlphaMode alpha_mode = io::AlphaMode::opaque;  // the mesh file's material's, with its cutoff and factor
+    float alpha_cutoff = 0.5f, alpha_factor = 1.0f;
   };
   std::vector<MapsDrawn> maps_drawn(size_t object) const;
   // Floats per fur vertex that the last frame's fur draws of object i interpolate (0 without

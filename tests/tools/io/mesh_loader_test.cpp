@@ -844,9 +844,9 @@ TEST(MeshLoader, GltfSamplersAndTextureTransformPlaceTheMaps) {
                     "samplers[0].wrapT", "must be in [0, ");
 }
 
-// What a drawn material asks for that pelt does not draw is said, once per material: a cut-out
-// or blend mode (drawn opaque), a base colour factor (the scene's colour is used), emission.
-// A material at its defaults says nothing.
+// What a drawn material asks for that pelt does not draw is said, once per material: a base
+// colour factor's colour (the scene's colour is used), emission. A material at its defaults,
+// or whose factor differs in alpha alone, says nothing; MASK and BLEND are drawn.
 TEST(MeshLoader, GltfMaterialFieldsNotDrawnAreNamed) {
   TempDir dir;
   const LoadedMesh plain = load_mesh_file(uv_set_gltf(dir, false, R"({"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,1]}})"));
@@ -858,11 +858,50 @@ TEST(MeshLoader, GltfMaterialFieldsNotDrawnAreNamed) {
   EXPECT_TRUE(dark.warnings.empty()) << ::testing::PrintToString(dark.warnings);
   const LoadedMesh l = load_mesh_file(uv_set_gltf(
       dir, false, R"({"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorFactor":[0.5,1,1,1]},"emissiveFactor":[0,0.2,0]})"));
-  ASSERT_EQ(l.warnings.size(), 3u) << ::testing::PrintToString(l.warnings);
-  EXPECT_EQ(l.warnings[0].rfind("materials[0].alphaMode MASK is not drawn: the mesh is drawn opaque", 0), 0u) << l.warnings[0];
-  EXPECT_EQ(l.warnings[1], "materials[0].pbrMetallicRoughness.baseColorFactor [0.5, 1, 1, 1] is not applied: the "
-                           "scene's material colour is the albedo (times the map)");
-  EXPECT_EQ(l.warnings[2], "materials[0] emits light (emissiveFactor), which pelt does not draw");
+  ASSERT_EQ(l.warnings.size(), 2u) << ::testing::PrintToString(l.warnings);
+  EXPECT_EQ(l.warnings[0], "materials[0].pbrMetallicRoughness.baseColorFactor [0.5, 1, 1, 1] is not applied to the "
+                           "colour: the scene's material colour is the albedo (times the map)");
+  EXPECT_EQ(l.warnings[1], "materials[0] emits light (emissiveFactor), which pelt does not draw");
+}
+
+// alphaMode MASK and BLEND are the set's alpha, with alphaCutoff and the factor's alpha (until
+// 2026-11-27 warned of and drawn opaque); OPAQUE keeps the defaults whatever the factor says.
+TEST(MeshLoader, GltfAlphaModesAreTheSetsAlpha) {
+  TempDir dir;
+  const LoadedMesh mask = load_mesh_file(uv_set_gltf(
+      dir, false, R"({"alphaMode":"MASK","alphaCutoff":0.3,"pbrMetallicRoughness":{"baseColorTexture":{"index":0},
+                      "baseColorFactor":[1,1,1,0.8]}})"));
+  ASSERT_EQ(mask.maps.size(), 1u);
+  EXPECT_EQ(mask.maps[0].alpha_mode, AlphaMode::mask);
+  EXPECT_EQ(mask.maps[0].alpha_cutoff, 0.3f);
+  EXPECT_EQ(mask.maps[0].alpha_factor, 0.8f);
+  const LoadedMesh cutoff = load_mesh_file(uv_set_gltf(dir, false, R"({"alphaMode":"MASK"})"));
+  ASSERT_EQ(cutoff.maps.size(), 1u);  // no map, but alpha: a set
+  EXPECT_EQ(cutoff.maps[0].alpha_cutoff, 0.5f);  // the specification's default
+  const LoadedMesh blend = load_mesh_file(uv_set_gltf(
+      dir, false, R"({"alphaMode":"BLEND","pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.25]}})"));
+  ASSERT_EQ(blend.maps.size(), 1u);
+  EXPECT_EQ(blend.maps[0].alpha_mode, AlphaMode::blend);
+  EXPECT_EQ(blend.maps[0].alpha_factor, 0.25f);
+  const LoadedMesh opaque = load_mesh_file(uv_set_gltf(
+      dir, false, R"({"alphaMode":"OPAQUE","alphaCutoff":0.9,"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.25]}})"));
+  EXPECT_TRUE(opaque.maps.empty());
+}
+
+// The alpha fields are read as written: a word that is no mode, a cutoff outside [0, 1] (above
+// 1 nothing would be drawn) and a factor outside [0, 1] are refused, naming the field.
+TEST(MeshLoader, GltfAlphaFieldsAreChecked) {
+  TempDir dir;
+  expect_load_error(uv_set_gltf(dir, false, R"({"alphaMode":"CUTOUT"})"), "materials[0].alphaMode",
+                    "\"CUTOUT\" is no alpha mode: OPAQUE, MASK or BLEND");
+  expect_load_error(uv_set_gltf(dir, false, R"({"alphaMode":"MASK","alphaCutoff":1.5})"), "materials[0].alphaCutoff",
+                    "1.5 is no cutoff: a number from 0 to 1");
+  expect_load_error(uv_set_gltf(dir, false, R"({"alphaCutoff":-0.5})"), "materials[0].alphaCutoff",
+                    "-0.5 is no cutoff");
+  expect_load_error(uv_set_gltf(dir, false, R"({"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,2]}})"),
+                    "materials[0].pbrMetallicRoughness.baseColorFactor[3]", "2 is outside [0, 1]");
+  expect_load_error(uv_set_gltf(dir, false, R"({"pbrMetallicRoughness":{"baseColorFactor":[1,1,1]}})"),
+                    "materials[0].pbrMetallicRoughness.baseColorFactor", "must be an array of 4 numbers");
 }
 
 // tinygltf reads an optional integer it cannot take as absent and keeps -1 where -1 means

@@ -1,0 +1,165 @@
+// A glTF material's alpha drawn (io::AlphaMode): MASK cuts the surface out where the base colour
+// map's alpha times the factor's is below alphaCutoff, so what lies behind shows and the id AOV
+// sees it; BLEND blends the surface over it. Until 2026-11-27 both were drawn opaque.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tests/tools/io/base64.h"
+#include "tests/tools/render/render_test_scenes.h"
+#include "tools/io/image_io.h"
+
+namespace pelt::render::test {
+namespace {
+
+// Two quads facing +z, each its own primitive: at the back (z = -0.5) one of material 0, a
+// plain opaque one without maps; in front (z = 0) one of material 1, `front` (a glTF material
+// object), whose base colour texture is image 0, front.png.
+std::string two_quads_gltf(const std::string& front) {
+  std::string bytes;
+  const auto put = [&](const void* p, size_t n) { bytes.append(static_cast<const char*>(p), n); };
+  for (const float z : {-0.5f, 0.0f}) {
+    const float s = z < 0.0f ? 2.0f : 1.0f;  // the back quad larger, so it frames the front one
+    const float pos[12] = {-s, -s, z, s, -s, z, s, s, z, -s, s, z};
+    const float uv[8] = {0, 1, 1, 1, 1, 0, 0, 0};
+    const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
+    put(pos, sizeof pos);
+    put(uv, sizeof uv);
+    put(idx, sizeof idx);
+    bytes.append(4, '\0');  // 4-byte alignment of the next quad's floats
+  }
+  std::string views, accessors;
+  for (int q = 0; q < 2; ++q) {
+    const int base = q * 96;
+    views += std::string(q ? "," : "") + R"({"buffer":0,"byteOffset":)" + std::to_string(base) +
+             R"(,"byteLength":48},{"buffer":0,"byteOffset":)" + std::to_string(base + 48) +
+             R"(,"byteLength":32},{"buffer":0,"byteOffset":)" + std::to_string(base + 80) + R"(,"byteLength":12})";
+    accessors += std::string(q ? "," : "") + R"({"bufferView":)" + std::to_string(3 * q) +
+                 R"(,"componentType":5126,"count":4,"type":"VEC3","min":[-2,-2,-0.5],"max":[2,2,0]},
+                   {"bufferView":)" + std::to_string(3 * q + 1) + R"(,"componentType":5126,"count":4,"type":"VEC2"},
+                   {"bufferView":)" + std::to_string(3 * q + 2) + R"(,"componentType":5123,"count":6,"type":"SCALAR"})";
+  }
+  return R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+  "meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":1},"indices":2,"material":0},
+                           {"attributes":{"POSITION":3,"TEXCOORD_0":4},"indices":5,"material":1}]}],
+  "materials":[{"name":"back"},)" + front + R"(],
+  "textures":[{"source":0,"sampler":0}],"samplers":[{"magFilter":9728,"minFilter":9728}],"images":[{"uri":"front.png"}],
+  "buffers":[{"byteLength":)" + std::to_string(bytes.size()) + R"(,"uri":"data:application/octet-stream;base64,)" +
+         io::base64(bytes) + R"("}],
+  "bufferViews":[)" + views + R"(],"accessors":[)" + accessors + "]}";
+}
+
+// front.png: 4 x 4 green texels whose alpha is `alpha` (x, y).
+template <class Alpha>
+void write_front(const SceneDir& dir, Alpha alpha) {
+  std::vector<uint8_t> px;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) px.insert(px.end(), {0, 255, 0, alpha(x, y)});
+  io::write_image_atomic(dir.path() / "front.png", 4, 4, 4, io::PixelType::u8, px.data());
+}
+
+io::Scene quads_scene(const SceneDir& dir, const std::string& front) {
+  dir.write("quads.gltf", two_quads_gltf(front));
+  return dir.scene(R"({"pelt": 1, "image": {"width": 64, "height": 64, "background": [0, 0, 0]},
+      "camera": {"eye": [0, 0, 4], "target": [0, 0, 0], "fovy_deg": 40},
+      "lights": [{"type": "ambient", "intensity": 1}],
+      "quality": {"filter": "nearest"},
+      "objects": [{"mesh": ")" + (dir.path() / "quads.gltf").string() + R"(",
+                   "material": {"type": "unlit", "color": [1, 1, 1]}}]})");
+}
+
+const std::string kTextured = R"("pbrMetallicRoughness":{"baseColorTexture":{"index":0}})";
+
+struct Counts {
+  int green = 0, white = 0, other = 0;
+};
+Counts count(const FrameImage& img) {
+  Counts c;
+  for (size_t p = 0; p + 3 < img.color.size(); p += 4) {
+    const float r = img.color[p], g = img.color[p + 1], b = img.color[p + 2];
+    if (r < 0.01f && g > 0.99f && b < 0.01f) ++c.green;
+    else if (r > 0.99f && g > 0.99f && b > 0.99f) ++c.white;
+    else if (r + g + b > 0.0f) ++c.other;
+  }
+  return c;
+}
+
+// MASK over a checker of alpha 0 and 1: the front quad is green where the alpha is 1 and shows
+// the back quad (white) where it is 0, about half each; opaque, the front quad hides it all.
+TEST(AlphaMaterials, MaskCutsTheSurfaceOut) {
+  SceneDir dir;
+  write_front(dir, [](int x, int y) { return uint8_t((x + y) % 2 ? 255 : 0); });
+  const Counts mask = count(render_at(quads_scene(dir, R"({"alphaMode":"MASK",)" + kTextured + "}"), {}));
+  const Counts opaque = count(render_at(quads_scene(dir, "{" + kTextured + "}"), {}));
+  EXPECT_GT(mask.green, 150);
+  EXPECT_GT(mask.white, opaque.white + 150);  // the holes
+  EXPECT_EQ(mask.other, 0);                   // no blend of the two: cut, not blended
+  EXPECT_NEAR(double(mask.green), double(opaque.green) / 2.0, double(opaque.green) / 8.0);
+}
+
+// The cutoff and the factor's alpha decide: alpha 0.4 everywhere is cut at the default 0.5 but
+// kept at 0.3, and kept at 0.3 with a factor of 0.5 (0.2) is cut again.
+TEST(AlphaMaterials, TheCutoffAndTheFactorDecide) {
+  SceneDir dir;
+  write_front(dir, [](int, int) { return uint8_t(102); });  // 0.4
+  const auto green = [&](const std::string& material) {
+    return count(render_at(quads_scene(dir, material), {})).green;
+  };
+  EXPECT_EQ(green(R"({"alphaMode":"MASK",)" + kTextured + "}"), 0);
+  EXPECT_GT(green(R"({"alphaMode":"MASK","alphaCutoff":0.3,)" + kTextured + "}"), 300);
+  EXPECT_EQ(green(R"({"alphaMode":"MASK","alphaCutoff":0.3,"pbrMetallicRoughness":{"baseColorTexture":{"index":0},
+                      "baseColorFactor":[1,1,1,0.5]}})"),
+            0);
+}
+
+// The id AOV sees through the holes: the back quad's triangles (ids 1, 2) where the front's are
+// cut out, the front's (3, 4) elsewhere.
+TEST(AlphaMaterials, TheIdAovSeesThroughTheHoles) {
+  SceneDir dir;
+  write_front(dir, [](int x, int y) { return uint8_t((x + y) % 2 ? 255 : 0); });
+  RenderSettings rs;
+  rs.aov = Aov::id;
+  SceneRenderer r(quads_scene(dir, R"({"alphaMode":"MASK",)" + kTextured + "}"), rs);
+  FrameImage img;
+  FrameStats st;
+  r.render(0, img, st);
+  int back = 0, front = 0;
+  for (int y = 16; y < 48; ++y)  // inside the front quad
+    for (int x = 16; x < 48; ++x) {
+      const uint32_t id = img.id[size_t(y) * 64 + size_t(x)];
+      back += id == 1 || id == 2;
+      front += id == 3 || id == 4;
+    }
+  EXPECT_GT(back, 200);
+  EXPECT_GT(front, 200);
+}
+
+// BLEND: alpha 0.5 green over the white back quad gives (0.5, 1, 0.5); the back quad is drawn
+// under it (the blended part writes no depth).
+TEST(AlphaMaterials, BlendBlendsOverWhatLiesBehind) {
+  SceneDir dir;
+  write_front(dir, [](int, int) { return uint8_t(128); });
+  const FrameImage img = render_at(quads_scene(dir, R"({"alphaMode":"BLEND",)" + kTextured + "}"), {});
+  const float* mid = &img.color[(size_t(32) * 64 + 32) * 4];
+  const float a = 128.0f / 255.0f;
+  EXPECT_NEAR(mid[0], 1.0f - a, 1e-3f);
+  EXPECT_NEAR(mid[1], 1.0f, 1e-3f);
+  EXPECT_NEAR(mid[2], 1.0f - a, 1e-3f);
+  EXPECT_EQ(count(img).green, 0);
+}
+
+// The same image on any thread count, cut-outs and blends included.
+TEST(AlphaMaterials, OneAndTwoThreadsAgree) {
+  SceneDir dir;
+  write_front(dir, [](int x, int y) { return uint8_t((x * 3 + y * 5) % 4 * 85); });
+  for (const char* mode : {"MASK", "BLEND"}) {
+    const io::Scene s = quads_scene(dir, std::string(R"({"alphaMode":")") + mode + "\"," + kTextured + "}");
+    EXPECT_TRUE(same_pixels(render_at(s, {}, 1), render_at(s, {}, 2))) << mode;
+  }
+}
+
+}  // namespace
+}  // namespace pelt::render::test

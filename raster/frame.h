@@ -126,8 +126,10 @@ struct alignas(64) TileScratch {
   // when it is below batch_blocks and its batch_offset is blk (every slot of a pass-3 batch
   // is opened by AppendTranslucent, which records it here). Then the slot's latest triangle.
   alignas(64) uint8_t block_slot[kBlocksPerTile] = {};
+  // Alpha-tested batches (pass 1) hold one triangle a slot: batch_tri is that triangle and
+  // batch_id its setup_id, which the kept lanes write into vis.
   alignas(64) const TriSetup* batch_tri[kBatchBlocks];
-  alignas(64) uint32_t batch_id[kBatchBlocks];  // alpha-tested slots: the slot's triangle's setup_id
+  alignas(64) uint32_t batch_id[kBatchBlocks];
   alignas(64) uint32_t lane_prim[kBatchLanes];
   alignas(64) float lane_depth[kBatchLanes];
   alignas(64) float varyings[kMaxVaryings][kBatchLanes];

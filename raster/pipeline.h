@@ -38,8 +38,9 @@ struct PipelineState {
   // behind it only where it is drawn; a kept fragment is stored opaque (alpha 1). Such a
   // draw is shaded twice: for its alpha where it passes the depth test, and again, as every
   // opaque draw, where it is visible. After every draw without it (the tile's opaque
-  // triangles first, then the alpha-tested ones in submission order): two surfaces at one
-  // depth keep the plain opaque one.
+  // triangles first, then the alpha-tested ones in submission order): under DepthFunc::Less
+  // two surfaces at one depth keep the plain opaque one (under LessEqual or Always, the
+  // alpha-tested one). Opaque draws only: refused on a blended one.
   bool alpha_test = false;
   float alpha_cutoff = 0.5f;
 };

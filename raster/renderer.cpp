@@ -254,13 +254,18 @@ void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& opti
     throw std::invalid_argument("render target size " + std::to_string(target.width) + "x" +
                                 std::to_string(target.height) + " outside 1.." +
                                 std::to_string(kMaxImageSide));
-  for (const DrawCall& d : draws) {
+  for (size_t k = 0; k < draws.size(); ++k) {
+    const DrawCall& d = draws[k];
     if (d.triangle_count > 0 && (!d.positions || !d.indices || !d.shader))
       throw std::invalid_argument("draw call without positions, indices or shader");
     if (d.varying_count > kMaxVaryings || (d.varying_count > 0 && !d.varyings))
       throw std::invalid_argument("draw call varyings: count above kMaxVaryings or no data");
     if (d.state.alpha_test && !(d.state.alpha_cutoff >= 0.0f && d.state.alpha_cutoff <= 1.0f))
-      throw std::invalid_argument("draw call alpha_cutoff outside [0, 1]");
+      throw std::invalid_argument("draw call " + std::to_string(k) + ": alpha_cutoff " +
+                                  std::to_string(d.state.alpha_cutoff) + " outside [0, 1]");
+    // A blended draw has no test to pass: its alpha weighs the blend.
+    if (d.state.alpha_test && d.state.blend != BlendMode::Opaque)
+      throw std::invalid_argument("draw call " + std::to_string(k) + ": alpha_test on a blended draw");
   }
   Impl& im = *impl_;
   const auto t0 = Clock::now();

@@ -69,6 +69,8 @@ struct RasterStats {
   uint64_t fragments_blended = 0;  // translucent fragments that passed the depth test
   uint64_t lanes_shaded = 0;       // lanes handed to shaders (whole 4x4 blocks): the shading
                                    // work, of which pixels_shaded + fragments_blended were used
+                                   // (and, for alpha-tested draws, the lanes shaded for their
+                                   // alpha before the depth was written)
   double ms_front = 0.0;           // transform, clip, set-up and binning
   double ms_tiles = 0.0;           // rasterization, shading, blending, resolve
 

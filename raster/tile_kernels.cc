@@ -795,6 +795,9 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   for (const TranslucentRef& ref : s.alpha_tested) {
     const TriSetup& t = *ref.tri;
     const DrawCall& draw = frame.draws[t.draw];
+    // The previous draw's kept fragments are written before this draw's are tested: under
+    // DepthFunc::Always they may have raised the depth a test below would compare with.
+    if (s.batch_blocks > 0 && s.batch_draw != t.draw) FlushBatch(frame, s, Flush::alpha_test);
     TileEdges te;
     if (!tile_region_edges(t, tx0, ty0, te)) continue;
     TriVaryings tv;  // made at the first block with a fragment

@@ -4,6 +4,7 @@
 // contract pixel by pixel, on every SIMD target, and across thread counts.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -54,6 +55,14 @@ class PixelAlphaShader final : public Shader {
  private:
   uint32_t draw_;
   bool derivatives_;
+};
+
+// Alpha 1 everywhere: every fragment kept.
+class ConstantOpaque final : public Shader {
+ public:
+  void shade(const FragmentBatch& b) const override {
+    for (int c = 0; c < 4; ++c) std::fill(b.out[c], b.out[c] + size_t{b.blocks} * kBlockLanes, 1.0f);
+  }
 };
 
 // Four draws of random triangles in front of the camera: plain opaque, alpha-tested (with and
@@ -145,6 +154,55 @@ TEST(AlphaTest, TheCutoffIsTheDraws) {
   EXPECT_EQ(img.id, ref.id);
 }
 
+// An alpha-tested draw under DepthFunc::Always may raise the depth; the next alpha-tested draw
+// is tested against what it wrote, not against the depth before it (its batch is written
+// first). Three quads: plain near, filling the screen; alpha-tested far under Always, a small
+// one in the middle (a few blocks: its batch is not yet full when the next draw starts), which
+// pushes the depth back there; alpha-tested between them under Less, filling the screen,
+// which must win in the middle.
+TEST(AlphaTest, ADrawAfterAnAlwaysDrawIsTestedAgainstItsDepth) {
+  std::vector<glm::vec3> pos;
+  for (const float z : {-2.0f, -12.0f, -6.0f}) {
+    const float half = z == -12.0f ? 0.1f * -z : -z;
+    for (const glm::vec2 c : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)})
+      pos.emplace_back(c.x * half, c.y * half, z);
+  }
+  const std::vector<uint32_t> idx = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7, 8, 9, 10, 8, 10, 11};
+  const ConstantOpaque shader;
+  std::vector<DrawCall> draws(3);
+  for (uint32_t d = 0; d < 3; ++d) {
+    draws[d].positions = pos.data();
+    draws[d].vertex_count = uint32_t(pos.size());
+    draws[d].indices = idx.data() + 6 * d;
+    draws[d].triangle_count = 2;
+    draws[d].clip_from_object = glm::perspective(glm::radians(60.0f), 1.0f, 0.5f, 20.0f);
+    draws[d].shader = &shader;
+    draws[d].id_base = 2 * d;
+    draws[d].state.alpha_test = d > 0;
+  }
+  draws[1].state.depth_func = DepthFunc::Always;
+  for_each_target([&](const std::string& target) {
+    const Image img = render(draws, 64, 64, 1);
+    const uint32_t mid = img.id[32 * 64 + 32];
+    EXPECT_TRUE(mid == 5u || mid == 6u) << target << ": " << mid;  // draw 2's triangles (ids 5 and 6)
+    EXPECT_TRUE(img.id[4 * 64 + 4] == 1u || img.id[4 * 64 + 4] == 2u) << target;  // elsewhere the near quad
+  });
+}
+
+// Random draws under Always and LessEqual agree with the reference.
+TEST(AlphaTest, OtherDepthFunctionsMatchTheReference) {
+  CutOutSoup soup(23, 400);
+  soup.draws[1].state.depth_func = DepthFunc::Always;
+  const ReferenceImage ref = reference_render(soup.draws, 160, 120, false, alpha_at);
+  for_each_target([&](const std::string& target) {
+    const Image img = render(soup.draws, 160, 120, 2);
+    EXPECT_EQ(img.id, ref.id) << target;
+  });
+  // LessEqual keeps the later of two fragments at one depth: the reference agrees too.
+  soup.draws[1].state.depth_func = DepthFunc::LessEqual;
+  EXPECT_EQ(render(soup.draws, 160, 120, 1).id, reference_render(soup.draws, 160, 120, false, alpha_at).id);
+}
+
 // The same image on any thread count (tiles are independent; the batches within a tile are
 // flushed in submission order).
 TEST(AlphaTest, OneTwoAndEightThreadsGiveIdenticalImages) {
@@ -157,13 +215,16 @@ TEST(AlphaTest, OneTwoAndEightThreadsGiveIdenticalImages) {
   }
 }
 
-// A cutoff outside [0, 1] (or NaN) is the caller's error.
+// A cutoff outside [0, 1] (or NaN), and the test on a blended draw, are the caller's error.
 TEST(AlphaTest, ACutoffOutsideTheUnitRangeIsRefused) {
   CutOutSoup soup(19, 10);
   for (float bad : {-0.1f, 1.5f, std::numeric_limits<float>::quiet_NaN()}) {
     soup.draws[1].state.alpha_cutoff = bad;
     EXPECT_THROW(render(soup.draws, 32, 32, 1), std::invalid_argument) << bad;
   }
+  soup.draws[1].state.alpha_cutoff = 0.5f;
+  soup.draws[1].state.blend = BlendMode::AlphaOver;
+  EXPECT_THROW(render(soup.draws, 32, 32, 1), std::invalid_argument);
 }
 
 }  // namespace

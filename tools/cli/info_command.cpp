@@ -110,9 +110,10 @@ int run_info(const InfoOptions& o) {
     };
     const auto maps_line = [&](const render::SceneRenderer::MapsDrawn& m) {
       std::string alpha;  // the mesh file's material's alpha, as drawn
-      char factor[48] = "";
-      if (m.alpha_factor != 1.0f) std::snprintf(factor, sizeof factor, " x %g", double(m.alpha_factor));
-      const std::string of = std::string(m.color ? "the colour map's alpha" : "alpha 1") + factor;
+      char factor[48];
+      std::snprintf(factor, sizeof factor, "%g", double(m.alpha_factor));
+      const std::string of = m.color ? "the colour map's alpha" + (m.alpha_factor != 1.0f ? " x " + std::string(factor) : "")
+                                     : "the factor's alpha " + std::string(factor);
       if (m.alpha_mode == io::AlphaMode::mask) {
         char cut[48];
         std::snprintf(cut, sizeof cut, "%g", double(m.alpha_cutoff));

@@ -77,7 +77,7 @@ class GltfReader {
       if (out_.maps.size() > 1) out_.triangle_maps = std::move(triangle_maps_);
       if (unmaterialed_triangles_ > 0)
         out_.warnings.push_back(std::to_string(unmaterialed_triangles_) + " triangles of primitives without a material (" +
-                                unmaterialed_ + ", ...) are drawn without the file's maps");
+                                unmaterialed_ + ", ...) are drawn without the file's maps and alpha");
     }
     // Every vertex has a normal now, the file's or a flat one: only zero-length ones are replaced.
     finish_normals(out_, true, true, NormalSharing::per_vertex);
@@ -768,7 +768,7 @@ class GltfReader {
       if (mat->alphaMode == "MASK" || mat->alphaMode == "BLEND") {
         const std::vector<double>& f = mat->pbrMetallicRoughness.baseColorFactor;
         std::get<4>(key) = mat->alphaMode == "MASK" ? AlphaMode::mask : AlphaMode::blend;
-        std::get<5>(key) = mat->alphaMode == "MASK" ? float(mat->alphaCutoff) : 0.5f;
+        std::get<5>(key) = mat->alphaMode == "MASK" ? float(mat->alphaCutoff) + 0.0f : 0.5f;  // -0 reads 0
         std::get<6>(key) = f.size() == 4 ? float(f[3]) : 1.0f;
       }
       if (mat->normalTexture.index >= 0) {
@@ -1136,10 +1136,12 @@ void check_fields_as_written(const std::string& text, const std::string& file) {
     }
     if (m.contains("alphaCutoff")) {
       const auto& c = m["alphaCutoff"];
-      // Above 1 no fragment's alpha would reach it: the surface would vanish without a word.
-      if (!c.is_number() || !(c.template get<double>() >= 0.0 && c.template get<double>() <= 1.0))
+      // The schema's minimum is 0; above 1 no fragment's alpha would reach it, and a MASK
+      // surface would vanish without a word (elsewhere the cutoff is not drawn).
+      const bool mask = m.contains("alphaMode") && m["alphaMode"] == "MASK";
+      if (!c.is_number() || !(c.template get<double>() >= 0.0) || (mask && !(c.template get<double>() <= 1.0)))
         throw InputError(file, json_child(p, "alphaCutoff"),
-                         c.dump() + " is no cutoff: a number from 0 to 1 (alpha is at most 1)");
+                         c.dump() + " is no cutoff: a number from 0" + (mask ? " to 1 (alpha is at most 1)" : ""));
     }
     if (m.contains("pbrMetallicRoughness") && m["pbrMetallicRoughness"].is_object() &&
         m["pbrMetallicRoughness"].contains("baseColorFactor")) {

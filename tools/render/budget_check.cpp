@@ -413,6 +413,13 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
         tangents_counted = true;
       }
     }
+    // The fur's colour map is read without its alpha, also where every part reads it with.
+    if (so.fur && so.fur->use_color_map) {
+      const io::MeshMaps& set = loaded.set(parts.first_set[0]);
+      if (const std::optional<MapSource> src = map_source(so.material.color_map, set.color_map);
+          src && counted.insert(map_image("color_map", *src, false)).second)
+        e.parts.push_back(map_part(scene, i, "color_map", "colour map", so.material.color_map, set.color_map, 0, ""));
+    }
     // The parts' draws set up their own vertex copies, every one at once.
     uint64_t draw_vertices = m.positions.size();
     if (parts.count() > 1) {

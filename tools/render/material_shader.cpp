@@ -116,11 +116,12 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
   if (picked)
     for (int c = 0; c < 3; ++c) std::copy(picked[c], picked[c] + n, b.out[c]);
   if (desc_.draws_alpha) {
-    const float f = desc_.alpha_factor;
-    if (desc_.color_map)
-      for (size_t i = 0; i < n; ++i) b.out[3][i] *= f * s.alpha[i];
+    const float f = desc_.alpha_factor, cut = desc_.alpha_cutoff;
+    if (!desc_.color_map) std::fill(s.alpha, s.alpha + n, 1.0f);
+    if (cut >= 0.0f)
+      for (size_t i = 0; i < n; ++i) b.out[3][i] = f * s.alpha[i] >= cut ? b.out[3][i] : 0.0f;
     else
-      for (size_t i = 0; i < n; ++i) b.out[3][i] *= f;
+      for (size_t i = 0; i < n; ++i) b.out[3][i] *= f * s.alpha[i];
   }
   // The skin shader returns colour premultiplied by Opacity (RenderMan's Ci = Oi * ...), the
   // rasterizer blends a straight source colour (AlphaOver multiplies it by alpha): undo the

@@ -40,6 +40,10 @@ struct MaterialDesc {
   // the draw tests or blends it (raster::PipelineState).
   bool draws_alpha = false;
   float alpha_factor = 1.0f;
+  // A cut-out on a draw that blends (a translucent skin): the shader cuts instead of the
+  // raster's alpha test, keeping its own alpha where the map's alpha times the factor reaches
+  // the cutoff and writing 0 elsewhere. Negative: no cut here.
+  float alpha_cutoff = -1.0f;
   bool double_precision = false;  // shading and sampling by the double references
 };
 

@@ -38,6 +38,7 @@ struct SurfacePart {
   io::MapPlacement file_color_placement, file_normal_placement;  // as the mesh file gives them (pelt info)
   io::AlphaMode alpha_mode = io::AlphaMode::opaque;  // its draw: alpha-tested (mask) or blended
   float alpha_cutoff = 0.5f;
+  MapImage color_image;  // the colour map's image, read without its alpha (none: empty)
 };
 
 struct SceneRenderer::Object {
@@ -413,6 +414,8 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       part.desc = obj->material;
       part.desc.color_map = load_map(kColorMap, so.material.color_map, set.color_map, set.material, keeps_alpha(set),
                                      part.file_color_placement);
+      if (const std::optional<MapSource> src = map_source(so.material.color_map, set.color_map))
+        part.color_image = map_image(kColorMap.field, *src);
       part.desc.color_placement = ours(part.file_color_placement);
       part.desc.normal_map =
           load_map(kNormalMap, so.material.normal_map, set.normal_map, set.material, false, part.file_normal_placement);
@@ -420,6 +423,8 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       part.alpha_cutoff = set.alpha_cutoff;
       part.desc.draws_alpha = set.alpha_mode != io::AlphaMode::opaque;
       part.desc.alpha_factor = set.alpha_factor;
+      // A translucent skin's draws blend: its cut-out parts are cut by the shader.
+      if (obj->translucent && set.alpha_mode == io::AlphaMode::mask) part.desc.alpha_cutoff = set.alpha_cutoff;
       part.desc.normal_placement = ours(part.file_normal_placement);
       any_map |= part.desc.color_map || part.desc.normal_map;
       any_normal_map |= part.desc.normal_map != nullptr;
@@ -495,10 +500,11 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       fo.merge_fins = quality_.fin_quads == io::FinQuads::merged;
       fo.parallel = parallel;
       fo.textures = !settings.describe_only && aov_shows_fur(settings.aov);
-      // The fur reads one colour map: the parts' when they all draw the same one.
+      // The fur reads one colour map: the parts' when they all draw the same image placed alike
+      // (one part may read it with its alpha, another without: the fur takes the colour alone).
       const SurfacePart& first = obj->parts.front();
       const bool one_color_map = std::all_of(obj->parts.begin(), obj->parts.end(), [&](const SurfacePart& p) {
-        return p.desc.color_map == first.desc.color_map && p.desc.color_placement == first.desc.color_placement;
+        return p.color_image == first.color_image && p.desc.color_placement == first.desc.color_placement;
       });
       if (so.fur->use_color_map && !one_color_map)
         throw io::InputError(scene.file.string(),
@@ -508,8 +514,10 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
                                  part_names(obj->parts) +
                                  ") that differ in theirs: give the object a material.color_map for the fur and "
                                  "the surface");
-      if (first.desc.color_map && one_color_map) {
-        fo.color_map = first.desc.color_map;
+      if (so.fur->use_color_map && first.desc.color_map && one_color_map) {
+        const io::MeshMaps& set = loaded.set(parts.first_set[0]);
+        io::MapPlacement unused;
+        fo.color_map = load_map(kColorMap, so.material.color_map, set.color_map, set.material, false, unused);
         fo.color_placement = first.desc.color_placement;
       }
       if (!so.fur_length_map.empty()) {
@@ -652,7 +660,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
       // Single-sided (the default) culls back faces: they cannot be seen on a closed mesh,
       // and skipping them halves the set-up and depth work of a dense scan.
       d.state.cull = o->double_sided ? raster::CullMode::None : raster::CullMode::Back;
-      // A translucent skin blends every part, a cut-out one's alpha too (as BLEND).
+      // A translucent skin blends every part (a cut-out one cut by its shader).
       if (o->translucent || p.alpha_mode == io::AlphaMode::blend) {
         d.state.blend = raster::BlendMode::AlphaOver;
         d.state.depth_write = false;

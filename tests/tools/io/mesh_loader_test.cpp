@@ -517,7 +517,7 @@ TEST(MeshLoader, GltfNormalTextureIsThePrimitivesNormalMap) {
   ASSERT_FALSE(mixed.warnings.empty());
   EXPECT_EQ(mixed.warnings[0],
             "1 triangles of primitives without a material (meshes[0].primitives[0], ...) are drawn without the file's "
-            "maps");
+            "maps and alpha");
   EXPECT_EQ(mixed.maps[1].normal_map.path, dir2.path() / "a.png");
   EXPECT_EQ(mixed.triangle_maps, (std::vector<uint32_t>{0, 1}));
 }
@@ -898,6 +898,8 @@ TEST(MeshLoader, GltfAlphaFieldsAreChecked) {
                     "1.5 is no cutoff: a number from 0 to 1");
   expect_load_error(uv_set_gltf(dir, false, R"({"alphaCutoff":-0.5})"), "materials[0].alphaCutoff",
                     "-0.5 is no cutoff");
+  // Above 1 on a material that does not cut out: valid, and not drawn.
+  EXPECT_TRUE(load_mesh_file(uv_set_gltf(dir, false, R"({"alphaMode":"BLEND","alphaCutoff":1.5})")).warnings.empty());
   expect_load_error(uv_set_gltf(dir, false, R"({"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,2]}})"),
                     "materials[0].pbrMetallicRoughness.baseColorFactor[3]", "2 is outside [0, 1]");
   expect_load_error(uv_set_gltf(dir, false, R"({"pbrMetallicRoughness":{"baseColorFactor":[1,1,1]}})"),

@@ -61,14 +61,16 @@ void write_front(const SceneDir& dir, Alpha alpha) {
   io::write_image_atomic(dir.path() / "front.png", 4, 4, 4, io::PixelType::u8, px.data());
 }
 
-io::Scene quads_scene(const SceneDir& dir, const std::string& front) {
+io::Scene quads_scene(const SceneDir& dir, const std::string& front,
+                      const std::string& material = R"({"type": "unlit", "color": [1, 1, 1]})",
+                      const std::string& object_extra = "") {
   dir.write("quads.gltf", two_quads_gltf(front));
   return dir.scene(R"({"pelt": 1, "image": {"width": 64, "height": 64, "background": [0, 0, 0]},
       "camera": {"eye": [0, 0, 4], "target": [0, 0, 0], "fovy_deg": 40},
       "lights": [{"type": "ambient", "intensity": 1}],
       "quality": {"filter": "nearest"},
       "objects": [{"mesh": ")" + (dir.path() / "quads.gltf").string() + R"(",
-                   "material": {"type": "unlit", "color": [1, 1, 1]}}]})");
+                   "material": )" + material + object_extra + "}]}");
 }
 
 const std::string kTextured = R"("pbrMetallicRoughness":{"baseColorTexture":{"index":0}})";
@@ -149,6 +151,52 @@ TEST(AlphaMaterials, BlendBlendsOverWhatLiesBehind) {
   EXPECT_NEAR(mid[1], 1.0f, 1e-3f);
   EXPECT_NEAR(mid[2], 1.0f - a, 1e-3f);
   EXPECT_EQ(count(img).green, 0);
+}
+
+// On a translucent skin (Opacity below 1, every part blended) MASK still cuts: the front quad's
+// pixels are the back quad's alone where its alpha is below the cutoff, and the cutoff moves
+// the cut (a review found it blended by the map's alpha, the cutoff unread).
+TEST(AlphaMaterials, MaskCutsATranslucentSkinToo) {
+  SceneDir dir;
+  write_front(dir, [](int x, int) { return uint8_t(x * 85); });  // alpha 0, 1/3, 2/3, 1 by column
+  const std::string skin = R"({"type": "skin", "skin": {"Opacity": 0.5}})";
+  const auto at = [&](float cutoff) {
+    char material[160];
+    std::snprintf(material, sizeof material, R"({"alphaMode":"MASK","alphaCutoff":%g,%s})", double(cutoff),
+                  kTextured.c_str());
+    return render_at(quads_scene(dir, material, skin), {});
+  };
+  const FrameImage low = at(0.2f), high = at(0.8f), all = at(1.0f);
+  // Column 1 (alpha 1/3) of the front quad: kept at 0.2, cut at 0.8; column 0 cut in both.
+  const size_t row = 32, col0 = 19, col1 = 27;
+  const auto px = [&](const FrameImage& img, size_t x) { return &img.color[(row * 64 + x) * 4]; };
+  EXPECT_GT(std::abs(px(low, col1)[1] - px(high, col1)[1]), 0.02f);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(px(low, col0)[c], px(high, col0)[c]) << c;
+    EXPECT_EQ(px(high, col1)[c], px(all, col1)[c]) << c;  // cut: the back quad alone
+  }
+}
+
+// Fur reads one colour map without its alpha: parts that read one image, one of them with its
+// alpha (MASK) and one without, give the fur that image (a review found it refused).
+TEST(AlphaMaterials, FurTakesTheColourOfAMapACutOutAlsoReads) {
+  SceneDir dir;
+  write_front(dir, [](int x, int y) { return uint8_t((x + y) % 2 ? 255 : 0); });
+  const std::string back_textured = R"({"name":"back",)" + kTextured + "}";
+  std::string gltf = two_quads_gltf(R"({"alphaMode":"MASK",)" + kTextured + "}");
+  const std::string from = R"("materials":[{"name":"back"},)";
+  gltf.replace(gltf.find(from), from.size(), R"("materials":[)" + back_textured + ",");
+  dir.write("quads.gltf", gltf);
+  const io::Scene s = dir.scene(R"({"pelt": 1, "image": {"width": 64, "height": 64},
+      "camera": {"eye": [0, 0, 4], "target": [0, 0, 0], "fovy_deg": 40},
+      "lights": [{"type": "ambient", "intensity": 1}],
+      "objects": [{"mesh": ")" + (dir.path() / "quads.gltf").string() + R"(",
+                   "material": {"type": "lambert"},
+                   "fur": {"shells": 4, "texture_size": 16, "use_color_map": true}}]})");
+  RenderSettings rs;
+  const SceneRenderer r(s, rs);
+  ASSERT_EQ(r.maps_drawn(0).size(), 2u);
+  EXPECT_EQ(r.maps_drawn(0)[1].alpha_mode, io::AlphaMode::mask);
 }
 
 // The same image on any thread count, cut-outs and blends included.

@@ -135,6 +135,8 @@ std::string TempFile::named(std::string message) const {
   return message;
 }
 
+int TempFile::sync() const { return fd_ >= 0 && ::fsync(fd_) != 0 ? errno : 0; }
+
 void TempFile::release() {
   released_ = true;
   if (fd_ >= 0 && (mode_ & 0600) != 0600) ::fchmod(fd_, mode_);
@@ -275,10 +277,18 @@ AtomicOutput::AtomicOutput(std::filesystem::path target)
 
 void AtomicOutput::commit(const std::string& field, const std::string& what) {
   if (!tmp_) return;
+  if (const int error = tmp_->sync())
+    throw InputError(target_string_, field, "cannot write " + what + " to the disk: " + std::strerror(error));
   std::error_code ec;
   std::filesystem::rename(tmp_->path(), target_, ec);
   if (ec) throw InputError(target_string_, field, "cannot move " + what + " into place: " + ec.message());
   tmp_->release();
+  // The new name's entry, best effort: some file systems refuse a folder's fsync (EINVAL), and
+  // by now the file and its data are in place; only the name may yet be lost with the power.
+  if (const int dir = ::open(folder_of(target_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dir >= 0) {
+    ::fsync(dir);
+    ::close(dir);
+  }
 }
 
 void write_text_atomic(const std::filesystem::path& path, const std::string& text, const std::string& field) {

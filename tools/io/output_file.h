@@ -59,6 +59,8 @@ class TempFile {
   const std::string& write_path() const { return write_path_; }
   // A library's message about write_path(), naming path() instead.
   std::string named(std::string message) const;
+  // Flushes the file's data to the disk (fsync); 0 or its errno.
+  int sync() const;
   // 0 when the constructor created the file, else its errno.
   int creation_error() const { return creation_error_; }
   // The file stays (it has been renamed into place) with the mode the umask gave it; its
@@ -133,8 +135,11 @@ class AtomicOutput {
   bool in_place() const { return !tmp_; }
   // A library's message about write_path(), naming the temporary's path (TempFile::named).
   std::string named(std::string message) const { return tmp_ ? tmp_->named(std::move(message)) : message; }
-  // Renames the finished temporary over the target (nothing to do in place). Throws
-  // InputError(target, field, "cannot move `what` into place: reason").
+  // Renames the finished temporary over the target (nothing to do in place): its data flushed
+  // to the disk first and the folder's entry after, so a machine that loses power right after
+  // a frame is reported done finds that frame whole, not an empty or torn file under its name
+  // (which a farm's `--resume` would skip). Throws InputError(target, field, "cannot move
+  // `what` into place: reason") or ("cannot write `what` to the disk: reason").
   void commit(const std::string& field, const std::string& what);
 
  private:

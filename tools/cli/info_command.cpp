@@ -132,7 +132,7 @@ int run_info(const InfoOptions& o) {
       std::printf("       maps: %s\n", maps_line(maps[0]).c_str());
     } else if (maps.size() > 1) {
       // The mesh file's materials give its faces several sets of maps.
-      std::printf("       maps by material (%zu sets):\n", maps.size());
+      std::printf("       maps by material (%zu parts):\n", maps.size());
       for (const render::SceneRenderer::MapsDrawn& m : maps)
         std::printf("         %s, %zu triangle%s: %s\n",
                     m.material == io::kNoMaterial ? m.material.c_str() : ("`" + m.material + "`").c_str(), m.triangles,

@@ -76,7 +76,9 @@ class GltfReader {
       out_.maps = std::move(sets_);
       if (out_.maps.size() > 1) out_.triangle_maps = std::move(triangle_maps_);
       if (unmaterialed_triangles_ > 0)
-        out_.warnings.push_back(std::to_string(unmaterialed_triangles_) + " triangles of primitives without a material (" +
+        out_.warnings.push_back(std::to_string(unmaterialed_triangles_) +
+                                (unmaterialed_triangles_ == 1 ? " triangle" : " triangles") +
+                                " of primitives without a material (" +
                                 unmaterialed_ + ", ...) are drawn without the file's maps and alpha");
     }
     // Every vertex has a normal now, the file's or a flat one: only zero-length ones are replaced.

@@ -30,8 +30,6 @@ struct TextureRef {
 // the image; glTF tells loaders to ignore a PNG's gamma).
 enum class MeshFormat { builtin, obj, gltf };
 
-// The maps a material of the file draws, as far as pelt reads a material: faces of two
-// materials naming the same maps (the same images, placed alike) share one set.
 // How a material's alpha draws (glTF's alphaMode; OBJ materials are opaque): the base colour
 // map's alpha times the factor's is ignored (opaque), cuts the surface out where it is below
 // the cutoff (mask), or blends it over what lies behind (blend).
@@ -40,6 +38,8 @@ enum class AlphaMode { opaque, mask, blend };
 // MeshMaps::material of faces that name no material.
 inline constexpr const char* kNoMaterial = "(no material)";
 
+// The maps and alpha a material of the file draws, as far as pelt reads a material: faces of
+// two materials naming the same maps (the same images, placed alike) and alpha share one set.
 struct MeshMaps {
   TextureRef color_map;   // glTF baseColorTexture / OBJ map_Kd
   TextureRef normal_map;  // glTF normalTexture / OBJ norm (a bump map is only warned of)
@@ -57,8 +57,8 @@ struct LoadedMesh {
   MeshFormat format = MeshFormat::builtin;  // set by load_mesh_file
   Mesh mesh;               // all triangles of the file in one mesh, in file order
   // The map sets the faces are drawn with, in the order of their first face; empty when no
-  // face's material names a map. A set may hold no map (faces of no material, or of one
-  // without maps, beside faces with maps).
+  // face's material names a map or draws its alpha. A set may hold neither (faces of no
+  // material, or of a plain one, beside faces with maps).
   std::vector<MeshMaps> maps;
   // Per triangle, its set in `maps`; empty when every triangle takes maps[0] (or there is none).
   std::vector<uint32_t> triangle_maps;

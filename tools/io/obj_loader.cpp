@@ -580,7 +580,8 @@ void take_material_maps(LoadedMesh& out, const std::vector<tinyobj::material_t>&
   if (out.maps.size() == 1) out.triangle_maps.clear();
   if (faces_without_material > 0)
     out.warnings.push_back(std::to_string(faces_without_material) +
-                           " faces have no material (no `usemtl` before them, or one naming no material a library "
+                           (faces_without_material == 1 ? " face has" : " faces have") +
+                           " no material (no `usemtl` before them, or one naming no material a library "
                            "defines): they are drawn without the file's maps");
 }
 

@@ -283,9 +283,11 @@ void AtomicOutput::commit(const std::string& field, const std::string& what) {
   std::filesystem::rename(tmp_->path(), target_, ec);
   if (ec) throw InputError(target_string_, field, "cannot move " + what + " into place: " + ec.message());
   tmp_->release();
-  // The new name's entry, best effort: some file systems refuse a folder's fsync (EINVAL), and
-  // by now the file and its data are in place; only the name may yet be lost with the power.
-  if (const int dir = ::open(folder_of(target_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dir >= 0) {
+  sync_folder_of(target_);
+}
+
+void sync_folder_of(const std::filesystem::path& file) {
+  if (const int dir = ::open(folder_of(file).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dir >= 0) {
     ::fsync(dir);
     ::close(dir);
   }

@@ -115,6 +115,10 @@ class OutputNames {
   std::filesystem::path folder_, canonical_folder_;  // the last folder resolved: a sequence's frames share one
 };
 
+// Flushes the folder entry of `file` (a name just renamed into place) to the disk, best effort:
+// some file systems refuse a folder's fsync (EINVAL), and the file's data are in place by then.
+void sync_folder_of(const std::filesystem::path& file);
+
 // True for an output that exists and is written in place rather than replaced by a renamed
 // temporary: a device, FIFO or socket (/dev/null, a named pipe), or a file reached through
 // /proc (/dev/stdout, /dev/fd/N). A rename would put a regular file in the device's or the

@@ -96,12 +96,18 @@ PlotOutcome make_plot(const std::filesystem::path& csv, const std::filesystem::p
     out.problem = "the plot script wrote no image";
     return out;
   }
+  // Flushed before the rename and its folder after, as every output (io::AtomicOutput::commit).
+  if (const int error = tmp_file.sync()) {
+    out.problem = "cannot write the plot to the disk at " + png.string() + ": " + std::strerror(error);
+    return out;
+  }
   fs::rename(tmp, png, ec);
   if (ec) {
     out.problem = "cannot move the plot into place at " + png.string() + ": " + ec.message();
     return out;
   }
   tmp_file.release();
+  io::sync_folder_of(png);
   out.made = true;
   return out;
 }

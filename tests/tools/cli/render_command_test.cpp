@@ -537,7 +537,7 @@ TEST_F(RenderCommand, InfoListsTheMapsOfEachMaterial) {
   const Result r = run_pelt({"info", scene.string()}, dir.path());
   ASSERT_EQ(r.code, 0) << r.err;
   // The face before any `usemtl` and `bare`'s draw alike (no map): one set.
-  EXPECT_NE(r.out.find("       maps by material (3 sets):\n"
+  EXPECT_NE(r.out.find("       maps by material (3 parts):\n"
                        "         (no material), 2 triangles: none\n"
                        "         `skin`, 2 triangles: colour (the mesh file's: as the uvs say)\n"
                        "         `eyes`, 1 triangle: colour (the mesh file's: u' = 2 u, v' = 2 v), normal (the mesh "

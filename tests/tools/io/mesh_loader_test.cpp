@@ -516,7 +516,7 @@ TEST(MeshLoader, GltfNormalTextureIsThePrimitivesNormalMap) {
   EXPECT_EQ(mixed.maps[0].material, kNoMaterial);
   ASSERT_FALSE(mixed.warnings.empty());
   EXPECT_EQ(mixed.warnings[0],
-            "1 triangles of primitives without a material (meshes[0].primitives[0], ...) are drawn without the file's "
+            "1 triangle of primitives without a material (meshes[0].primitives[0], ...) are drawn without the file's "
             "maps and alpha");
   EXPECT_EQ(mixed.maps[1].normal_map.path, dir2.path() / "a.png");
   EXPECT_EQ(mixed.triangle_maps, (std::vector<uint32_t>{0, 1}));

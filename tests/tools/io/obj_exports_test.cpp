@@ -300,7 +300,7 @@ TEST(ObjExports, FacesWithoutAMaterialAreDrawnWithoutMaps) {
   const LoadedMesh l = load_mesh_file(
       dir.write("mixed.obj", joined({"mtllib m.mtl", kQuad + "f 1/1 2/2 3/3", "usemtl m", "f 1/1 3/3 4/4"})));
   ASSERT_EQ(l.warnings.size(), 1u) << ::testing::PrintToString(l.warnings);
-  EXPECT_EQ(l.warnings[0], "1 faces have no material (no `usemtl` before them, or one naming no material a library "
+  EXPECT_EQ(l.warnings[0], "1 face has no material (no `usemtl` before them, or one naming no material a library "
                            "defines): they are drawn without the file's maps");
   EXPECT_EQ(l.maps[0].material, kNoMaterial);
   ASSERT_EQ(l.maps.size(), 2u);

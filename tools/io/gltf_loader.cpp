@@ -9,7 +9,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <tuple>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -744,62 +743,37 @@ class GltfReader {
     return p;
   }
 
-  // A map set's colour image and placement, normal image and placement (-1: no map), and its
-  // alpha: mode, cutoff and factor.
-  using MapsKey = std::tuple<int, MapPlacement, int, MapPlacement, AlphaMode, float, float>;
-
   // The map set of a primitive's material (-1: none) in sets_, added at its first use: a
-  // material's maps, read once, and shared with an earlier material that names the same
-  // images placed alike.
+  // material's maps and alpha, read once, and shared with an earlier material that draws alike
+  // (add_map_set; an embedded image is decoded once, so two materials naming it share pixels).
   uint32_t maps_of(int material) {
     if (const auto it = set_of_material_.find(material); it != set_of_material_.end()) return it->second;
-    const tinygltf::Material* mat =
-        material >= 0 && material < static_cast<int>(model_.materials.size()) ? &model_.materials[size_t(material)]
-                                                                               : nullptr;
-    const std::string mw = "materials[" + std::to_string(material) + "]";
-    const std::string cw = mw + ".pbrMetallicRoughness.baseColorTexture", nw = mw + ".normalTexture";
-    MapsKey key{-1, {}, -1, {}, AlphaMode::opaque, 0.5f, 1.0f};
-    if (mat) {
-      note_undrawn(*mat, mw);
-      const tinygltf::TextureInfo& color = mat->pbrMetallicRoughness.baseColorTexture;
-      if (color.index >= 0) {
-        std::get<0>(key) = image_source(color.index, cw);
-        std::get<1>(key) = placement_of(color);
-      }
-      // check_fields_as_written has checked the mode's word, the cutoff and the factor.
-      if (mat->alphaMode == "MASK" || mat->alphaMode == "BLEND") {
-        const std::vector<double>& f = mat->pbrMetallicRoughness.baseColorFactor;
-        std::get<4>(key) = mat->alphaMode == "MASK" ? AlphaMode::mask : AlphaMode::blend;
-        std::get<5>(key) = mat->alphaMode == "MASK" ? float(mat->alphaCutoff) + 0.0f : 0.5f;  // -0 reads 0
-        std::get<6>(key) = f.size() == 4 ? float(f[3]) : 1.0f;
-      }
-      if (mat->normalTexture.index >= 0) {
-        std::get<2>(key) = image_source(mat->normalTexture.index, nw);
-        std::get<3>(key) = placement_of(mat->normalTexture);
-      }
-    }
-    if (const auto same = std::find(set_keys_.begin(), set_keys_.end(), key); same != set_keys_.end())
-      return set_of_material_[material] = uint32_t(same - set_keys_.begin());
     MeshMaps maps;
     maps.material = kNoMaterial;
-    maps.alpha_mode = std::get<4>(key);
-    maps.alpha_cutoff = std::get<5>(key);
-    maps.alpha_factor = std::get<6>(key);
-    if (mat) {
-      maps.material = mat->name.empty() ? mw : mat->name;
-      if (std::get<0>(key) >= 0) {
-        resolve_texture(mat->pbrMetallicRoughness.baseColorTexture.index, ColorEncoding::srgb, cw, maps.color_map);
-        maps.color_map.placement = std::get<1>(key);
+    if (material >= 0 && material < static_cast<int>(model_.materials.size())) {
+      const tinygltf::Material& mat = model_.materials[size_t(material)];
+      const std::string mw = "materials[" + std::to_string(material) + "]";
+      note_undrawn(mat, mw);
+      maps.material = mat.name.empty() ? mw : mat.name;
+      const tinygltf::TextureInfo& color = mat.pbrMetallicRoughness.baseColorTexture;
+      if (color.index >= 0) {
+        resolve_texture(color.index, ColorEncoding::srgb, mw + ".pbrMetallicRoughness.baseColorTexture",
+                        maps.color_map);
+        maps.color_map.placement = placement_of(color);
       }
-      if (std::get<2>(key) >= 0) {
-        resolve_texture(mat->normalTexture.index, ColorEncoding::linear, nw, maps.normal_map);
-        maps.normal_map.placement = std::get<3>(key);
+      if (mat.normalTexture.index >= 0) {
+        resolve_texture(mat.normalTexture.index, ColorEncoding::linear, mw + ".normalTexture", maps.normal_map);
+        maps.normal_map.placement = placement_of(mat.normalTexture);
+      }
+      // check_fields_as_written has checked the mode's word, the cutoff and the factor.
+      if (mat.alphaMode == "MASK" || mat.alphaMode == "BLEND") {
+        const std::vector<double>& f = mat.pbrMetallicRoughness.baseColorFactor;
+        maps.alpha_mode = mat.alphaMode == "MASK" ? AlphaMode::mask : AlphaMode::blend;
+        if (maps.alpha_mode == AlphaMode::mask) maps.alpha_cutoff = float(mat.alphaCutoff) + 0.0f;  // -0 reads 0
+        maps.alpha_factor = f.size() == 4 ? float(f[3]) : 1.0f;
       }
     }
-    const auto set = static_cast<uint32_t>(sets_.size());
-    sets_.push_back(std::move(maps));
-    set_keys_.push_back(key);
-    return set_of_material_[material] = set;
+    return set_of_material_[material] = add_map_set(sets_, std::move(maps));
   }
 
   // What a drawn primitive's material asks for that pelt does not draw (the scene's material
@@ -882,7 +856,6 @@ class GltfReader {
   uint64_t unmaterialed_triangles_ = 0;        // and the triangles of all such primitives
   std::vector<uint32_t> triangle_maps_;        // each triangle's set in sets_
   std::map<int, uint32_t> set_of_material_;    // by material index (-1: none)
-  std::vector<MapsKey> set_keys_;              // sets_'s images and placements
   // Embedded images decoded, by image index and encoding: shared by the sets that use them.
   std::map<std::pair<int, ColorEncoding>, std::shared_ptr<const ImageRGBA>> decoded_;
 };

@@ -97,6 +97,23 @@ void validate_mesh(const Mesh& m, const std::string& file) {
                            std::to_string(n) + " vertices)");
 }
 
+namespace detail {
+
+uint32_t add_map_set(std::vector<MeshMaps>& sets, MeshMaps set) {
+  const auto same_image = [](const TextureRef& a, const TextureRef& b) {
+    return a.path == b.path && a.pixels == b.pixels && a.placement == b.placement;
+  };
+  for (size_t k = 0; k < sets.size(); ++k)
+    if (same_image(sets[k].color_map, set.color_map) && same_image(sets[k].normal_map, set.normal_map) &&
+        sets[k].alpha_mode == set.alpha_mode && sets[k].alpha_cutoff == set.alpha_cutoff &&
+        sets[k].alpha_factor == set.alpha_factor)
+      return uint32_t(k);
+  sets.push_back(std::move(set));
+  return uint32_t(sets.size() - 1);
+}
+
+}  // namespace detail
+
 const MeshMaps& LoadedMesh::set(size_t k) const {
   static const MeshMaps kNoMaps{};
   return maps.empty() && k == 0 ? kNoMaps : maps.at(k);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "raster/mesh.h"
+#include "tools/io/alpha_mode.h"
 #include "tools/io/budget.h"
 #include "tools/io/image.h"
 #include "tools/io/map_placement.h"
@@ -29,11 +30,6 @@ struct TextureRef {
 // What a mesh came from: its uvs' and maps' conventions follow (OBJ counts v from the bottom of
 // the image; glTF tells loaders to ignore a PNG's gamma).
 enum class MeshFormat { builtin, obj, gltf };
-
-// How a material's alpha draws (glTF's alphaMode; OBJ materials are opaque): the base colour
-// map's alpha times the factor's is ignored (opaque), cuts the surface out where it is below
-// the cutoff (mask), or blends it over what lies behind (blend).
-enum class AlphaMode { opaque, mask, blend };
 
 // MeshMaps::material of faces that name no material.
 inline constexpr const char* kNoMaterial = "(no material)";

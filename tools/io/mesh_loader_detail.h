@@ -31,4 +31,8 @@ void add_library_warnings(LoadedMesh& out, const std::string& text);
 void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals, NormalSharing sharing,
                     const std::vector<uint64_t>& smoothing = {});
 
+// The index of `set` in `sets`: of the first set that draws alike (the same images, placed
+// alike, and the same alpha), else of `set` appended. Both loaders give each face its set so.
+uint32_t add_map_set(std::vector<MeshMaps>& sets, MeshMaps set);
+
 }  // namespace pelt::io::detail

@@ -11,7 +11,6 @@
 #include <sstream>
 #include <string>
 #include <string_view>
-#include <tuple>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
@@ -562,19 +561,11 @@ void take_material_maps(LoadedMesh& out, const std::vector<tinyobj::material_t>&
     }
   }
   if (std::none_of(sets_of.begin(), sets_of.end(), [](const MeshMaps& m) { return m.any(); })) return;
-  const auto key = [](const MeshMaps& m) {
-    return std::tie(m.color_map.path, m.color_map.placement, m.normal_map.path, m.normal_map.placement);
-  };
   std::vector<uint32_t> set_of_material(sets_of.size(), UINT32_MAX);
   out.triangle_maps.reserve(triangle_material.size());
   for (const int id : triangle_material) {
     const size_t m = id >= 0 && size_t(id) < materials.size() ? size_t(id) : materials.size();
-    if (set_of_material[m] == UINT32_MAX) {
-      const auto same = std::find_if(out.maps.begin(), out.maps.end(),
-                                     [&](const MeshMaps& s) { return key(s) == key(sets_of[m]); });
-      set_of_material[m] = uint32_t(same - out.maps.begin());
-      if (same == out.maps.end()) out.maps.push_back(sets_of[m]);
-    }
+    if (set_of_material[m] == UINT32_MAX) set_of_material[m] = add_map_set(out.maps, sets_of[m]);
     out.triangle_maps.push_back(set_of_material[m]);
   }
   if (out.maps.size() == 1) out.triangle_maps.clear();
@@ -667,7 +658,6 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   bool all_uvs = true, all_normals = true;
   Mesh& m = out.mesh;
   size_t face_number = 0;
-  int material = -1;
   std::vector<char> material_used(materials.size(), 0);  // by material id
   size_t faces_without_material = 0;
   // A `usemtl` before the `mtllib` that defines its material: tinyobjloader gave its faces no
@@ -701,7 +691,6 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
             read_as_comment.insert(use - 1);
           }
         }
-        if (material < 0) material = id;
         if (id >= 0 && size_t(id) < material_used.size()) material_used[size_t(id)] = 1;
         faces_without_material += id < 0;
       }
@@ -787,7 +776,8 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
                              (asks.size() > 1 ? " and " + asks[1] : std::string()) +
                              ", which pelt does not draw: the mesh is drawn opaque");
   }
-  if (material < 0 && std::any_of(materials.begin(), materials.end(), [](const tinyobj::material_t& t) {
+  const bool no_face_material = std::find(material_used.begin(), material_used.end(), 1) == material_used.end();
+  if (no_face_material && std::any_of(materials.begin(), materials.end(), [](const tinyobj::material_t& t) {
         return !t.diffuse_texname.empty() || !t.normal_texname.empty();
       }))
     out.warnings.push_back(std::string("the material libraries define maps, but no face names a material (") +

@@ -102,17 +102,8 @@ struct SplitPart {
   uint64_t vertices = 0;
 };
 SplitPart split_part(const io::SceneObject& so, const Mesh& m, const MeshParts& parts, size_t i) {
-  std::vector<std::vector<uint32_t>> triangles(parts.count());
-  for (size_t t = 0; t < parts.triangle_part.size(); ++t) triangles[parts.triangle_part[t]].push_back(uint32_t(t));
-  std::vector<uint32_t> seen(m.positions.size(), UINT32_MAX);
   uint64_t copies = 0;
-  for (size_t k = 0; k < parts.count(); ++k)
-    for (const uint32_t t : triangles[k])
-      for (int c = 0; c < 3; ++c)
-        if (uint32_t& s = seen[m.indices[3 * size_t(t) + size_t(c)]]; s != k) {
-          s = uint32_t(k);
-          ++copies;
-        }
+  for (const PartSplit& part : split_mesh(m, parts)) copies += part.vertices.size();
   const bool blur = so.material.type == io::MaterialType::skin &&
                     so.material.skin.multiple_scattering == shading::MultipleScattering::normal_blur;
   const uint64_t varyings = (blur ? SurfaceVaryings::kCountBlurred : SurfaceVaryings::kCount) + 4;
@@ -305,7 +296,30 @@ MeshParts mesh_parts(const io::SceneObject& so, const io::LoadedMesh& loaded) {
     parts.triangle_part.reserve(loaded.triangle_maps.size());
     for (const uint32_t set : loaded.triangle_maps) parts.triangle_part.push_back(parts.part_of_set[set]);
   }
+  // The colour key's image is read without alpha (map_image's default): the same for the fur.
+  parts.one_color_map = std::all_of(keys.begin(), keys.end(),
+                                    [&](const Key& k) { return std::get<0>(k) == std::get<0>(keys.front()); });
   return parts;
+}
+
+std::vector<PartSplit> split_mesh(const Mesh& m, const MeshParts& parts) {
+  std::vector<PartSplit> out(parts.count());
+  for (size_t t = 0; t < parts.triangle_part.size(); ++t) out[parts.triangle_part[t]].triangles.push_back(uint32_t(t));
+  std::vector<uint32_t> local(m.positions.size(), UINT32_MAX);  // the part's number of each mesh vertex
+  for (PartSplit& part : out) {
+    part.indices.reserve(3 * part.triangles.size());
+    for (const uint32_t t : part.triangles)
+      for (int c = 0; c < 3; ++c) {
+        const uint32_t v = m.indices[3 * size_t(t) + size_t(c)];
+        if (local[v] == UINT32_MAX) {
+          local[v] = static_cast<uint32_t>(part.vertices.size());
+          part.vertices.push_back(v);
+        }
+        part.indices.push_back(local[v]);
+      }
+    for (const uint32_t v : part.vertices) local[v] = UINT32_MAX;
+  }
+  return out;
 }
 
 std::string map_asked_by(const io::Scene& scene, size_t i, const char* map, bool named_by_mesh) {

@@ -150,9 +150,21 @@ struct MeshParts {
   std::vector<uint32_t> part_of_set;  // per map set of the file (io::LoadedMesh::maps), its part
   std::vector<uint32_t> first_set;    // per part, the first set drawn in it (its name, its maps)
   std::vector<uint32_t> triangle_part;  // per triangle, its part; empty when there is one part
+  // Every part draws one colour image placed alike, or none (the fur reads one colour map;
+  // whether a part reads the image's alpha does not matter to it).
+  bool one_color_map = true;
   size_t count() const { return first_set.size(); }
 };
 MeshParts mesh_parts(const io::SceneObject& so, const io::LoadedMesh& loaded);
+
+// One part of a split mesh (parts.count() > 1): its triangles (their numbers in the whole
+// mesh, in order), the mesh vertices they use (in order of first use: a vertex on a border
+// between parts is in each part), and their corners numbered in that list. The renderer copies
+// a part's arrays from it; the estimate counts the copies.
+struct PartSplit {
+  std::vector<uint32_t> triangles, vertices, indices;
+};
+std::vector<PartSplit> split_mesh(const Mesh& m, const MeshParts& parts);
 
 // Who asks for object i's colour or normal map (`map`: "color_map" or "normal_map"), for the
 // message of an image that cannot be read, whose own name may be all a user would see:

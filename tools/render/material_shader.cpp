@@ -43,13 +43,14 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
   using V = SurfaceVaryings;
   // Skin takes its colours from SkinParams: its albedo is the colour map alone.
   const glm::vec3 base = desc_.kind == MaterialKind::skin ? glm::vec3(1.0f) : desc_.color;
+  const bool draws_alpha = desc_.alpha_mode != io::AlphaMode::opaque;
   if (desc_.color_map) {
     float* const texel[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
     sample_placed(*desc_.color_map, desc_.color_placement, desc_.filter, b.varying[V::kUv], b.varying[V::kUv + 1], n,
                   texel, desc_.double_precision);
     for (int c = 0; c < 3; ++c)
       for (size_t i = 0; i < n; ++i) s.albedo[c][i] = base[c] * s.texel[c][i];
-    if (desc_.draws_alpha) std::copy(s.texel[3], s.texel[3] + n, s.alpha);  // the normal map reuses texel
+    if (draws_alpha) std::copy(s.texel[3], s.texel[3] + n, s.alpha);  // the normal map reuses texel
   } else {
     for (int c = 0; c < 3; ++c) std::fill(s.albedo[c], s.albedo[c] + n, base[c]);
   }
@@ -115,13 +116,14 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
   }
   if (picked)
     for (int c = 0; c < 3; ++c) std::copy(picked[c], picked[c] + n, b.out[c]);
-  if (desc_.draws_alpha) {
+  if (draws_alpha) {
     const float f = desc_.alpha_factor, cut = desc_.alpha_cutoff;
-    if (!desc_.color_map) std::fill(s.alpha, s.alpha + n, 1.0f);
-    if (cut >= 0.0f)
-      for (size_t i = 0; i < n; ++i) b.out[3][i] = f * s.alpha[i] >= cut ? b.out[3][i] : 0.0f;
+    // Without a colour map the alpha is the factor alone.
+    const float* const map = desc_.color_map ? s.alpha : nullptr;
+    if (desc_.alpha_mode == io::AlphaMode::mask && desc_.translucent())
+      for (size_t i = 0; i < n; ++i) b.out[3][i] = f * (map ? map[i] : 1.0f) >= cut ? b.out[3][i] : 0.0f;
     else
-      for (size_t i = 0; i < n; ++i) b.out[3][i] *= f * s.alpha[i];
+      for (size_t i = 0; i < n; ++i) b.out[3][i] *= f * (map ? map[i] : 1.0f);
   }
   // The skin shader returns colour premultiplied by Opacity (RenderMan's Ci = Oi * ...), the
   // rasterizer blends a straight source colour (AlphaOver multiplies it by alpha): undo the

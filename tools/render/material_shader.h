@@ -11,6 +11,7 @@
 #include "shading/basic_params.h"
 #include "shading/light.h"
 #include "shading/skin_params.h"
+#include "tools/io/alpha_mode.h"
 #include "tools/io/map_placement.h"
 
 namespace pelt::render {
@@ -35,16 +36,18 @@ struct MaterialDesc {
   // normal map's own, taken from the uvs its placement transforms.
   io::MapPlacement color_placement, normal_placement;
   raster::Filter filter = raster::Filter::Trilinear;  // of the colour and normal maps
-  // A mesh file's material whose alpha draws (glTF alphaMode MASK or BLEND): the output alpha
-  // is multiplied by alpha_factor and by the colour map's alpha (a texture that keeps it);
-  // the draw tests or blends it (raster::PipelineState).
-  bool draws_alpha = false;
+  // A mesh file's material's alpha (glTF alphaMode): under mask or blend the output alpha is
+  // multiplied by alpha_factor and by the colour map's alpha (a texture that keeps it), and
+  // the draw tests (mask) or blends it (raster::PipelineState). A translucent material's
+  // draws blend already: there the shader itself cuts a mask, keeping its own alpha where the
+  // map's alpha times the factor reaches alpha_cutoff and writing 0 elsewhere.
+  io::AlphaMode alpha_mode = io::AlphaMode::opaque;
+  float alpha_cutoff = 0.5f;
   float alpha_factor = 1.0f;
-  // A cut-out on a draw that blends (a translucent skin): the shader cuts instead of the
-  // raster's alpha test, keeping its own alpha where the map's alpha times the factor reaches
-  // the cutoff and writing 0 elsewhere. Negative: no cut here.
-  float alpha_cutoff = -1.0f;
   bool double_precision = false;  // shading and sampling by the double references
+
+  // A skin of Opacity below 1: drawn blended (AlphaOver, no depth write).
+  bool translucent() const { return kind == MaterialKind::skin && skin.Opacity < 1.0f; }
 };
 
 class MaterialShader final : public raster::Shader {

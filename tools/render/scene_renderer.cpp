@@ -36,9 +36,6 @@ struct SurfacePart {
   std::vector<float> varyings;
   std::vector<uint32_t> triangle_ids;
   io::MapPlacement file_color_placement, file_normal_placement;  // as the mesh file gives them (pelt info)
-  io::AlphaMode alpha_mode = io::AlphaMode::opaque;  // its draw: alpha-tested (mask) or blended
-  float alpha_cutoff = 0.5f;
-  MapImage color_image;  // the colour map's image, read without its alpha (none: empty)
 };
 
 struct SceneRenderer::Object {
@@ -46,7 +43,6 @@ struct SceneRenderer::Object {
   std::vector<float> varyings;  // the whole mesh's; with several parts, theirs replace it
   int varying_count = SurfaceVaryings::kCount;
   MaterialDesc material;  // the scene's material, without maps: each part's desc adds its own
-  bool translucent = false;
   bool double_sided = false;  // else back faces are culled (the material's "double_sided")
   uint32_t id_base = 0;
   std::vector<SurfacePart> parts;
@@ -190,32 +186,33 @@ void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind, 
   }
 }
 
-// Gives each part (mesh_parts) its triangles, in the mesh's order, with their own copies
-// of the vertices they use (positions, normals, uvs and the `vc` varyings of each), and the
-// mesh's number of each triangle.
-void split_parts(const Mesh& m, const std::vector<float>& varyings, int vc, const std::vector<uint32_t>& triangle_part,
-                 std::vector<SurfacePart>& parts) {
-  for (size_t t = 0; t < triangle_part.size(); ++t) parts[triangle_part[t]].triangle_ids.push_back(uint32_t(t));
-  std::vector<uint32_t> local(m.vertex_count(), UINT32_MAX);  // the part's number of each mesh vertex
-  for (SurfacePart& part : parts) {
+// Gives each part its triangles (split_mesh) with their own copies of the vertices they use:
+// positions, normals, uvs and the `vc` varyings of each.
+void copy_parts(const Mesh& m, const std::vector<float>& varyings, int vc, std::vector<PartSplit> split,
+                std::vector<SurfacePart>& parts) {
+  for (size_t k = 0; k < parts.size(); ++k) {
+    SurfacePart& part = parts[k];
     Mesh& pm = part.mesh;
-    pm.indices.reserve(3 * part.triangle_ids.size());
-    for (const uint32_t t : part.triangle_ids)
-      for (int c = 0; c < 3; ++c) {
-        const uint32_t v = m.indices[3 * size_t(t) + size_t(c)];
-        if (local[v] == UINT32_MAX) {
-          local[v] = static_cast<uint32_t>(pm.positions.size());
-          pm.positions.push_back(m.positions[v]);
-          pm.normals.push_back(m.normals[v]);
-          if (!m.uvs.empty()) pm.uvs.push_back(m.uvs[v]);
-          part.varyings.insert(part.varyings.end(), varyings.begin() + ptrdiff_t(v) * vc,
-                               varyings.begin() + ptrdiff_t(v + 1) * vc);
-        }
-        pm.indices.push_back(local[v]);
-      }
-    for (const uint32_t t : part.triangle_ids)
-      for (int c = 0; c < 3; ++c) local[m.indices[3 * size_t(t) + size_t(c)]] = UINT32_MAX;
+    part.triangle_ids = std::move(split[k].triangles);
+    pm.indices = std::move(split[k].indices);
+    const std::vector<uint32_t>& vertices = split[k].vertices;
+    pm.positions.reserve(vertices.size());
+    pm.normals.reserve(vertices.size());
+    part.varyings.reserve(vertices.size() * size_t(vc));
+    for (const uint32_t v : vertices) {
+      pm.positions.push_back(m.positions[v]);
+      pm.normals.push_back(m.normals[v]);
+      if (!m.uvs.empty()) pm.uvs.push_back(m.uvs[v]);
+      part.varyings.insert(part.varyings.end(), varyings.begin() + ptrdiff_t(v) * vc,
+                           varyings.begin() + ptrdiff_t(v + 1) * vc);
+    }
   }
+}
+
+// What an object's arrays hold, for memory_estimate.
+size_t mesh_bytes(const Mesh& m, const std::vector<float>& varyings) {
+  return m.positions.size() * sizeof(glm::vec3) * 2 + m.uvs.size() * sizeof(glm::vec2) +
+         m.indices.size() * sizeof(uint32_t) + varyings.size() * sizeof(float);
 }
 
 // "`a`, `b` and `c`": the parts' materials, for messages; past four, "`a`, `b`, `c` and 7 more".
@@ -376,7 +373,6 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     obj->material.skin = so.material.skin;
     obj->material.filter = quality_.filter;
     obj->material.double_precision = quality_.precision == io::Precision::double_precision;
-    obj->translucent = obj->material.kind == MaterialKind::skin && so.material.skin.Opacity < 1.0f;
     obj->double_sided = so.material.double_sided;
     obj->id_base = id_base;
     id_base += static_cast<uint32_t>(m.triangle_count());
@@ -414,18 +410,13 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       part.desc = obj->material;
       part.desc.color_map = load_map(kColorMap, so.material.color_map, set.color_map, set.material, keeps_alpha(set),
                                      part.file_color_placement);
-      if (const std::optional<MapSource> src = map_source(so.material.color_map, set.color_map))
-        part.color_image = map_image(kColorMap.field, *src);
       part.desc.color_placement = ours(part.file_color_placement);
       part.desc.normal_map =
           load_map(kNormalMap, so.material.normal_map, set.normal_map, set.material, false, part.file_normal_placement);
-      part.alpha_mode = set.alpha_mode;
-      part.alpha_cutoff = set.alpha_cutoff;
-      part.desc.draws_alpha = set.alpha_mode != io::AlphaMode::opaque;
-      part.desc.alpha_factor = set.alpha_factor;
-      // A translucent skin's draws blend: its cut-out parts are cut by the shader.
-      if (obj->translucent && set.alpha_mode == io::AlphaMode::mask) part.desc.alpha_cutoff = set.alpha_cutoff;
       part.desc.normal_placement = ours(part.file_normal_placement);
+      part.desc.alpha_mode = set.alpha_mode;
+      part.desc.alpha_cutoff = set.alpha_cutoff;
+      part.desc.alpha_factor = set.alpha_factor;
       any_map |= part.desc.color_map || part.desc.normal_map;
       any_normal_map |= part.desc.normal_map != nullptr;
     }
@@ -469,7 +460,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     }
     const bool split = parts.count() > 1;
     if (split) {
-      split_parts(m, obj->varyings, vc, parts.triangle_part, obj->parts);
+      copy_parts(m, obj->varyings, vc, split_mesh(m, parts), obj->parts);
       obj->varyings = {};  // each part has its own
     }
     for (SurfacePart& part : obj->parts) {
@@ -503,9 +494,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       // The fur reads one colour map: the parts' when they all draw the same image placed alike
       // (one part may read it with its alpha, another without: the fur takes the colour alone).
       const SurfacePart& first = obj->parts.front();
-      const bool one_color_map = std::all_of(obj->parts.begin(), obj->parts.end(), [&](const SurfacePart& p) {
-        return p.color_image == first.color_image && p.desc.color_placement == first.desc.color_placement;
-      });
+      const bool one_color_map = parts.one_color_map;
       if (so.fur->use_color_map && !one_color_map)
         throw io::InputError(scene.file.string(),
                              io::json_child(io::json_child(io::json_index("objects", i), "fur"), "use_color_map"),
@@ -559,13 +548,9 @@ uint64_t SceneRenderer::fur_triangles() const {
 size_t SceneRenderer::memory_estimate() const {
   size_t n = 0;
   for (const auto& o : objects_) {
-    n += o->mesh.positions.size() * sizeof(glm::vec3) * 2 + o->mesh.uvs.size() * sizeof(glm::vec2) +
-         o->mesh.indices.size() * sizeof(uint32_t) + o->varyings.size() * sizeof(float);
+    n += mesh_bytes(o->mesh, o->varyings);
     for (const auto& t : o->textures) n += t->bytes();
-    for (const SurfacePart& p : o->parts)
-      n += p.mesh.positions.size() * sizeof(glm::vec3) * 2 + p.mesh.uvs.size() * sizeof(glm::vec2) +
-           p.mesh.indices.size() * sizeof(uint32_t) + p.varyings.size() * sizeof(float) +
-           p.triangle_ids.size() * sizeof(uint32_t);
+    for (const SurfacePart& p : o->parts) n += mesh_bytes(p.mesh, p.varyings) + p.triangle_ids.size() * sizeof(uint32_t);
     if (o->fur) n += o->fur->memory_bytes();
   }
   const size_t pixels = size_t(width_) * height_;
@@ -592,8 +577,8 @@ std::vector<SceneRenderer::MapsDrawn> SceneRenderer::maps_drawn(size_t object) c
     m.normal = p.desc.normal_map != nullptr;
     m.color_placement = p.file_color_placement;
     m.normal_placement = p.file_normal_placement;
-    m.alpha_mode = p.alpha_mode;
-    m.alpha_cutoff = p.alpha_cutoff;
+    m.alpha_mode = p.desc.alpha_mode;
+    m.alpha_cutoff = p.desc.alpha_cutoff;
     m.alpha_factor = p.desc.alpha_factor;
   }
   return out;
@@ -661,12 +646,12 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
       // and skipping them halves the set-up and depth work of a dense scan.
       d.state.cull = o->double_sided ? raster::CullMode::None : raster::CullMode::Back;
       // A translucent skin blends every part (a cut-out one cut by its shader).
-      if (o->translucent || p.alpha_mode == io::AlphaMode::blend) {
+      if (p.desc.translucent() || p.desc.alpha_mode == io::AlphaMode::blend) {
         d.state.blend = raster::BlendMode::AlphaOver;
         d.state.depth_write = false;
-      } else if (p.alpha_mode == io::AlphaMode::mask) {
+      } else if (p.desc.alpha_mode == io::AlphaMode::mask) {
         d.state.alpha_test = true;
-        d.state.alpha_cutoff = p.alpha_cutoff;
+        d.state.alpha_cutoff = p.desc.alpha_cutoff;
       }
       draws.push_back(d);
     }

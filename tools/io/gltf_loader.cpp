@@ -63,10 +63,11 @@ class GltfReader {
                               " scaled to a point or a line: not drawn");
     if (out_.mesh.indices.empty())
       throw InputError(file_, "", "the default scene has no triangles");
-    if (!all_uvs_) {
-      if (any_uvs_) out_.warnings.push_back("some primitives have no TEXCOORD_0: uvs dropped");
-      out_.uvs_dropped = any_uvs_;
-      out_.mesh.uvs.clear();
+    {
+      std::string where;
+      for (size_t k = 0; k < std::min<size_t>(3, uvless_.size()); ++k) where += (k ? ", " : "") + uvless_[k];
+      if (uvless_.size() > 3) where += ", ...";
+      settle_uvs(out_, std::move(uv_missing_), "no TEXCOORD_0 in " + where);
     }
     // Each primitive keeps its material's maps; a file whose primitives all use one set of
     // maps (or none) needs no list per triangle. Until 2026-11-27 the first primitive's maps
@@ -551,6 +552,7 @@ class GltfReader {
       const bool flat = m.normals.size() != m.positions.size();
 
       const std::string uv_name = "TEXCOORD_" + std::to_string(uv_set.index);
+      bool has_uvs = true;
       if (auto it = prim.attributes.find(uv_name); it != prim.attributes.end()) {
         const std::string tw = pw + ".attributes." + uv_name;
         const View tv = view_of(it->second, tw);
@@ -565,13 +567,13 @@ class GltfReader {
             throw InputError(file_, tw + "[" + std::to_string(i) + "]", "uv is not finite");
           m.uvs.push_back(t);
         }
-        any_uvs_ = true;
       } else if (uv_set.index != 0) {
         // TEXCOORD_0 in its place would put the map where the file does not: refused.
         throw InputError(file_, uv_set.where, "names " + uv_name + ", which " + pw + " does not have");
       } else {
-        all_uvs_ = false;
+        has_uvs = false;
         m.uvs.resize(m.positions.size(), glm::vec2(0.0f));
+        if (uvless_.size() < 4) uvless_.push_back(pw);
       }
 
       std::vector<uint32_t> idx;
@@ -604,6 +606,7 @@ class GltfReader {
       };
       append_triangles(prim.mode, idx, base, mirrored);
       if (flat) make_flat(base, first_index);
+      uv_missing_.resize(m.positions.size(), uint8_t{!has_uvs});
       if (const size_t added = (m.indices.size() - first_index) / 3; added > 0) {
         triangle_maps_.insert(triangle_maps_.end(), added, maps_of(prim.material));
         if (prim.material < 0) {
@@ -850,7 +853,8 @@ class GltfReader {
   std::map<int, std::vector<glm::dmat4>> skins_;   // joint_matrices', per skin
   std::vector<std::string> hidden_;                // nodes scaled to a point or a line
   uint64_t deformed_ = 0;                          // vertex values moved by morphs and skins
-  bool all_uvs_ = true, any_uvs_ = false;
+  std::vector<uint8_t> uv_missing_;  // per vertex (settle_uvs)
+  std::vector<std::string> uvless_;  // the first primitives without uvs, at most 4
   std::vector<MeshMaps> sets_;                 // maps_of's, in the order of their first primitive
   std::string unmaterialed_;                   // the first drawn primitive without a material
   uint64_t unmaterialed_triangles_ = 0;        // and the triangles of all such primitives

@@ -112,6 +112,22 @@ uint32_t add_map_set(std::vector<MeshMaps>& sets, MeshMaps set) {
   return uint32_t(sets.size() - 1);
 }
 
+void settle_uvs(LoadedMesh& out, std::vector<uint8_t> missing, const std::string& where) {
+  Mesh& m = out.mesh;
+  const size_t without = size_t(std::count(missing.begin(), missing.end(), uint8_t{1}));
+  if (without == 0) return;
+  if (without == missing.size()) {
+    m.uvs.clear();
+    return;
+  }
+  out.uv_missing = std::move(missing);
+  size_t faces = 0;
+  for (size_t t = 0; t < m.triangle_count(); ++t) faces += lacks_uv(m, out.uv_missing, t);
+  out.warnings.push_back(std::to_string(faces) + " of " + std::to_string(m.triangle_count()) +
+                         " triangles have no texture coordinates (" + where +
+                         "): no map may be drawn on them, and fur on the mesh lays its strands by the box mapping");
+}
+
 }  // namespace detail
 
 const MeshMaps& LoadedMesh::set(size_t k) const {

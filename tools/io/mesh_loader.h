@@ -1,6 +1,7 @@
 // Mesh files: Wavefront OBJ (tinyobjloader) and glTF 2.0 / GLB (tinygltf).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -58,8 +59,12 @@ struct LoadedMesh {
   std::vector<MeshMaps> maps;
   // Per triangle, its set in `maps`; empty when every triangle takes maps[0] (or there is none).
   std::vector<uint32_t> triangle_maps;
-  // Some faces had texture coordinates and others none, so none were kept (a warning says so).
-  bool uvs_dropped = false;
+  // Per vertex, 1 where the file gave no texture coordinate though others have one: such a
+  // vertex holds uv (0, 0) in mesh.uvs, so a map may not be drawn on its faces, and fur lays its
+  // strands by the box mapping (a warning names where). Empty when every vertex has a uv, or none
+  // has (mesh.uvs is then empty). Until 2026-11-27 one primitive or face without uvs dropped the
+  // whole mesh's, and every map of the file with them.
+  std::vector<uint8_t> uv_missing;
   // Things that were accepted but changed or ignored, to be shown to the user (e.g. "not
   // every vertex has a normal: all normals computed from the triangles").
   std::vector<std::string> warnings;
@@ -74,13 +79,21 @@ struct LoadedMesh {
   uint32_t maps_of(size_t t) const { return triangle_maps.empty() ? 0 : triangle_maps[t]; }
 };
 
+// Whether a corner of triangle t of `mesh` has no texture coordinate (LoadedMesh::uv_missing of
+// the file it was loaded from; the mesh may have left the LoadedMesh).
+inline bool lacks_uv(const Mesh& mesh, const std::vector<uint8_t>& uv_missing, size_t t) {
+  if (uv_missing.empty()) return false;
+  const uint32_t* c = &mesh.indices[3 * t];
+  return (uv_missing[c[0]] | uv_missing[c[1]] | uv_missing[c[2]]) != 0;
+}
+
 // Loads .obj, .gltf or .glb (by extension, case-insensitive). OBJ: normals are used when every
 // vertex has one, otherwise computed with pelt::compute_vertex_normals, per position within the
 // face's smoothing group when the file has `s` records (with a warning when the file gave some
 // that are replaced). glTF: a primitive's NORMAL is used, and a
 // primitive without one gets flat normals (each triangle its own corners), as the specification
 // asks. A zero-length normal has all of the mesh's normals computed, with a warning;
-// UVs are kept when every vertex has one.
+// UVs are kept when any vertex has one (LoadedMesh::uv_missing marks the others).
 //
 // OBJ: each `f` record split into triangles by triangulate_polygon (faces of 3 to 255
 // corners); one vertex per distinct (v, vt, vn) triple, in first-use order (and smoothing group,

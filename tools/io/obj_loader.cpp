@@ -655,7 +655,9 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     zero_normal |= !(glm::length(glm::vec3(attrib.normals[3 * i], attrib.normals[3 * i + 1], attrib.normals[3 * i + 2])) > 0.0f);
   const bool by_smoothing = pre.smoothing_groups && (pre.corner_without_normal || zero_normal);
   std::vector<uint64_t> smoothing;  // per vertex, when by_smoothing
-  bool all_uvs = true, all_normals = true;
+  bool all_normals = true;
+  std::vector<uint8_t> uv_missing;         // per vertex (settle_uvs)
+  std::vector<std::string> uvless_names;   // the materials of faces without uvs, at most 4
   Mesh& m = out.mesh;
   size_t face_number = 0;
   std::vector<char> material_used(materials.size(), 0);  // by material id
@@ -719,12 +721,16 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
           if (by_smoothing) smoothing.push_back(key.smoothing);
           const float* p = &attrib.vertices[3 * idx.vertex_index];
           m.positions.emplace_back(p[0], p[1], p[2]);
+          uv_missing.push_back(idx.texcoord_index < 0);
           if (idx.texcoord_index >= 0) {
             const float* t = &attrib.texcoords[2 * idx.texcoord_index];
             m.uvs.emplace_back(t[0], t[1]);
           } else {
-            all_uvs = false;
-            m.uvs.emplace_back(0.0f, 0.0f);  // dropped below unless every vertex has a uv
+            m.uvs.emplace_back(0.0f, 0.0f);
+            const std::string name =
+                id >= 0 && size_t(id) < materials.size() ? "`" + shown_name(materials[size_t(id)].name) + "`" : kNoMaterial;
+            if (uvless_names.size() < 4 && std::find(uvless_names.begin(), uvless_names.end(), name) == uvless_names.end())
+              uvless_names.push_back(name);
           }
           if (idx.normal_index >= 0) {
             const float* n = &attrib.normals[3 * idx.normal_index];
@@ -754,10 +760,14 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
                            "`, the text from `#` taken as a comment");
   }
   add_library_warnings(out, shown_name(untrue_warnings_dropped(warnings, first_of_name, found)));
-  if (!all_uvs) {
-    if (nt > 0) out.warnings.push_back("some vertices have no texture coordinate: uvs dropped");
-    out.uvs_dropped = nt > 0;
-    m.uvs.clear();
+  {
+    // At most three names, and "..." when there are more.
+    const size_t shown = std::min<size_t>(3, uvless_names.size());
+    std::string where = shown > 1 ? "faces of materials" : "faces of material";
+    for (size_t k = 0; k < shown; ++k)
+      where += (k == 0 ? " " : k + 1 == shown && uvless_names.size() <= 3 ? " and " : ", ") + uvless_names[k];
+    if (uvless_names.size() > 3) where += ", ...";
+    settle_uvs(out, std::move(uv_missing), where);
   }
   finish_normals(out, all_normals, nn > 0, NormalSharing::per_position, smoothing);
 

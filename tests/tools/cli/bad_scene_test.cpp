@@ -119,13 +119,14 @@ INSTANTIATE_TEST_SUITE_P(
                  "material `a` names the map)",
                  {{"nouv.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n"},
                   {"m.mtl", "newmtl a\nmap_Kd c.ppm\n"}, {"c.ppm", "P3\n1 1\n255\n255 0 0\n"}}},
-        // Faces of a mapped material have uvs, faces of another none: the loader kept none, and
-        // the message says why rather than that the file has none.
+        // Faces of a plain material have uvs, the mapped material's faces none: the map would read
+        // one texel there, and the message counts them (until 2026-11-27 the uvs of every face were
+        // dropped, and a map on the faces that had them refused too).
         BadScene{"ColourMapWhereSomeFacesLackUvs", scene_with_object(R"({"mesh": "some.obj", "material": {"type": "lambert"}})"),
-                 "objects[0].mesh: a color_map needs texture coordinates, and mesh `some.obj` has none: some of its "
-                 "faces have none, so none were kept (the file's material `a` names the map)",
-                 {{"some.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl a\n"
-                               "f 1/1 2/2 3/3\nusemtl plain\nf 1 3 2\n"},
+                 "objects[0].mesh: a color_map needs texture coordinates, and 1 triangle of mesh `some.obj` that it "
+                 "is drawn on has none (faces of material `a`, which names the map)",
+                 {{"some.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl plain\n"
+                               "f 1/1 2/2 3/3\nusemtl a\nf 1 3 2\n"},
                   {"m.mtl", "newmtl a\nmap_Kd c.ppm\nnewmtl plain\n"}, {"c.ppm", "P3\n1 1\n255\n255 0 0\n"}}}),
     [](const ::testing::TestParamInfo<BadScene>& info) { return std::string(info.param.name); });
 

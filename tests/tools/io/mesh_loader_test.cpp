@@ -355,6 +355,34 @@ TEST(MeshLoader, ObjSplitsVerticesByTriple) {
   EXPECT_NE(l.mesh.uvs[2], l.mesh.uvs[4]);
 }
 
+// Faces without texture coordinates beside faces with them: the uvs are kept, (0, 0) at the
+// vertices that have none, which uv_missing marks and a warning names by material. Until
+// 2026-11-27 every uv of the mesh was dropped. No face with uvs: none kept, nothing marked.
+TEST(MeshLoader, ObjFacesWithoutUvsBesideFacesWithThem) {
+  TempDir dir;
+  dir.write("m.mtl", "newmtl a\nnewmtl plain\n");
+  const auto f = dir.write("some.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+                                       "vt 0.25 0.5\nvt 0.75 0.5\nvt 0.25 1\n"
+                                       "usemtl a\nf 1/1 2/2 3/3\nusemtl plain\nf 2 4 3\n");
+  const LoadedMesh l = load_mesh_file(f);
+  ASSERT_EQ(l.mesh.vertex_count(), 6u);
+  ASSERT_EQ(l.mesh.uvs.size(), 6u);
+  EXPECT_EQ(l.uv_missing, (std::vector<uint8_t>{0, 0, 0, 1, 1, 1}));
+  EXPECT_EQ(l.mesh.uvs[1], glm::vec2(0.75f, 0.5f));
+  EXPECT_EQ(l.mesh.uvs[4], glm::vec2(0.0f));
+  EXPECT_FALSE(lacks_uv(l.mesh, l.uv_missing, 0));
+  EXPECT_TRUE(lacks_uv(l.mesh, l.uv_missing, 1));
+  ASSERT_EQ(l.warnings.size(), 1u);
+  EXPECT_EQ(l.warnings[0], "1 of 2 triangles have no texture coordinates (faces of material `plain`): no map may be "
+                           "drawn on them, and fur on the mesh lays its strands by the box mapping");
+
+  const auto none = dir.write("none.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1 2 3\n");
+  const LoadedMesh n = load_mesh_file(none);
+  EXPECT_TRUE(n.mesh.uvs.empty());
+  EXPECT_TRUE(n.uv_missing.empty());
+  EXPECT_TRUE(n.warnings.empty()) << ::testing::PrintToString(n.warnings);
+}
+
 TEST(MeshLoader, ObjMaterialTexturesResolvedRelativeToTheFile) {
   TempDir dir;
   dir.write("m.mtl", "newmtl skin\nmap_Kd tex/albedo.png\nnorm tex/normal.png\n");
@@ -487,6 +515,32 @@ TEST(MeshLoader, GltfPrimitivesKeepTheirMaterialsMaps) {
   EXPECT_EQ(placed.maps[0].color_map.path, placed.maps[1].color_map.path);
   EXPECT_FALSE(placed.maps[0].color_map.placement.transforms());
   EXPECT_TRUE(placed.maps[1].color_map.placement.transforms());
+}
+
+// A primitive without TEXCOORD_0 beside one with it: the same as the OBJ faces above, the
+// warning naming the primitive.
+TEST(MeshLoader, GltfPrimitiveWithoutUvsBesideOneWithThem) {
+  TempDir dir;
+  std::string text = tiny_gltf(0.0f, 2);
+  const std::string from = R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)";
+  text.replace(text.find(from), from.size(),
+               R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":2},"indices":1},
+                                           {"attributes":{"POSITION":0},"indices":1}]}],)");
+  const std::string accessors = R"({"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
+  // TEXCOORD_0: the positions' first 24 bytes read as three uvs (0, 0), (0, 1), (0, 0) once the
+  // node's transform, which uvs do not take, is set aside.
+  text.replace(text.find(accessors), accessors.size(),
+               R"({"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"},
+                  {"bufferView":0,"componentType":5126,"count":3,"type":"VEC2"}]})");
+  const LoadedMesh l = load_mesh_file(dir.write("some.gltf", text));
+  ASSERT_EQ(l.mesh.vertex_count(), 6u);
+  ASSERT_EQ(l.mesh.uvs.size(), 6u);
+  EXPECT_EQ(l.uv_missing, (std::vector<uint8_t>{0, 0, 0, 1, 1, 1}));
+  EXPECT_EQ(l.mesh.uvs[1], glm::vec2(0.0f, 1.0f));
+  ASSERT_EQ(l.warnings.size(), 1u);
+  EXPECT_EQ(l.warnings[0], "1 of 2 triangles have no texture coordinates (no TEXCOORD_0 in "
+                           "meshes[0].primitives[1]): no map may be drawn on them, and fur on the mesh lays its "
+                           "strands by the box mapping");
 }
 
 // A normalTexture is its primitive's normal map (drawn when the scene names none,

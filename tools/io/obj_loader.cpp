@@ -543,6 +543,13 @@ void take_material_maps(LoadedMesh& out, const std::vector<tinyobj::material_t>&
     const tinyobj::material_t& mat = materials[id];
     MeshMaps& set = sets_of[id];
     set.material = mat.name;
+    // `d` (or `Tr`, which tinyobjloader reads as 1 - d) between 0 and 1 blends the faces by it, as
+    // glTF's BLEND with that factor alpha, times the colour map's alpha where it has one (as
+    // three.js's and Blender's importers read it). `d 0` is left opaque (see load_obj's warnings).
+    if (mat.dissolve > 0.0 && mat.dissolve < 1.0) {
+      set.alpha_mode = AlphaMode::blend;
+      set.alpha_factor = float(mat.dissolve);
+    }
     const std::filesystem::path& library_dir = libraries.folder_of(int(id));
     const MtlPlacements& placements = libraries.placements_of(int(id));
     if (!mat.diffuse_texname.empty()) {
@@ -771,20 +778,21 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   }
   finish_normals(out, all_normals, nn > 0, NormalSharing::per_position, smoothing);
 
-  // What a used material asks for that pelt does not draw: transparency and cut-outs.
+  // What a used material asks for that pelt does not draw: no surface at all, and cut-out maps
+  // (whether `map_d` means a cut-out or a blend the format does not say).
   for (size_t id = 0; id < materials.size(); ++id) {
     if (!material_used[id]) continue;
     const tinyobj::material_t& t = materials[id];
     std::vector<std::string> asks;
     if (t.dissolve <= 0.0)  // tinyobjloader reads Tr as 1 - d
       asks.push_back("invisible as written (`d 0` or `Tr 1`; some exporters mean opaque by `Tr 1`)");
-    else if (t.dissolve < 1.0)
-      asks.push_back("partly transparent (`d` or `Tr`)");
     if (!t.alpha_texname.empty()) asks.push_back("cut out by `map_d " + t.alpha_texname + "`");
-    if (!asks.empty())
-      out.warnings.push_back("material `" + shown_name(t.name) + "` is " + asks[0] +
-                             (asks.size() > 1 ? " and " + asks[1] : std::string()) +
-                             ", which pelt does not draw: the mesh is drawn opaque");
+    if (asks.empty()) continue;
+    char blend[64];
+    std::snprintf(blend, sizeof blend, "its faces are blended by `d` %g alone", double(float(t.dissolve)));
+    out.warnings.push_back("material `" + shown_name(t.name) + "` is " + asks[0] +
+                           (asks.size() > 1 ? " and " + asks[1] : std::string()) + ", which pelt does not draw: " +
+                           (t.dissolve > 0.0 && t.dissolve < 1.0 ? std::string(blend) : "its faces are drawn opaque"));
   }
   const bool no_face_material = std::find(material_used.begin(), material_used.end(), 1) == material_used.end();
   if (no_face_material && std::any_of(materials.begin(), materials.end(), [](const tinyobj::material_t& t) {

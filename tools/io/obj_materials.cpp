@@ -141,6 +141,27 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
       out.append("newmtl ").append(name).push_back('\n');
       continue;
     }
+    if (w[0] == "d" || w[0] == "Tr") {
+      // Drawn (a blend, LoadedMesh::maps) since 2026-11-27: tinyobjloader reads a word that is no
+      // number as 0, and `d -halo f` (the specification's) as 0, so both would turn a material
+      // invisible or opaque without a word.
+      size_t k = 1;
+      if (w[0] == "d" && k < w.size() && w[k] == "-halo") {
+        warnings.push_back("`d -halo` of material `" + material + "` in " + library.filename().string() +
+                           ": pelt does not thin the material toward its silhouette, and blends it by the value alone");
+        ++k;
+      }
+      const std::string at = "line " + std::to_string(line_number) + " `" + std::string(w[0]) + "`";
+      double value = 0.0;
+      if (k >= w.size())
+        throw InputError(library.string(), at, "has no value (a number, 1 for opaque)");
+      if (!is_number(w[k], value) || !std::isfinite(value))
+        throw InputError(library.string(), at,
+                         "`" + std::string(w[k]) + "` is not a finite number" +
+                             (w[k].find(',') != std::string_view::npos ? " (a decimal point, not a comma)" : ""));
+      out.append(w[0]).append(" ").append(w[k]).push_back('\n');
+      continue;
+    }
     if (!is_map_statement(w[0])) {
       out.append(line).push_back('\n');
       continue;

@@ -258,20 +258,66 @@ TEST(ObjExports, AUsemtlCommentIsCutOnlyWhenTheWholeNameIsNoMaterials) {
   EXPECT_TRUE(whole.warnings.empty()) << ::testing::PrintToString(whole.warnings);
 }
 
-// A used material's transparency or cut-out map is not drawn: said so (an unused one's is not).
-TEST(ObjExports, TransparencyAndCutOutsOfAUsedMaterialAreNamed) {
+// A used material's `d` (or `Tr`) between 0 and 1 blends its faces by it (until 2026-11-27 drawn
+// opaque, with a warning); a cut-out map, and `d 0`, are not drawn: said so (an unused material's
+// are not).
+TEST(ObjExports, TransparencyIsDrawnAndCutOutsAreNamed) {
   TempDir dir;
   // (3ds Max writes `d 1` and `Tr 0` for every material: tinyobjloader's note on both is dropped.)
   dir.write("t.mtl", "newmtl glass\nd 0.5\nnewmtl leaf\nmap_d leaf_a.png\nnewmtl solid\nd 1\nTr 0\n"
-                     "newmtl max\nTr 1\nnewmtl unused\nTr 0.9\n");
+                     "newmtl max\nTr 1\nnewmtl unused\nTr 0.9\nnewmtl tinted\nTr 0.25\nmap_d t_a.png\n");
   const LoadedMesh l = load_mesh_file(dir.write(
       "t.obj", joined({"mtllib t.mtl", kQuad + "usemtl glass", "f 1/1 2/2 3/3", "usemtl leaf", "f 1/1 3/3 4/4",
-                       "usemtl solid", "f 2/2 3/3 4/4", "usemtl max", "f 1/1 2/2 4/4"})));
+                       "usemtl solid", "f 2/2 3/3 4/4", "usemtl max", "f 1/1 2/2 4/4", "usemtl tinted",
+                       "f 4/4 3/3 2/2"})));
   ASSERT_EQ(l.warnings.size(), 3u) << ::testing::PrintToString(l.warnings);
-  EXPECT_EQ(l.warnings[0], "material `glass` is partly transparent (`d` or `Tr`), which pelt does not draw: the mesh is drawn opaque");
-  EXPECT_EQ(l.warnings[1], "material `leaf` is cut out by `map_d leaf_a.png`, which pelt does not draw: the mesh is drawn opaque");
-  EXPECT_EQ(l.warnings[2], "material `max` is invisible as written (`d 0` or `Tr 1`; some exporters mean opaque by `Tr 1`), "
-                           "which pelt does not draw: the mesh is drawn opaque");
+  EXPECT_EQ(l.warnings[0], "material `leaf` is cut out by `map_d leaf_a.png`, which pelt does not draw: its faces are "
+                           "drawn opaque");
+  EXPECT_EQ(l.warnings[1], "material `max` is invisible as written (`d 0` or `Tr 1`; some exporters mean opaque by "
+                           "`Tr 1`), which pelt does not draw: its faces are drawn opaque");
+  EXPECT_EQ(l.warnings[2], "material `tinted` is cut out by `map_d t_a.png`, which pelt does not draw: its faces are "
+                           "blended by `d` 0.75 alone");
+  // glass and tinted blend (by 0.5 and by 1 - 0.25), the three others share the opaque set.
+  ASSERT_EQ(l.maps.size(), 3u);
+  EXPECT_EQ(l.triangle_maps, (std::vector<uint32_t>{0, 1, 1, 1, 2}));
+  EXPECT_EQ(l.maps[0].alpha_mode, AlphaMode::blend);
+  EXPECT_EQ(l.maps[0].alpha_factor, 0.5f);
+  EXPECT_EQ(l.maps[0].material, "glass");
+  EXPECT_EQ(l.maps[1].alpha_mode, AlphaMode::opaque);
+  EXPECT_EQ(l.maps[2].alpha_mode, AlphaMode::blend);
+  EXPECT_EQ(l.maps[2].alpha_factor, 0.75f);
+}
+
+// `d` and `Tr` are numbers: a word that is none, which tinyobjloader reads as 0 (invisible, or
+// opaque), is an error naming the library, its line and the word; `d -halo f` blends by f, with a
+// warning that the halo is not drawn.
+TEST(ObjExports, TransparencyValuesAreChecked) {
+  TempDir dir;
+  const auto refused = [&](const std::string& mtl, const std::string& field, const std::string& reason) {
+    dir.write("bad.mtl", mtl);
+    const auto obj = dir.write("bad.obj", joined({"mtllib bad.mtl", kQuad + "usemtl m", "f 1/1 2/2 3/3"}));
+    try {
+      load_mesh_file(obj);
+      ADD_FAILURE() << mtl << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file, (dir.path() / "bad.mtl").string());
+      EXPECT_EQ(e.field, field) << e.what();
+      EXPECT_EQ(e.reason, reason) << e.what();
+    }
+  };
+  refused("newmtl m\nd 0,5\n", "line 2 `d`", "`0,5` is not a finite number (a decimal point, not a comma)");
+  refused("newmtl m\nKd 1 1 1\nTr half\n", "line 3 `Tr`", "`half` is not a finite number");
+  refused("newmtl m\nd\n", "line 2 `d`", "has no value (a number, 1 for opaque)");
+  refused("newmtl m\nd -halo nan\n", "line 2 `d`", "`nan` is not a finite number");
+
+  dir.write("halo.mtl", "newmtl m\nd -halo 0.4\n");
+  const LoadedMesh l = load_mesh_file(dir.write("halo.obj", joined({"mtllib halo.mtl", kQuad + "usemtl m", "f 1/1 2/2 3/3"})));
+  ASSERT_EQ(l.maps.size(), 1u);
+  EXPECT_EQ(l.maps[0].alpha_mode, AlphaMode::blend);
+  EXPECT_EQ(l.maps[0].alpha_factor, 0.4f);
+  ASSERT_EQ(l.warnings.size(), 1u) << ::testing::PrintToString(l.warnings);
+  EXPECT_EQ(l.warnings[0], "`d -halo` of material `m` in halo.mtl: pelt does not thin the material toward its "
+                           "silhouette, and blends it by the value alone");
 }
 
 // A file whose libraries define maps but whose faces name no material draws none: said so.

@@ -24,16 +24,23 @@ void write_front(const SceneDir& dir, Alpha alpha) {
   io::write_image_atomic(dir.path() / "front.png", 4, 4, 4, io::PixelType::u8, px.data());
 }
 
-io::Scene quads_scene(const SceneDir& dir, const std::string& front,
-                      const std::string& material = R"({"type": "unlit", "color": [1, 1, 1]})",
-                      const std::string& object_extra = "") {
-  dir.write("quads.gltf", two_quads_gltf(front));
+const std::string kUnlitWhite = R"({"type": "unlit", "color": [1, 1, 1]})";
+
+// Mesh file `mesh` of dir seen from +z, unlit.
+io::Scene mesh_scene(const SceneDir& dir, const std::string& mesh, const std::string& material = kUnlitWhite,
+                     const std::string& object_extra = "") {
   return dir.scene(R"({"pelt": 1, "image": {"width": 64, "height": 64, "background": [0, 0, 0]},
       "camera": {"eye": [0, 0, 4], "target": [0, 0, 0], "fovy_deg": 40},
       "lights": [{"type": "ambient", "intensity": 1}],
       "quality": {"filter": "nearest"},
-      "objects": [{"mesh": ")" + (dir.path() / "quads.gltf").string() + R"(",
+      "objects": [{"mesh": ")" + (dir.path() / mesh).string() + R"(",
                    "material": )" + material + object_extra + "}]}");
+}
+
+io::Scene quads_scene(const SceneDir& dir, const std::string& front, const std::string& material = kUnlitWhite,
+                      const std::string& object_extra = "") {
+  dir.write("quads.gltf", two_quads_gltf(front));
+  return mesh_scene(dir, "quads.gltf", material, object_extra);
 }
 
 const std::string kTextured = R"("pbrMetallicRoughness":{"baseColorTexture":{"index":0}})";
@@ -114,6 +121,24 @@ TEST(AlphaMaterials, BlendBlendsOverWhatLiesBehind) {
   EXPECT_NEAR(mid[1], 1.0f, 1e-3f);
   EXPECT_NEAR(mid[2], 1.0f - a, 1e-3f);
   EXPECT_EQ(count(img).green, 0);
+}
+
+// An OBJ material's `d` blends its faces as BLEND does: a green map at d 0.25 over the white back
+// quad gives (0.75, 1, 0.75). Until 2026-11-27 it was drawn opaque, with a warning.
+TEST(AlphaMaterials, ObjDissolveBlendsOverWhatLiesBehind) {
+  SceneDir dir;
+  dir.write("q.obj", "mtllib q.mtl\nv -2 -2 -0.5\nv 2 -2 -0.5\nv 2 2 -0.5\nv -2 2 -0.5\n"
+                     "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                     "usemtl back\nf 1/1 2/2 3/3 4/4\nusemtl glass\nf 5/1 6/2 7/3 8/4\n");
+  dir.write("q.mtl", "newmtl back\nnewmtl glass\nd 0.25\nmap_Kd g.ppm\n");
+  dir.write("g.ppm", "P3\n1 1\n255\n0 255 0\n");
+  const FrameImage img = render_at(mesh_scene(dir, "q.obj"), {});
+  const float* mid = &img.color[(size_t(32) * 64 + 32) * 4];
+  EXPECT_NEAR(mid[0], 0.75f, 1e-3f);
+  EXPECT_NEAR(mid[1], 1.0f, 1e-3f);
+  EXPECT_NEAR(mid[2], 0.75f, 1e-3f);
+  const float* corner = &img.color[(size_t(4) * 64 + 4) * 4];  // the back quad alone: white
+  EXPECT_EQ(corner[0], 1.0f);
 }
 
 // On a translucent skin (Opacity below 1, every part blended) MASK still cuts: the front quad's

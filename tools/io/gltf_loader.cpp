@@ -573,7 +573,9 @@ class GltfReader {
       } else {
         has_uvs = false;
         m.uvs.resize(m.positions.size(), glm::vec2(0.0f));
-        if (uvless_.size() < 4) uvless_.push_back(pw);
+        // A mesh drawn by several nodes is read once per node: its primitives named once.
+        if (uvless_.size() < 4 && std::find(uvless_.begin(), uvless_.end(), pw) == uvless_.end())
+          uvless_.push_back(pw);
       }
 
       std::vector<uint32_t> idx;

@@ -114,18 +114,18 @@ uint32_t add_map_set(std::vector<MeshMaps>& sets, MeshMaps set) {
 
 void settle_uvs(LoadedMesh& out, std::vector<uint8_t> missing, const std::string& where) {
   Mesh& m = out.mesh;
-  const size_t without = size_t(std::count(missing.begin(), missing.end(), uint8_t{1}));
+  // Counted by triangles: a vertex no triangle uses (an empty primitive's) decides nothing.
+  size_t without = 0;
+  for (size_t t = 0; t < m.triangle_count(); ++t) without += lacks_uv(m, missing, t);
   if (without == 0) return;
-  if (without == missing.size()) {
+  if (without == m.triangle_count()) {
     m.uvs.clear();
     return;
   }
   out.uv_missing = std::move(missing);
-  size_t faces = 0;
-  for (size_t t = 0; t < m.triangle_count(); ++t) faces += lacks_uv(m, out.uv_missing, t);
-  out.warnings.push_back(std::to_string(faces) + " of " + std::to_string(m.triangle_count()) +
+  out.warnings.push_back(std::to_string(without) + " of " + std::to_string(m.triangle_count()) +
                          " triangles have no texture coordinates (" + where +
-                         "): no map may be drawn on them, and fur on the mesh lays its strands by the box mapping");
+                         "): no map may be drawn on them, and fur on the mesh cannot lay its strands by the uvs");
 }
 
 }  // namespace detail

@@ -35,10 +35,10 @@ void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals, NormalS
 // alike, and the same alpha), else of `set` appended. Both loaders give each face its set so.
 uint32_t add_map_set(std::vector<MeshMaps>& sets, MeshMaps set);
 
-// Settles the texture coordinates a loader read (out.mesh.uvs, (0, 0) where missing[v] = 1):
-// none kept when no vertex has one; otherwise kept, with out.uv_missing set when some vertex
-// lacks one and a warning naming `where` (the file's elements without uvs, e.g. "faces of
-// material `a`").
+// Settles the texture coordinates a loader read (out.mesh.uvs, (0, 0) where missing[v] = 1), by
+// triangles (a triangle lacks uvs when a corner does): none kept when every triangle lacks them;
+// otherwise kept, with out.uv_missing set when some triangle lacks them and a warning naming
+// `where` (the file's elements without uvs, e.g. "faces of material `a`").
 void settle_uvs(LoadedMesh& out, std::vector<uint8_t> missing, const std::string& where);
 
 }  // namespace pelt::io::detail

@@ -664,7 +664,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   std::vector<uint64_t> smoothing;  // per vertex, when by_smoothing
   bool all_normals = true;
   std::vector<uint8_t> uv_missing;         // per vertex (settle_uvs)
-  std::vector<std::string> uvless_names;   // the materials of faces without uvs, at most 4
+  std::vector<std::string> uvless_names;   // "material `a`", "no material": of faces without uvs, at most 4
   Mesh& m = out.mesh;
   size_t face_number = 0;
   std::vector<char> material_used(materials.size(), 0);  // by material id
@@ -734,10 +734,6 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
             m.uvs.emplace_back(t[0], t[1]);
           } else {
             m.uvs.emplace_back(0.0f, 0.0f);
-            const std::string name =
-                id >= 0 && size_t(id) < materials.size() ? "`" + shown_name(materials[size_t(id)].name) + "`" : kNoMaterial;
-            if (uvless_names.size() < 4 && std::find(uvless_names.begin(), uvless_names.end(), name) == uvless_names.end())
-              uvless_names.push_back(name);
           }
           if (idx.normal_index >= 0) {
             const float* n = &attrib.normals[3 * idx.normal_index];
@@ -746,6 +742,13 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
             all_normals = false;
             m.normals.emplace_back(0.0f);
           }
+        }
+        if (idx.texcoord_index < 0) {  // every face's, also one whose corners were met before
+          const std::string name = id >= 0 && size_t(id) < materials.size()
+                                       ? "material `" + shown_name(materials[size_t(id)].name) + "`"
+                                       : "no material";
+          if (uvless_names.size() < 4 && std::find(uvless_names.begin(), uvless_names.end(), name) == uvless_names.end())
+            uvless_names.push_back(name);
         }
         corner_vertices.push_back(it->second);
         corner_positions.push_back(m.positions[it->second]);
@@ -770,7 +773,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   {
     // At most three names, and "..." when there are more.
     const size_t shown = std::min<size_t>(3, uvless_names.size());
-    std::string where = shown > 1 ? "faces of materials" : "faces of material";
+    std::string where = "faces of";
     for (size_t k = 0; k < shown; ++k)
       where += (k == 0 ? " " : k + 1 == shown && uvless_names.size() <= 3 ? " and " : ", ") + uvless_names[k];
     if (uvless_names.size() > 3) where += ", ...";

@@ -188,9 +188,10 @@ void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind, 
 
 std::string triangles(size_t n) { return n == 1 ? "1 triangle" : std::to_string(n) + " triangles"; }
 
-// A map on `without` faces that have no texture coordinates (some of mesh's do): the scene's map
-// or the file's, on the faces of map set `set`.
-void refuse_uvless_map(const io::Scene& scene, size_t index, const io::MeshMaps& set, size_t without) {
+// A map on `without` faces that have no texture coordinates (some of mesh's do), the first of
+// them of material `material`: the scene's map or the file's, on the faces of map set `set`.
+void refuse_uvless_map(const io::Scene& scene, size_t index, const io::MeshMaps& set, const std::string& material,
+                       size_t without) {
   const io::SceneObject& so = scene.objects[index];
   for (const MapKind* kind : {&kColorMap, &kNormalMap}) {
     const bool color = kind == &kColorMap;
@@ -198,21 +199,21 @@ void refuse_uvless_map(const io::Scene& scene, size_t index, const io::MeshMaps&
         map_source(color ? so.material.color_map : so.material.normal_map, color ? set.color_map : set.normal_map);
     if (!src) continue;
     const std::string object = io::json_index("objects", index);
-    const std::string material = set.material.empty()          ? std::string()
-                                 : set.material == io::kNoMaterial ? " (faces of no material)"
-                                 : " (faces of material `" + set.material + "`" +
-                                       (src->named_by_mesh ? ", which names the map)" : ")");
+    const std::string named = material.empty()          ? std::string()
+                              : material == io::kNoMaterial ? " (faces of no material"
+                                                            : " (faces of material `" + material + "`";
+    const std::string whose = named.empty() ? "" : named + (src->named_by_mesh ? ", which names the map)" : ")");
     throw io::InputError(scene.file.string(),
                          src->named_by_mesh ? object + ".mesh" : object + ".material." + kind->field,
                          std::string("a ") + kind->field + " needs texture coordinates, and " + triangles(without) +
                              " of mesh `" + so.mesh + "` that it is drawn on " + (without == 1 ? "has" : "have") +
-                             " none" + material);
+                             " none" + whose);
   }
 }
 
 // Fur on a mesh some of whose faces (`without` triangles) have no texture coordinates: its
 // strands are laid by the box mapping, and what would read the uvs is refused.
-void refuse_uvless_fur(const io::Scene& scene, size_t index, size_t without) {
+void refuse_uvless_fur(const io::Scene& scene, size_t index, bool color_map, size_t without) {
   const io::SceneObject& so = scene.objects[index];
   const fur::FurParams& fp = *so.fur;
   const char* field = nullptr;
@@ -221,9 +222,9 @@ void refuse_uvless_fur(const io::Scene& scene, size_t index, size_t without) {
     field = "texture_coordinates";
     what = "\"mesh\" lays the strands on the mesh's texture coordinates";
   } else if (fp.comb && fp.comb->field == fur::CombField::uv) {
-    field = "comb";
-    what = "a comb along \"uv\" follows the mesh's texture coordinates";
-  } else if (fp.use_color_map) {
+    field = "comb.field";
+    what = "\"uv\" combs along the mesh's texture coordinates";
+  } else if (fp.use_color_map && color_map) {  // without a map FurObject says what is missing
     field = "use_color_map";
     what = "true reads the colour map at the mesh's texture coordinates";
   } else if (!so.fur_length_map.empty()) {
@@ -232,8 +233,7 @@ void refuse_uvless_fur(const io::Scene& scene, size_t index, size_t without) {
   } else {
     return;
   }
-  throw io::InputError(scene.file.string(),
-                       io::json_child(io::json_child(io::json_index("objects", index), "fur"), field),
+  throw io::InputError(scene.file.string(), io::json_index("objects", index) + ".fur." + field,
                        std::string(what) + ", and " + triangles(without) + " of mesh `" + so.mesh + "` " +
                            (without == 1 ? "has" : "have") + " none");
 }
@@ -457,13 +457,16 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
     // Faces the file gave no texture coordinates (LoadedMesh::uv_missing), per part: a map drawn
     // on them would read uv (0, 0), one texel, so it is refused.
     std::vector<size_t> uvless(parts.count(), 0);
-    for (size_t t = 0; t < m.triangle_count() && !loaded.uv_missing.empty(); ++t)
-      if (io::lacks_uv(m, loaded.uv_missing, t)) ++uvless[parts.triangle_part.empty() ? 0 : parts.triangle_part[t]];
-    bool any_map = false, any_normal_map = false;
+    std::vector<const std::string*> uvless_material(parts.count(), nullptr);  // of the part's first such face
+    for (size_t t = 0; t < m.triangle_count() && !loaded.uv_missing.empty(); ++t) {
+      if (!io::lacks_uv(m, loaded.uv_missing, t)) continue;
+      const size_t p = parts.triangle_part.empty() ? 0 : parts.triangle_part[t];
+      if (uvless[p]++ == 0) uvless_material[p] = &loaded.set(loaded.maps_of(t)).material;
+    }
+    bool any_map = false, any_normal_map = false, any_color_map = false;
     for (const uint32_t k : parts.first_set) {
       const io::MeshMaps& set = loaded.set(k);
-      if (const size_t without = uvless[obj->parts.size()]; without > 0)
-        refuse_uvless_map(scene, i, set, without);
+      if (const size_t p = obj->parts.size(); uvless[p] > 0) refuse_uvless_map(scene, i, set, *uvless_material[p], uvless[p]);
       SurfacePart& part = obj->parts.emplace_back();
       part.material = parts.count() > 1 ? set.material : std::string();
       part.desc = obj->material;
@@ -478,6 +481,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       part.desc.alpha_factor = set.alpha_factor;
       any_map |= part.desc.color_map || part.desc.normal_map;
       any_normal_map |= part.desc.normal_map != nullptr;
+      any_color_map |= part.desc.color_map != nullptr;
     }
     shading::BlurredNormals blurred;
     const bool blur = obj->material.kind == MaterialKind::skin &&
@@ -541,17 +545,13 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       part.shader = std::make_unique<MaterialShader>(part.desc, lights_, scene.camera.eye, layer_of(settings.aov));
     }
     if (so.fur) {
-      // The fur of a mesh some of whose faces have no uvs grows on a copy without any (the box
-      // mapping lays its strands), once nothing it is asked for reads them.
-      Mesh without_uvs;
+      // The fur of a mesh some of whose faces have no uvs is built as on a mesh without any (the
+      // box mapping, or the projection, lays its strands), once nothing it is asked for reads them:
+      // the uvs are set aside while it is built.
       const size_t uvless_faces = std::accumulate(uvless.begin(), uvless.end(), size_t{0});
-      if (uvless_faces > 0) {
-        refuse_uvless_fur(scene, i, uvless_faces);
-        without_uvs.positions = m.positions;
-        without_uvs.normals = m.normals;
-        without_uvs.indices = m.indices;
-      }
-      const Mesh& fur_base = uvless_faces > 0 ? without_uvs : obj->mesh;
+      if (uvless_faces > 0) refuse_uvless_fur(scene, i, any_color_map, uvless_faces);
+      std::vector<glm::vec2> set_aside;
+      if (uvless_faces > 0) set_aside.swap(obj->mesh.uvs);
       FurDrawOptions fo;
       fo.match_llvmpipe = settings.match_llvmpipe;
       fo.lighting = settings.fur_lighting;
@@ -587,8 +587,9 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
                                                          "length_map"),
                                           settings.budget);
       }
-      obj->fur = std::make_unique<FurObject>(fur_base, *so.fur, fo,
+      obj->fur = std::make_unique<FurObject>(obj->mesh, *so.fur, fo,
                                              FurOrigin{scene.file.string(), io::json_index("objects", i)}, setup_stats_);
+      if (uvless_faces > 0) obj->mesh.uvs.swap(set_aside);  // a throw above ends the set-up: nothing to restore
       if (obj->fur->geometry().uvs_cover_no_area)
         warnings_.push_back(so.mesh + " (" + io::json_index("objects", i) +
                             ".fur): the mesh's texture coordinates cover no area, so the strands are laid by the box mapping "

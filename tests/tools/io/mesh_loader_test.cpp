@@ -374,7 +374,19 @@ TEST(MeshLoader, ObjFacesWithoutUvsBesideFacesWithThem) {
   EXPECT_TRUE(lacks_uv(l.mesh, l.uv_missing, 1));
   ASSERT_EQ(l.warnings.size(), 1u);
   EXPECT_EQ(l.warnings[0], "1 of 2 triangles have no texture coordinates (faces of material `plain`): no map may be "
-                           "drawn on them, and fur on the mesh lays its strands by the box mapping");
+                           "drawn on them, and fur on the mesh cannot lay its strands by the uvs");
+
+  // A face of another material on the same uv-less corners is named too (its vertices are the
+  // first face's), and so are faces of no material.
+  const auto shared = dir.write("shared.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\n"
+                                              "f 1 2 3\nusemtl a\nf 1/1 2/1 4/1\nusemtl plain\nf 2 4 3\n"
+                                              "usemtl a\nf 3 2 4\n");
+  const LoadedMesh sh = load_mesh_file(shared);
+  ASSERT_FALSE(sh.warnings.empty());
+  EXPECT_NE(sh.warnings[0].find("3 of 4 triangles have no texture coordinates (faces of no material, material `plain` "
+                                "and material `a`)"),
+            std::string::npos)
+      << sh.warnings[0];
 
   const auto none = dir.write("none.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1 2 3\n");
   const LoadedMesh n = load_mesh_file(none);
@@ -539,8 +551,53 @@ TEST(MeshLoader, GltfPrimitiveWithoutUvsBesideOneWithThem) {
   EXPECT_EQ(l.mesh.uvs[1], glm::vec2(0.0f, 1.0f));
   ASSERT_EQ(l.warnings.size(), 1u);
   EXPECT_EQ(l.warnings[0], "1 of 2 triangles have no texture coordinates (no TEXCOORD_0 in "
-                           "meshes[0].primitives[1]): no map may be drawn on them, and fur on the mesh lays its "
-                           "strands by the box mapping");
+                           "meshes[0].primitives[1]): no map may be drawn on them, and fur on the mesh cannot lay "
+                           "its strands by the uvs");
+}
+
+// The same mesh drawn by three nodes names its primitive once; a primitive without uvs and
+// without triangles (an empty index list) decides nothing: the uvs are settled by triangles.
+TEST(MeshLoader, GltfUvlessPrimitivesAreCountedByTriangles) {
+  TempDir dir;
+  std::string text = tiny_gltf(0.0f, 2);
+  const std::string from = R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)";
+  const std::string accessors = R"({"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
+  text.replace(text.find(accessors), accessors.size(),
+               R"({"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"},
+                  {"bufferView":0,"componentType":5126,"count":3,"type":"VEC2"},
+                  {"bufferView":1,"componentType":5123,"count":0,"type":"SCALAR"}]})");
+  std::string instanced = text;
+  instanced.replace(instanced.find(from), from.size(),
+                    R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":2},"indices":1},
+                                                {"attributes":{"POSITION":0},"indices":1}]}],)");
+  const std::string nodes = R"("nodes":[{"mesh":0,"translation":[10,0,0],"scale":[2,2,2]}],)";
+  instanced.replace(instanced.find(nodes), nodes.size(),
+                    R"("nodes":[{"mesh":0},{"mesh":0,"translation":[2,0,0]},{"mesh":0,"translation":[4,0,0]}],)");
+  instanced.replace(instanced.find(R"("scenes":[{"nodes":[0]}])"), 24, R"("scenes":[{"nodes":[0,1,2]}])");
+  const LoadedMesh l = load_mesh_file(dir.write("instanced.gltf", instanced));
+  ASSERT_EQ(l.warnings.size(), 1u) << ::testing::PrintToString(l.warnings);
+  EXPECT_NE(l.warnings[0].find("3 of 6 triangles have no texture coordinates (no TEXCOORD_0 in "
+                               "meshes[0].primitives[1]):"),
+            std::string::npos)
+      << l.warnings[0];
+
+  std::string empty = text;
+  empty.replace(empty.find(from), from.size(),
+                R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":2},"indices":1},
+                                            {"attributes":{"POSITION":0},"indices":3}]}],)");
+  const LoadedMesh e = load_mesh_file(dir.write("empty.gltf", empty));
+  EXPECT_TRUE(e.uv_missing.empty());
+  EXPECT_EQ(e.mesh.uvs.size(), e.mesh.vertex_count());
+  EXPECT_TRUE(e.warnings.empty()) << ::testing::PrintToString(e.warnings);
+  // The other way round: the only primitive with uvs has no triangle, so no triangle has uvs.
+  std::string reverse = text;
+  reverse.replace(reverse.find(from), from.size(),
+                  R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":2},"indices":3},
+                                              {"attributes":{"POSITION":0},"indices":1}]}],)");
+  const LoadedMesh r = load_mesh_file(dir.write("reverse.gltf", reverse));
+  EXPECT_TRUE(r.mesh.uvs.empty());
+  EXPECT_TRUE(r.uv_missing.empty());
+  EXPECT_TRUE(r.warnings.empty()) << ::testing::PrintToString(r.warnings);
 }
 
 // A normalTexture is its primitive's normal map (drawn when the scene names none,

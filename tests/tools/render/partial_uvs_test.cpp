@@ -121,11 +121,13 @@ TEST(PartialUvs, AMapOnFacesWithoutUvsIsRefused) {
                       (dir.path() / "quads.obj").string() +
                       "` that it is drawn on have none (faces of material `front`, which names the map)"),
             std::string::npos);
-  // The scene's map covers every face, those without uvs too.
-  write_files(dir, two_quads_obj(false, true));
+  // The scene's map covers every face, those without uvs too: named by their material, not by
+  // the first material of the part the scene's map joins them in.
+  write_files(dir, two_quads_obj(true, false));
   const std::string scene_map = R"({"type": "unlit", "color_map": ")" + (dir.path() / "front.ppm").string() + "\"}";
   EXPECT_NE(error_of(quads_scene(dir, "quads.obj", "", scene_map))
-                .find("objects[0].material.color_map: a color_map needs texture coordinates, and 2 triangles"),
+                .find("objects[0].material.color_map: a color_map needs texture coordinates, and 2 triangles of mesh `" +
+                      (dir.path() / "quads.obj").string() + "` that it is drawn on have none (faces of material `front`)"),
             std::string::npos);
 }
 
@@ -151,9 +153,13 @@ TEST(PartialUvs, FurLaysItsStrandsByTheBoxMapping) {
                 .find("objects[0].fur.texture_coordinates: \"mesh\" lays the strands on the mesh's texture "
                       "coordinates, and 2 triangles of mesh `"),
             std::string::npos);
-  EXPECT_NE(refused(R"("comb": {"field": "uv"})").find("objects[0].fur.comb: a comb along \"uv\" follows the mesh's "),
+  EXPECT_NE(refused(R"("comb": {"field": "uv"})").find("objects[0].fur.comb.field: \"uv\" combs along the mesh's "),
             std::string::npos);
-  EXPECT_NE(refused(R"("use_color_map": true)")
+  // Without a colour map the fur says what it misses, not that the uvs would not do.
+  EXPECT_NE(refused(R"("use_color_map": true)").find("objects[0].fur.use_color_map: true needs a colour map"),
+            std::string::npos);
+  write_files(dir, two_quads_obj(false, true));  // the front quad's map, on faces with uvs
+  EXPECT_NE(error_of(quads_scene(dir, "quads.obj", R"(, "fur": {"shells": 4, "use_color_map": true})", lambert))
                 .find("objects[0].fur.use_color_map: true reads the colour map at the mesh's texture coordinates"),
             std::string::npos);
   const uint8_t grey[4] = {128, 128, 128, 255};

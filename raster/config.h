@@ -44,6 +44,11 @@ inline constexpr uint32_t kMaxBatchLanes = kMaxBatchBlocks * kBlockLanes;
 // Visibility-buffer value of an empty pixel.
 inline constexpr uint32_t kNoPrimitive = 0xFFFFFFFFu;
 
+// RenderOptions::exact_fragment_cap's default: 2^19 fragments, 24 MiB of a worker's two lists.
+// A furry tile leaves about 70 k (the box at 1024 x 768); a power of two, so a list that grows
+// by doubling stops at it.
+inline constexpr uint32_t kExactFragmentCap = 1u << 19;
+
 // The depth a tile is cleared to: one float step above the far plane's depth 1. Window depth is
 // about 1 - near / distance, which rounds to exactly 1 for a surface more than about 2^24 x near
 // away (near 1e-7 and a box 5 units off, or near 0.1 and an object 5e6 away); against a clear of

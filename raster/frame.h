@@ -161,6 +161,7 @@ struct alignas(64) TileScratch {
   std::vector<uint32_t> pixel_next;      // scratch: per pixel, where its next fragment goes
 
   uint64_t fragments_visible = 0, pixels_shaded = 0, fragments_blended = 0, lanes_shaded = 0;
+  uint64_t exact_passes = 0, exact_fragments_peak = 0;  // RasterStats'
 };
 
 // Rasterizes, shades, blends and resolves tile `tile` (dispatched once per tile).

@@ -59,6 +59,11 @@ int Renderer::threads() const { return impl_->pool.threads(); }
 void Renderer::parallel_for(size_t count, ItemFn fn) { impl_->pool.parallel_for(count, fn); }
 size_t Renderer::worker_scratch_bytes() { return sizeof(TileScratch); }
 
+size_t Renderer::exact_sort_bytes(uint32_t cap) {
+  // The fragments and their copy grouped by pixel (CompositeExact), each reserved to the count.
+  return size_t{cap} * 2 * sizeof(TileScratch::Fragment);
+}
+
 void Renderer::Impl::transform(std::span<const DrawCall> draws, const Viewport& vp) {
   if (clip.size() < draws.size()) clip.resize(draws.size());
   vertex_jobs.clear();
@@ -300,6 +305,7 @@ void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& opti
   const uint32_t max_load = tiles > 0 ? *std::max_element(load.begin(), load.end()) : 0;
   for (auto& s : im.scratch) {
     s->fragments_visible = s->pixels_shaded = s->fragments_blended = s->lanes_shaded = 0;
+    s->exact_passes = s->exact_fragments_peak = 0;
     if (s->translucent.capacity() < max_load) s->translucent.reserve(max_load);
     if (s->translucent_scratch.capacity() < max_load) s->translucent_scratch.reserve(max_load);
   }
@@ -335,6 +341,8 @@ void Renderer::render(std::span<const DrawCall> draws, const RenderOptions& opti
       st.pixels_shaded += s->pixels_shaded;
       st.fragments_blended += s->fragments_blended;
       st.lanes_shaded += s->lanes_shaded;
+      st.exact_passes += s->exact_passes;
+      st.exact_fragments_peak = std::max(st.exact_fragments_peak, s->exact_fragments_peak);
     }
     st.ms_front = ms_front;
     st.ms_tiles = ms_since(t1);

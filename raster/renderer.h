@@ -9,12 +9,14 @@
 //      order, resolve into the caller's planes.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <span>
 
 #include <glm/vec4.hpp>
 
+#include "raster/config.h"
 #include "raster/parallel.h"
 #include "raster/pipeline.h"
 
@@ -56,6 +58,12 @@ struct RenderOptions {
   // result to be premultiplied too (pelt's renders pass the scene's background so).
   glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};
   SortMode sort = SortMode::None;
+  // SortMode::Exact: the most fragments a tile holds at once. A tile whose translucent items
+  // could leave more (each item counted at 16 a block of its bounding box) draws its translucent
+  // pass in bands of blocks, one after another, each within it: the same image, and a worker's
+  // fragment lists bounded (a pile of full-screen layers held them all, 631 MB at 512 x 512 for a
+  // thousand blended quads). A single 4 x 4 block over it is drawn alone and may exceed it.
+  uint32_t exact_fragment_cap = kExactFragmentCap;
 };
 
 struct RasterStats {
@@ -71,6 +79,9 @@ struct RasterStats {
                                    // work, of which pixels_shaded + fragments_blended were used
                                    // (and, for alpha-tested draws, the lanes shaded for their
                                    // alpha before the depth was written)
+  uint64_t exact_passes = 0;       // SortMode::Exact: translucent passes of tiles (one a tile,
+                                   // more where a tile is drawn in bands)
+  uint64_t exact_fragments_peak = 0;  // SortMode::Exact: the most fragments a tile held at once
   double ms_front = 0.0;           // transform, clip, set-up and binning
   double ms_tiles = 0.0;           // rasterization, shading, blending, resolve
 
@@ -85,6 +96,8 @@ struct RasterStats {
     pixels_shaded += o.pixels_shaded;
     fragments_blended += o.fragments_blended;
     lanes_shaded += o.lanes_shaded;
+    exact_passes += o.exact_passes;
+    exact_fragments_peak = std::max(exact_fragments_peak, o.exact_fragments_peak);  // a peak, not a sum
     ms_front += o.ms_front;
     ms_tiles += o.ms_tiles;
     return *this;
@@ -105,6 +118,9 @@ class Renderer {
   void parallel_for(size_t count, ItemFn fn);
   // Bytes each worker keeps for the tile it works on (its planes and shading batch).
   static size_t worker_scratch_bytes();
+  // What a worker's fragment lists hold at most under SortMode::Exact with `cap`
+  // (RenderOptions::exact_fragment_cap), unless a single block leaves more.
+  static size_t exact_sort_bytes(uint32_t cap);
 
   // Renders `draws` in order. The images are bit-identical for any thread count.
   // Buffers are kept between calls: rendering the same-sized frame again allocates nothing.

@@ -718,6 +718,7 @@ void CompositeExact(TileScratch& s) {
   s.pixel_start.assign(kTilePixels + 1, 0);
   for (const auto& f : s.fragments) ++s.pixel_start[f.pixel + 1];
   for (uint32_t p = 0; p < kTilePixels; ++p) s.pixel_start[p + 1] += s.pixel_start[p];
+  s.by_pixel.reserve(count);  // exactly: a list that grew by half again could pass the cap
   s.by_pixel.resize(count);
   s.pixel_next.assign(s.pixel_start.begin(), s.pixel_start.end() - 1);
   for (const auto& f : s.fragments) s.by_pixel[s.pixel_next[f.pixel]++] = f;
@@ -753,6 +754,73 @@ void CompositeExact(TileScratch& s) {
     for (int k = 0; k < 4; ++k) s.color[k][p] = c[k];
   }
   s.fragments.clear();
+}
+
+// SortMode::Exact's translucent pass in regions of the tile that each leave at most `cap`
+// fragments (RenderOptions::exact_fragment_cap): pass(valid, bx0, by0, bx1, by1) for each, its
+// blocks [bx0, bx1] x [by0, by1] in `valid` (the tile's own valid lanes there, none elsewhere).
+// An item may leave up to 16 fragments in each block of its bounding box; where the tile's sum
+// is within the cap (every furry tile measured) it is one pass, as before. Otherwise bands of
+// whole block rows, and a row over the cap alone in runs of its blocks. Each pixel still sees its
+// fragments in the same order, so the image is the same.
+template <class Pass>
+void ExactPasses(TileScratch& s, int32_t tx0, int32_t ty0, uint32_t cap, Pass&& pass) {
+  constexpr int kSide = kBlocksPerTileSide;
+  int32_t diff[kSide + 1][kSide + 1] = {};
+  uint64_t total = 0;
+  for (const TranslucentRef& ref : s.translucent) {
+    const TriSetup& t = *ref.tri;
+    const int32_t x0 = std::max(t.x0, tx0), x1 = std::min(t.xmax, tx0 + kTileSize - 1);
+    const int32_t y0 = std::max(t.y0, ty0), y1 = std::min(t.ymax, ty0 + kTileSize - 1);
+    if (x0 > x1 || y0 > y1) continue;
+    const int32_t c0 = (x0 - tx0) / kBlockSize, c1 = (x1 - tx0) / kBlockSize;
+    const int32_t r0 = (y0 - ty0) / kBlockSize, r1 = (y1 - ty0) / kBlockSize;
+    total += uint64_t(c1 - c0 + 1) * uint64_t(r1 - r0 + 1) * kBlockLanes;
+    ++diff[r0][c0];
+    --diff[r0][c1 + 1];
+    --diff[r1 + 1][c0];
+    ++diff[r1 + 1][c1 + 1];
+  }
+  if (total <= cap) return pass(s.block_valid, 0, 0, kSide - 1, kSide - 1);
+  // Items over each block (the 2-D prefix sum of the corners above), as fragments.
+  uint64_t bound[kSide][kSide], row[kSide];
+  for (int r = 0; r < kSide; ++r) {
+    row[r] = 0;
+    for (int c = 0; c < kSide; ++c) {
+      if (r > 0) diff[r][c] += diff[r - 1][c];
+      if (c > 0) diff[r][c] += diff[r][c - 1];
+      if (r > 0 && c > 0) diff[r][c] -= diff[r - 1][c - 1];
+    }
+  }
+  // diff[r][c] now sums the marks at and above-left of block (r, c): the items over it.
+  for (int r = 0; r < kSide; ++r)
+    for (int c = 0; c < kSide; ++c) row[r] += bound[r][c] = uint64_t(diff[r][c]) * kBlockLanes;
+  alignas(64) uint16_t valid[kBlocksPerTile];
+  auto region = [&](int bx0, int by0, int bx1, int by1) {
+    for (int b = 0; b < kBlocksPerTile; ++b) {
+      const int bx = b % kSide, by = b / kSide;
+      valid[b] = bx >= bx0 && bx <= bx1 && by >= by0 && by <= by1 ? s.block_valid[b] : uint16_t{0};
+    }
+    pass(valid, bx0, by0, bx1, by1);
+  };
+  for (int r = 0; r < kSide;) {
+    if (row[r] > cap) {  // alone, in runs of blocks
+      for (int c = 0; c < kSide;) {
+        uint64_t sum = bound[r][c];
+        int c1 = c + 1;
+        while (c1 < kSide && sum + bound[r][c1] <= cap) sum += bound[r][c1++];
+        region(c, r, c1 - 1, r);
+        c = c1;
+      }
+      ++r;
+      continue;
+    }
+    uint64_t sum = row[r];
+    int r1 = r + 1;
+    while (r1 < kSide && row[r1] <= cap && sum + row[r1] <= cap) sum += row[r1++];
+    region(0, r, kSide - 1, r1 - 1);
+    r = r1;
+  }
 }
 
 void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
@@ -902,38 +970,57 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   // the same stages: sorted back to front, a tile's triangles visit the mesh in no useful order.
   const size_t translucent_count = s.translucent.size();
   const bool count_overdraw = frame.target.overdraw != nullptr;
-  for (size_t k = 0; k < translucent_count; ++k) {
-    if (k + 2 * kPrefetchAhead < translucent_count) PrefetchSetup(s.translucent[k + 2 * kPrefetchAhead].tri);
-    if (k + kPrefetchAhead < translucent_count) prefetch_indices(*s.translucent[k + kPrefetchAhead].tri);
-    if (k + kPrefetchAhead / 2 < translucent_count) prefetch_varyings(*s.translucent[k + kPrefetchAhead / 2].tri);
-    const TranslucentRef& ref = s.translucent[k];
-    const TriSetup& t = *ref.tri;
-    const DrawCall& draw = frame.draws[t.draw];
-    TileEdges te;
-    if (!tile_region_edges(t, tx0, ty0, te)) continue;
-    if (t.draw != derivatives_draw) {
-      derivatives_draw = t.draw;
-      derivatives = draw.shader->uses_derivatives();
-    }
-    TriVaryings tv;  // made at the first block with a fragment
-    bool tv_made = false;
-    DispatchDepth(draw.state, [&]<DepthFunc F, bool W>() {
-      ForEachCoveredBlock(te, tx0, ty0, s.block_valid, [&](int32_t px, int32_t py, uint32_t blk, uint32_t bits) {
-        const uint32_t passed = DepthTestBlock<F, W, false>(t, px, py, blk, bits, ref.id, s);
-        if (passed) {
-          s.fragments_blended += std::popcount(passed);
-          if (count_overdraw) CountOverdraw(s, blk, passed);
-          if (!tv_made) {
-            MakeTriVaryings(frame, t, tv);
-            tv_made = true;
+  const bool exact = frame.options.sort == SortMode::Exact;
+  // The items whose bounding box meets the pixels [rx0, rx1] x [ry0, ry1], on the blocks `valid`
+  // holds; then their blend, or under the exact sort their composite.
+  auto translucent_pass = [&](const uint16_t* valid, int32_t rx0, int32_t ry0, int32_t rx1, int32_t ry1) {
+    for (size_t k = 0; k < translucent_count; ++k) {
+      if (k + 2 * kPrefetchAhead < translucent_count) PrefetchSetup(s.translucent[k + 2 * kPrefetchAhead].tri);
+      if (k + kPrefetchAhead < translucent_count) prefetch_indices(*s.translucent[k + kPrefetchAhead].tri);
+      if (k + kPrefetchAhead / 2 < translucent_count) prefetch_varyings(*s.translucent[k + kPrefetchAhead / 2].tri);
+      const TranslucentRef& ref = s.translucent[k];
+      const TriSetup& t = *ref.tri;
+      if (t.xmax < rx0 || t.x0 > rx1 || t.ymax < ry0 || t.y0 > ry1) continue;
+      const DrawCall& draw = frame.draws[t.draw];
+      TileEdges te;
+      if (!tile_region_edges(t, tx0, ty0, te)) continue;
+      if (t.draw != derivatives_draw) {
+        derivatives_draw = t.draw;
+        derivatives = draw.shader->uses_derivatives();
+      }
+      TriVaryings tv;  // made at the first block with a fragment
+      bool tv_made = false;
+      DispatchDepth(draw.state, [&]<DepthFunc F, bool W>() {
+        ForEachCoveredBlock(te, tx0, ty0, valid, [&](int32_t px, int32_t py, uint32_t blk, uint32_t bits) {
+          const uint32_t passed = DepthTestBlock<F, W, false>(t, px, py, blk, bits, ref.id, s);
+          if (passed) {
+            s.fragments_blended += std::popcount(passed);
+            if (count_overdraw) CountOverdraw(s, blk, passed);
+            if (!tv_made) {
+              MakeTriVaryings(frame, t, tv);
+              tv_made = true;
+            }
+            AppendTranslucent(frame, s, t, tv, px, py, blk, passed, derivatives);
           }
-          AppendTranslucent(frame, s, t, tv, px, py, blk, passed, derivatives);
-        }
+        });
       });
-    });
+    }
+    FlushBatch(frame, s, Flush::blend);
+    if (exact) {
+      ++s.exact_passes;
+      s.exact_fragments_peak = std::max<uint64_t>(s.exact_fragments_peak, s.fragments.size());
+      CompositeExact(s);
+    }
+  };
+  if (!exact || translucent_count == 0) {
+    translucent_pass(s.block_valid, tx0, ty0, tx0 + kTileSize - 1, ty0 + kTileSize - 1);
+  } else {
+    ExactPasses(s, tx0, ty0, frame.options.exact_fragment_cap,
+                [&](const uint16_t* valid, int32_t bx0, int32_t by0, int32_t bx1, int32_t by1) {
+                  translucent_pass(valid, tx0 + bx0 * kBlockSize, ty0 + by0 * kBlockSize,
+                                   tx0 + (bx1 + 1) * kBlockSize - 1, ty0 + (by1 + 1) * kBlockSize - 1);
+                });
   }
-  FlushBatch(frame, s, Flush::blend);
-  if (frame.options.sort == SortMode::Exact) CompositeExact(s);
 
   ResolveTile(frame, tx0, ty0, s);
 }

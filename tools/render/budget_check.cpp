@@ -392,7 +392,7 @@ const MemoryPart& MemoryEstimate::largest() const {
 }
 
 MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
-                               int height, int threads, int spp, bool fur_drawn, ImageOutput output) {
+                               int height, int threads, int spp, bool fur_drawn, ImageOutput output, bool exact_sort) {
   if (meshes.size() != scene.objects.size())
     throw std::invalid_argument("estimate_memory: one mesh per scene object expected");
   MemoryEstimate e;
@@ -469,6 +469,11 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
   const uint64_t workers = uint64_t(std::max(threads, 1));
   e.parts.push_back({"--threads", "tile scratch of " + std::to_string(workers) + " worker(s)",
                      sat_mul(workers, uint64_t(raster::Renderer::worker_scratch_bytes())), "scratch"});
+  if (exact_sort)
+    e.parts.push_back({"--sort", "the exact sort's fragments, " + std::to_string(raster::kExactFragmentCap) +
+                                     " at most a tile, in each of " + std::to_string(workers) + " worker(s)",
+                       sat_mul(workers, uint64_t(raster::Renderer::exact_sort_bytes(raster::kExactFragmentCap))),
+                       "scratch"});
   for (MemoryPart& p : frame_parts) e.parts.push_back(std::move(p));
   e.parts.push_back({"", "pelt process itself (code, shared libraries, start-up heap)", kProcessBaselineBytes,
                      std::string(kProcessKind)});
@@ -478,8 +483,8 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
 
 uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
                              int height, int threads, int spp, const io::Budget& budget, bool fur_drawn,
-                             ImageOutput output) {
-  const MemoryEstimate e = estimate_memory(scene, meshes, width, height, threads, spp, fur_drawn, output);
+                             ImageOutput output, bool exact_sort) {
+  const MemoryEstimate e = estimate_memory(scene, meshes, width, height, threads, spp, fur_drawn, output, exact_sort);
   if (e.total <= budget.max_memory_bytes) return e.total;
   const MemoryPart& big = e.largest();
   // As check_scene_budget: image buffers that one sample per pixel would fit in the budget are
@@ -517,7 +522,8 @@ uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::Scene
 
 uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
                              int height, int threads, const io::Budget& budget) {
-  return check_memory_budget(scene, meshes, width, height, threads, scene.quality.spp, budget);
+  return check_memory_budget(scene, meshes, width, height, threads, scene.quality.spp, budget, true,
+                             ImageOutput::sequence, scene.quality.sort == io::SortQuality::exact);
 }
 
 }  // namespace pelt::render

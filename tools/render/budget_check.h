@@ -106,9 +106,11 @@ struct MemoryEstimate {
 // and id AOVs, which draw no fur) neither the strand textures nor the fur's set-ups count.
 // Colour-map headers are read from disk (io::read_image_header). width or height <= 0
 // means the scene's image size; threads < 1 counts as one worker.
+// `exact_sort` (quality sort exact): each worker's fragment lists at their cap
+// (raster::Renderer::exact_sort_bytes).
 MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
                                int height, int threads, int spp, bool fur_drawn = true,
-                               ImageOutput output = ImageOutput::sequence);
+                               ImageOutput output = ImageOutput::sequence, bool exact_sort = false);
 
 // Refuses an estimate above budget.max_memory_bytes: io::InputError(scene file, the
 // largest part's field, reason with the estimate, the budget, --max-memory and the
@@ -119,7 +121,7 @@ uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::Scene
                              int height, int threads, const io::Budget& budget);
 uint64_t check_memory_budget(const io::Scene& scene, const std::vector<io::SceneMesh>& meshes, int width,
                              int height, int threads, int spp, const io::Budget& budget, bool fur_drawn = true,
-                             ImageOutput output = ImageOutput::sequence);
+                             ImageOutput output = ImageOutput::sequence, bool exact_sort = false);
 
 using io::describe_bytes;
 

@@ -33,7 +33,11 @@ nlohmann::json FrameStats::to_json() const {
             {"bin_items", raster.bin_items},
             {"pixels_shaded", raster.pixels_shaded},
             {"fragments_blended", raster.fragments_blended},
-            {"lanes_shaded", raster.lanes_shaded}}}};
+            {"lanes_shaded", raster.lanes_shaded},
+            // The exact sort: its translucent passes of tiles (more than the tiles where a pile of
+            // layers is drawn in bands) and the most fragments one held; 0 under other sorts.
+            {"exact_passes", raster.exact_passes},
+            {"exact_fragments_peak", raster.exact_fragments_peak}}}};
 }
 
 }  // namespace pelt::render

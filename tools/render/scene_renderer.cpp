@@ -381,7 +381,8 @@ SceneRenderer::SceneRenderer(const io::Scene& scene, std::optional<std::vector<i
   }
   budget_estimate_ =
       check_memory_budget(scene_, *meshes, width_, height_, settings_.threads, quality_.spp, settings_.budget,
-                          aov_shows_fur(settings_.aov), settings_.output);  // describe-only too: it estimates the render
+                          aov_shows_fur(settings_.aov), settings_.output,
+                          quality_.sort == io::SortQuality::exact);  // describe-only too: it estimates the render
   build(std::move(*meshes));
 }
 
@@ -626,7 +627,9 @@ size_t SceneRenderer::memory_estimate() const {
   }
   const size_t pixels = size_t(width_) * height_;
   n += pixels * 4 * sizeof(float);  // the colour image
-  return n + size_t(std::max(1, settings_.threads)) * raster::Renderer::worker_scratch_bytes();
+  const size_t exact =
+      quality_.sort == io::SortQuality::exact ? raster::Renderer::exact_sort_bytes(raster::kExactFragmentCap) : 0;
+  return n + size_t(std::max(1, settings_.threads)) * (raster::Renderer::worker_scratch_bytes() + exact);
 }
 
 const fur::FurCounts* SceneRenderer::fur_counts(size_t object) const {

@@ -964,8 +964,21 @@ TEST_F(RenderCommand, OverdrawCountsTheBlendedFragments) {
   }
   const nlohmann::json j = nlohmann::json::parse(read_text(stats));
   EXPECT_EQ(sum, j["frames"][0]["raster"]["fragments_blended"].get<uint64_t>());
+  EXPECT_EQ(j["frames"][0]["raster"]["exact_passes"].get<uint64_t>(), 0u);  // the tile sort
   EXPECT_GT(*std::max_element(counts.begin(), counts.end()), 8u);  // shells and fins pile up
   EXPECT_GT(std::count(counts.begin(), counts.end(), 0u), 0);       // the background has none
+  // Under the exact sort: a pass a tile that holds anything (of 2 x 2 tiles of 64), each holding
+  // at most the fragments blended.
+  const fs::path exact_stats = dir.path() / "exact.json";
+  r = run_pelt({"render", fur.string(), "-o", (dir.path() / "exact.png").string(), "--sort", "exact", "--stats",
+                exact_stats.string(), "-q"},
+               dir.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json e = nlohmann::json::parse(read_text(exact_stats))["frames"][0]["raster"];
+  EXPECT_GE(e["exact_passes"].get<uint64_t>(), 1u);
+  EXPECT_LE(e["exact_passes"].get<uint64_t>(), 4u);
+  EXPECT_GT(e["exact_fragments_peak"].get<uint64_t>(), 0u);
+  EXPECT_LE(e["exact_fragments_peak"].get<uint64_t>(), e["fragments_blended"].get<uint64_t>());
 
   // A PNG is the counts' picture (render::heatmap_rgb8), pixel for pixel.
   r = run_pelt({"render", fur.string(), "-o", (dir.path() / "od.png").string(), "--aov", "overdraw", "-q"}, dir.path());

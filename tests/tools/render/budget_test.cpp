@@ -241,6 +241,12 @@ TEST(MemoryEstimate, PartsFollowTheCounts) {
   EXPECT_EQ(e.parts[4].bytes, image_bytes(100, 50, 1));
   const MemoryEstimate four = estimate_memory(s, meshes, 0, 0, 4, 1);
   EXPECT_EQ(four.parts[5].bytes, 2 * e.parts[5].bytes);
+  // The exact sort: each worker's fragment lists at their cap, 48 bytes a fragment, after the scratch.
+  const MemoryEstimate exact = estimate_memory(s, meshes, 0, 0, 2, 1, true, ImageOutput::sequence, true);
+  ASSERT_EQ(exact.parts.size(), 11u);
+  EXPECT_EQ(exact.parts[6].field, "--sort");
+  EXPECT_EQ(exact.parts[6].bytes, 2 * uint64_t(raster::kExactFragmentCap) * 48);
+  EXPECT_EQ(exact.total, e.total + exact.parts[6].bytes);
 
   uint64_t sum = 0;
   for (const MemoryPart& p : e.parts) sum += p.bytes;

@@ -296,9 +296,6 @@ MeshParts mesh_parts(const io::SceneObject& so, const io::LoadedMesh& loaded) {
     parts.triangle_part.reserve(loaded.triangle_maps.size());
     for (const uint32_t set : loaded.triangle_maps) parts.triangle_part.push_back(parts.part_of_set[set]);
   }
-  // The colour key's image is read without alpha (map_image's default): the same for the fur.
-  parts.one_color_map = std::all_of(keys.begin(), keys.end(),
-                                    [&](const Key& k) { return std::get<0>(k) == std::get<0>(keys.front()); });
   return parts;
 }
 
@@ -427,13 +424,15 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
         tangents_counted = true;
       }
     }
-    // The fur's colour map is read without its alpha, also where every part reads it with.
-    if (so.fur && so.fur->use_color_map) {
-      const io::MeshMaps& set = loaded.set(parts.first_set[0]);
-      if (const std::optional<MapSource> src = map_source(so.material.color_map, set.color_map);
-          src && counted.insert(map_image("color_map", *src, false)).second)
-        e.parts.push_back(map_part(scene, i, "color_map", "colour map", so.material.color_map, set.color_map, 0, ""));
-    }
+    // The fur's colour maps (each part's) are read without their alpha, also where a part reads
+    // its map with.
+    if (so.fur && so.fur->use_color_map)
+      for (const uint32_t k : parts.first_set) {
+        const io::MeshMaps& set = loaded.set(k);
+        if (const std::optional<MapSource> src = map_source(so.material.color_map, set.color_map);
+            src && counted.insert(map_image("color_map", *src, false)).second)
+          e.parts.push_back(map_part(scene, i, "color_map", "colour map", so.material.color_map, set.color_map, 0, ""));
+      }
     // The parts' draws set up their own vertex copies, every one at once.
     uint64_t draw_vertices = m.positions.size();
     if (parts.count() > 1) {

@@ -152,9 +152,6 @@ struct MeshParts {
   std::vector<uint32_t> part_of_set;  // per map set of the file (io::LoadedMesh::maps), its part
   std::vector<uint32_t> first_set;    // per part, the first set drawn in it (its name, its maps)
   std::vector<uint32_t> triangle_part;  // per triangle, its part; empty when there is one part
-  // Every part draws one colour image placed alike, or none (the fur reads one colour map;
-  // whether a part reads the image's alpha does not matter to it).
-  bool one_color_map = true;
   size_t count() const { return first_set.size(); }
 };
 MeshParts mesh_parts(const io::SceneObject& so, const io::LoadedMesh& loaded);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -81,12 +82,18 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
       fins_(params.fins != fur::FinMode::off),
       merge_fins_(options.merge_fins && !options.match_llvmpipe && fins_) {
   if (params.use_color_map) {
-    if (!options.color_map)
+    if (options.color_maps.empty())
       throw_fur_error(origin, "use_color_map",
                       "true needs a colour map on the object (material.color_map, or a map its mesh names: glTF "
                       "baseColorTexture, MTL map_Kd), and it has none");
-    color_map_ = options.color_map;
-    color_placement_ = options.color_placement;
+    color_maps_ = options.color_maps;
+    face_color_map_ = options.face_color_map;
+    const bool faces_named = face_color_map_.empty() ? color_maps_.size() == 1
+                                                     : face_color_map_.size() == base.triangle_count();
+    if (!faces_named ||
+        std::any_of(face_color_map_.begin(), face_color_map_.end(),
+                    [&](uint32_t m) { return m != kNoFurColorMap && m >= color_maps_.size(); }))
+      throw std::invalid_argument("FurObject: face_color_map must give each base face one of the colour maps, or none");
   }
   {
     StageTimer t(setup, "fur_geometry");
@@ -126,7 +133,7 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
   tangents_.resize(v);
   wind_forces_.resize(geo_.base_vertex_count);
   const int vc = (lighting_ == FurLighting::pixel ? FurPixelVaryings::kCount : FurVaryings::kCount) +
-                 (color_map_ ? FurMapUv::kCount : 0);
+                 (color_maps_.empty() ? 0 : FurMapUv::kCount);
   shell_varyings_.resize(v * vc);
   if (fins_) {
     fin_varyings_.resize(v * vc);
@@ -150,7 +157,7 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
       fin_varyings_[i * vc + uv] = geo_.fin_uvs[i].x;
       fin_varyings_[i * vc + uv + 1] = geo_.fin_uvs[i].y;
     }
-  if (lighting_ == FurLighting::pixel && color_map_) write_mesh_uvs(vc);
+  if (lighting_ == FurLighting::pixel && !color_maps_.empty()) write_mesh_uvs(vc);
 }
 
 void FurObject::write_mesh_uvs(int stride) {
@@ -176,7 +183,8 @@ size_t FurObject::memory_bytes() const {
              bytes(geo_.shell_indices) + bytes(geo_.fin_indices) + bytes(geo_.edges) +
              bytes(gravity_pose_) + bytes(wind_pose_) + bytes(pose_) + bytes(tangents_) +
              bytes(shell_varyings_) + bytes(fin_varyings_) + bytes(fin_list_) + bytes(light_soa_.storage) +
-             bytes(pose_clip_) + bytes(shell_keys_) + bytes(geo_.mesh_uvs) + bytes(geo_.length_scale);
+             bytes(pose_clip_) + bytes(shell_keys_) + bytes(geo_.mesh_uvs) + bytes(geo_.length_scale) +
+             bytes(face_color_map_) + bytes(fin_quad_map_);
   for (const raster::Texture& t : shell_tex_.layers) n += t.bytes();
   return n + fin_tex_.bytes();
 }
@@ -236,7 +244,9 @@ int FurObject::lighting_varying_count() const {
                                          : FurVaryings::kCount;
 }
 
-int FurObject::varying_count() const { return lighting_varying_count() + (color_map_ ? FurMapUv::kCount : 0); }
+int FurObject::varying_count() const {
+  return lighting_varying_count() + (color_maps_.empty() ? 0 : FurMapUv::kCount);
+}
 
 void FurObject::rebuild_varyings() {
   const size_t count = pose_.size();
@@ -257,7 +267,7 @@ void FurObject::rebuild_varyings() {
     static_assert(FurGreyVaryings::kUv == FurVaryings::kUv && FurGreyVaryings::kDiffuse == FurVaryings::kDiffuse);
     const bool write_uvs = stride != uv_stride_;
     uv_stride_ = stride;
-    if (write_uvs && color_map_) write_mesh_uvs(stride);
+    if (write_uvs && !color_maps_.empty()) write_mesh_uvs(stride);
     for (size_t i = 0; i < count; ++i) {
       float* sv = shell_varyings_.data() + i * stride;
       if (write_uvs) {
@@ -304,6 +314,11 @@ void FurObject::rebuild_fin_list() {
   const uint32_t edges = static_cast<uint32_t>(geo_.edges.size());
   fin_list_.clear();
   fin_quad_weight_.clear();
+  fin_quad_map_.clear();
+  const bool maps = !face_color_map_.empty();
+  auto add_map = [&](uint32_t e) {
+    if (maps) fin_quad_map_.push_back(face_color_map_[geo_.edges[e].face0]);
+  };
   auto quad = [&](uint32_t s, uint32_t e) -> const uint32_t* {
     return geo_.fin_indices.data() + (size_t{s} * edges + e) * 6;
   };
@@ -314,6 +329,7 @@ void FurObject::rebuild_fin_list() {
     const uint32_t n = geo_.base_vertex_count, layers = geo_.layers;
     fin_list_.reserve(size_t{edges} * (layers - 1) * 6);
     fin_quad_weight_.reserve(size_t{edges} * (layers - 1));
+    if (maps) fin_quad_map_.reserve(size_t{edges} * (layers - 1));
     fin_ends_.resize(layers);
     uint32_t* ends = fin_ends_.data();
     uint32_t count = layers - 1;
@@ -328,6 +344,7 @@ void FurObject::rebuild_fin_list() {
         fur::fin_quad_indices(edge, n, s0, ends[k], q);
         fin_list_.insert(fin_list_.end(), q, q + 6);
         fin_quad_weight_.push_back(fin_weight_[e]);
+        add_map(e);
       }
     }
     return;
@@ -339,6 +356,7 @@ void FurObject::rebuild_fin_list() {
       if (fin_weight_[e] < kMinFinWeight) continue;
       fin_list_.insert(fin_list_.end(), quad(s, e), quad(s, e) + 6);
       fin_quad_weight_.push_back(fin_weight_[e]);
+      add_map(e);
     }
   }
   fin_segment_[geo_.layers - 1] = static_cast<uint32_t>(fin_quad_weight_.size());
@@ -488,9 +506,10 @@ void FurObject::prepare_shaders(const std::vector<shading::Light>& lights, const
       su.per_pixel_lighting = lighting_ == FurLighting::pixel;
       su.match_llvmpipe = match_llvmpipe_;
       su.llvmpipe_light = glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f));
-      su.color_map = color_map_;
+      su.color_maps = color_maps_.data();  // placed as the base surface reads them (MaterialShader)
+      su.color_map_count = color_maps_.size();
+      su.face_color_map = face_color_map_.empty() ? nullptr : face_color_map_.data();
       su.map_filter = filter_;
-      su.map_placement = color_placement_;  // as the base surface reads it (MaterialShader)
       shaders_.push_back(std::make_unique<FurShader>(su));
     }
   }
@@ -501,6 +520,8 @@ void FurObject::prepare_shaders(const std::vector<shading::Light>& lights, const
     FurShader& sh = *shaders_[k];
     sh.set_view(lights, eye);
     sh.set_fins(weight && sort == FurSort::layer && k % 2 == 1 ? weight + fin_segment_[k / 2] : weight);
+    const uint32_t* quad_map = fin_quad_map_.empty() ? nullptr : fin_quad_map_.data();
+    sh.set_fin_maps(quad_map && sort == FurSort::layer && k % 2 == 1 ? quad_map + fin_segment_[k / 2] : quad_map);
     sh.set_grey_lighting(grey_);
     sh.set_map_uv_slot(lighting_varying_count());
   }

@@ -55,10 +55,13 @@ struct FurDrawOptions {
   // layers where its chains run straight (fur/fin_spans.h). Off: one quad per pair of layers,
   // as eq. 1 lists them. Never with match_llvmpipe, whose fins are the harness's.
   bool merge_fins = false;
-  // The object's colour map (its material's, or the one its mesh names), read by fur whose
-  // params ask for it (FurParams::use_color_map); such fur without one is refused.
-  const raster::Texture* color_map = nullptr;
-  io::MapPlacement color_placement;  // where the mesh file places the colour map
+  // The object's colour maps (its material's, or those its mesh names), read by fur whose
+  // params ask for it (FurParams::use_color_map); such fur without one is refused. One map and no
+  // face_color_map: every face's. Otherwise (faces of materials that draw several maps, or some
+  // none): base face f's is color_maps[face_color_map[f]], or none (kNoFurColorMap, the strands
+  // untinted); a fin takes its edge's first face's.
+  std::vector<FurColorMap> color_maps;
+  std::vector<uint32_t> face_color_map;  // one per base face, or empty
   // One per mesh vertex, in [0, 1] (fur.length_map, read by the caller): the fur's length there
   // as a fraction of params.length (fur::build_fur_geometry). Empty: the full length everywhere.
   std::vector<float> length_scale;
@@ -110,6 +113,9 @@ class FurObject {
   void append_draws(std::vector<raster::DrawCall>& draws) const;
 
   const fur::FurGeometry& geometry() const { return geo_; }
+  // With FurDrawOptions::face_color_map, each fin quad's colour map (its edge's first face's), in
+  // the order of the fin draws' quads as of the last update(); otherwise empty.
+  const std::vector<uint32_t>& fin_quad_maps() const { return fin_quad_map_; }
   // Floats per vertex of the fur draws' varyings as of the last update().
   int varying_count() const;
   uint64_t triangles() const;
@@ -139,8 +145,9 @@ class FurObject {
   bool grey_allowed_;
   bool fins_;  // params_.fins is not off: the fin texture, varyings and list exist
   bool grey_ = false;  // this frame's varyings are FurGreyVaryings
-  const raster::Texture* color_map_ = nullptr;  // read at the mesh uvs (FurMapUv) when set
-  io::MapPlacement color_placement_;
+  std::vector<FurColorMap> color_maps_;  // read at the mesh uvs (FurMapUv) when any
+  std::vector<uint32_t> face_color_map_;  // FurDrawOptions::face_color_map
+  std::vector<uint32_t> fin_quad_map_;    // with face_color_map_: each fin quad's (its edge's face0's)
   int uv_stride_ = 0;  // the record stride the uvs in the varying arrays were written for (0: none yet)
   shading::FurLightParams light_params_;
   fur::FurGeometry geo_;

@@ -15,6 +15,9 @@ constexpr size_t kLanes = raster::kMaxBatchLanes;
 struct alignas(64) Scratch {
   alignas(64) float texel[4][kLanes];
   alignas(64) float map[4][kLanes];  // the colour map's texels (use_color_map)
+  alignas(64) float part[4][kLanes];  // one of several colour maps' texels, at its lanes
+  uint32_t lane_map[kLanes];           // each lane's colour map (several)
+  uint16_t mask[raster::kMaxBatchBlocks];
   alignas(64) float tint[3][raster::kMaxBatchBlocks];  // per block: its layer's tint (shells)
 };
 thread_local Scratch tls_scratch;
@@ -28,6 +31,43 @@ void FurShader::set_view(const std::vector<shading::Light>& lights, const glm::v
   eye_[2] = eye.z;
 }
 
+void FurShader::sample_color_maps(const raster::FragmentBatch& b, float* const map[4]) const {
+  Scratch& s = tls_scratch;
+  const size_t n = size_t{b.blocks} * raster::kBlockLanes;
+  const float* u = b.varying[map_uv_slot_];
+  const float* v = b.varying[map_uv_slot_ + 1];
+  if (!s_.face_color_map) {  // one map, every face's
+    sample_placed(*s_.color_maps[0].texture, s_.color_maps[0].placement, s_.map_filter, u, v, n, map,
+                  s_.double_precision, b.mask);
+    return;
+  }
+  // Per face: each lane's map from its face (a shell's base face, a fin quad's edge), then each
+  // map sampled at its own lanes alone. A block may hold lanes of two maps (triangles of one
+  // layer sharing an edge across a material border); each lane's level of detail is still its
+  // block's, so a lane samples as it would with its map alone.
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t p = b.primitive[i] + s_.primitive_offset;
+    s.lane_map[i] = s_.fins ? (quad_map_ ? quad_map_[p / 2] : kNoFurColorMap) : s_.face_color_map[p % s_.base_faces];
+  }
+  for (int c = 0; c < 4; ++c) std::fill_n(map[c], n, 1.0f);  // a face of no map: times 1
+  float* const part[4] = {s.part[0], s.part[1], s.part[2], s.part[3]};
+  for (size_t m = 0; m < s_.color_map_count; ++m) {
+    bool any = false;
+    for (uint32_t k = 0; k < b.blocks; ++k) {
+      uint32_t bits = 0;
+      for (uint32_t l = 0; l < raster::kBlockLanes; ++l) bits |= uint32_t(s.lane_map[k * raster::kBlockLanes + l] == m) << l;
+      s.mask[k] = uint16_t(bits & b.mask[k]);
+      any |= s.mask[k] != 0;
+    }
+    if (!any) continue;
+    sample_placed(*s_.color_maps[m].texture, s_.color_maps[m].placement, s_.map_filter, u, v, n, part,
+                  s_.double_precision, s.mask);
+    for (int c = 0; c < 4; ++c)
+      for (size_t i = 0; i < n; ++i)
+        if (s.lane_map[i] == m) map[c][i] = part[c][i];
+  }
+}
+
 void FurShader::shade(const raster::FragmentBatch& b) const {
   Scratch& s = tls_scratch;
   const size_t n = size_t{b.blocks} * raster::kBlockLanes;
@@ -37,7 +77,7 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   // With per-vertex lighting the alpha is sampled straight into the output, and the three
   // colour channels of the luminance shells and fin (La8: all equal) into texel[0] alone.
   const bool vertex_lit = !s_.per_pixel_lighting;
-  const bool one_channel = vertex_lit && !s_.color_map;
+  const bool one_channel = vertex_lit && s_.color_map_count == 0;
   float* const alpha = vertex_lit ? b.out[3] : s.texel[3];
   float* const texel_out[4] = {s.texel[0], one_channel ? s.texel[0] : s.texel[1],
                                one_channel ? s.texel[0] : s.texel[2], alpha};
@@ -77,11 +117,10 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
       i = j;
     }
   }
-  if (s_.color_map) {
+  if (s_.color_map_count > 0) {
     // Every channel of the strand texel (La8: all equal) times the map's colour under it.
     float* const map_out[4] = {s.map[0], s.map[1], s.map[2], s.map[3]};
-    sample_placed(*s_.color_map, s_.map_placement, s_.map_filter, b.varying[map_uv_slot_], b.varying[map_uv_slot_ + 1],
-                  n, map_out, s_.double_precision, b.mask);
+    sample_color_maps(b, map_out);
     for (int c = 0; c < 3; ++c)
       for (size_t i = 0; i < n; ++i) texel_out[c][i] *= s.map[c][i];
   }

@@ -267,19 +267,6 @@ size_t mesh_bytes(const Mesh& m, const std::vector<float>& varyings) {
          m.indices.size() * sizeof(uint32_t) + varyings.size() * sizeof(float);
 }
 
-// "`a`, `b` and `c`": the parts' materials, for messages; past four, "`a`, `b`, `c` and 7 more".
-std::string part_names(const std::vector<SurfacePart>& parts) {
-  constexpr size_t kNamed = 4;
-  const size_t named = parts.size() > kNamed ? kNamed - 1 : parts.size();
-  std::string out;
-  for (size_t k = 0; k < named; ++k) {
-    if (k > 0) out += k + 1 == parts.size() ? " and " : ", ";
-    out += parts[k].material == io::kNoMaterial ? parts[k].material : "`" + parts[k].material + "`";
-  }
-  if (named < parts.size()) out += " and " + std::to_string(parts.size() - named) + " more";
-  return out;
-}
-
 }  // namespace
 
 io::Scene apply_quality(const io::Scene& scene, const io::Quality& q) {
@@ -562,23 +549,29 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       fo.merge_fins = quality_.fin_quads == io::FinQuads::merged;
       fo.parallel = parallel;
       fo.textures = !settings.describe_only && aov_shows_fur(settings.aov);
-      // The fur reads one colour map: the parts' when they all draw the same image placed alike
-      // (one part may read it with its alpha, another without: the fur takes the colour alone).
-      const SurfacePart& first = obj->parts.front();
-      const bool one_color_map = parts.one_color_map;
-      if (so.fur->use_color_map && !one_color_map)
-        throw io::InputError(scene.file.string(),
-                             io::json_child(io::json_child(io::json_index("objects", i), "fur"), "use_color_map"),
-                             "true takes one colour map, and the faces of mesh `" + so.mesh + "` draw " +
-                                 std::to_string(obj->parts.size()) + " map sets (materials " +
-                                 part_names(obj->parts) +
-                                 ") that differ in theirs: give the object a material.color_map for the fur and "
-                                 "the surface");
-      if (so.fur->use_color_map && first.desc.color_map && one_color_map) {
-        const io::MeshMaps& set = loaded.set(parts.first_set[0]);
-        io::MapPlacement unused;
-        fo.color_map = load_map(kColorMap, so.material.color_map, set.color_map, set.material, false, unused);
-        fo.color_placement = first.desc.color_placement;
+      // The fur reads each part's colour image without its alpha (one part may read it with, for
+      // a cut-out, another without: the fur takes the colour alone), one map per image and
+      // placement; with several, or faces of no map beside mapped ones, per base face its map.
+      if (so.fur->use_color_map && any_color_map) {
+        std::vector<uint32_t> map_of_part(parts.count(), kNoFurColorMap);
+        for (size_t p = 0; p < parts.count(); ++p) {
+          const SurfacePart& part = obj->parts[p];
+          if (!part.desc.color_map) continue;
+          const io::MeshMaps& set = loaded.set(parts.first_set[p]);
+          io::MapPlacement unused;
+          const FurColorMap map{load_map(kColorMap, so.material.color_map, set.color_map, set.material, false, unused),
+                                part.desc.color_placement};
+          const auto same = std::find_if(fo.color_maps.begin(), fo.color_maps.end(), [&](const FurColorMap& m) {
+            return m.texture == map.texture && m.placement == map.placement;
+          });
+          map_of_part[p] = uint32_t(same - fo.color_maps.begin());
+          if (same == fo.color_maps.end()) fo.color_maps.push_back(map);
+        }
+        if (std::any_of(map_of_part.begin(), map_of_part.end(), [&](uint32_t k) { return k != map_of_part[0]; })) {
+          fo.face_color_map.resize(m.triangle_count());
+          for (size_t t = 0; t < m.triangle_count(); ++t)
+            fo.face_color_map[t] = map_of_part[parts.triangle_part.empty() ? 0 : parts.triangle_part[t]];
+        }
       }
       if (!so.fur_length_map.empty()) {
         StageTimer t(setup_stats_, "textures");

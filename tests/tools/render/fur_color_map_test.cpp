@@ -86,18 +86,28 @@ TEST(FurColorMap, SameImageOnAnyThreadCountAndCloseToTheDoubleReference) {
   EXPECT_LT(image_rmse(render(scene, 2, io::Precision::double_precision).color, two.color), 1e-6);
 }
 
+// A 1 x 1 white colour map, and 4 shells with every fin reading the colour map.
+raster::Texture white_texel() {
+  raster::Texture map;
+  const uint8_t texel[4] = {255, 255, 255, 255};
+  EXPECT_FALSE(raster::Texture::from_rgba8(1, 1, texel, raster::TexelEncoding::Srgb, map).has_value());
+  return map;
+}
+fur::FurParams colour_fur() {
+  fur::FurParams params = small_fur(4, fur::FinMode::all);
+  params.use_color_map = true;
+  return params;
+}
+
 // Every fur vertex's record ends with its base vertex's mesh uv, in each varying layout (grey,
 // coloured and per-pixel light) and in the shell and fin arrays alike, also after the light
 // turns from grey to coloured and the records are laid out again.
 TEST(FurColorMap, EveryLayoutEndsWithTheMeshUv) {
-  raster::Texture map;
-  const uint8_t texel[4] = {255, 255, 255, 255};
-  ASSERT_FALSE(raster::Texture::from_rgba8(1, 1, texel, raster::TexelEncoding::Srgb, map).has_value());
-  fur::FurParams params = small_fur(4, fur::FinMode::all);
-  params.use_color_map = true;
+  const raster::Texture map = white_texel();
+  const fur::FurParams params = colour_fur();
   for (const FurLighting lighting : {FurLighting::vertex, FurLighting::pixel}) {
     FurDrawOptions options;
-    options.color_map = &map;
+    options.color_maps = {{&map, {}}};
     options.lighting = lighting;
     const Mesh base = io::make_builtin_mesh("box:3");
     FrameStats stats;
@@ -131,6 +141,54 @@ TEST(FurColorMap, EveryLayoutEndsWithTheMeshUv) {
   }
 }
 
+// Faces of several colour maps: each fin quad takes its edge's first face's map, in every order
+// of the fin draws (per layer, one quad per edge and pair of layers, in the layer sort; merged
+// runs per edge in the tile sort).
+TEST(FurColorMap, EachFinQuadTakesItsEdgesFirstFacesMap) {
+  const raster::Texture map = white_texel();
+  const fur::FurParams params = colour_fur();
+  const Mesh base = io::make_builtin_mesh("box:3");
+  FurDrawOptions options;
+  options.color_maps = {{&map, {}}, {&map, {}}, {&map, {}}};
+  for (size_t f = 0; f < base.triangle_count(); ++f) options.face_color_map.push_back(f % 4 == 3 ? kNoFurColorMap : f % 4);
+  FrameStats stats;
+  FurObject fur(base, params, options, FurOrigin{"rig", ""}, stats);
+  const fur::FurGeometry& g = fur.geometry();
+  ASSERT_EQ(g.counts.base_faces, base.triangle_count());
+  FurFrame frame;
+  frame.eye = glm::vec3(3.0f, 2.0f, 4.0f);
+  frame.clip_from_world = glm::perspective(glm::radians(45.0f), 1.0f, 1.0f, 20.0f) *
+                          glm::lookAt(frame.eye, glm::vec3(0.0f), glm::vec3(0, 1, 0));
+  const std::vector<shading::Light> grey = {{shading::Light::Type::Ambient, {0, 0, 0}, {1.0f, 1.0f, 1.0f}}};
+  frame.sort = FurSort::layer;
+  fur.update(frame, grey, stats);
+  const size_t edges = g.edges.size();
+  ASSERT_EQ(fur.fin_quad_maps().size(), edges * (g.layers - 1));
+  for (size_t q = 0; q < fur.fin_quad_maps().size(); ++q)
+    ASSERT_EQ(fur.fin_quad_maps()[q], options.face_color_map[g.edges[q % edges].face0]) << "quad " << q;
+  // The tile sort's runs: each edge's quads one after another, in edge order, one or more each.
+  frame.sort = FurSort::tile;
+  fur.update(frame, grey, stats);
+  std::vector<raster::DrawCall> draws;
+  fur.append_draws(draws);
+  ASSERT_EQ(draws.size(), 2u);
+  const raster::DrawCall& fins = draws[1];
+  ASSERT_EQ(fur.fin_quad_maps().size(), size_t{fins.triangle_count} / 2);
+  const uint32_t n = g.base_vertex_count;
+  for (size_t q = 0; q < fur.fin_quad_maps().size(); ++q) {
+    // The quad's root corners are its edge's ends on some layer: find the edge by them.
+    const uint32_t* tri = fins.indices + 6 * q;
+    std::vector<uint32_t> ends;
+    for (int k = 0; k < 6; ++k) ends.push_back(tri[k] % n);
+    size_t e = 0;
+    for (; e < edges; ++e)
+      if (std::all_of(ends.begin(), ends.end(), [&](uint32_t v) { return v == g.edges[e].a || v == g.edges[e].b; }))
+        break;
+    ASSERT_LT(e, edges) << "quad " << q;
+    EXPECT_EQ(fur.fin_quad_maps()[q], options.face_color_map[g.edges[e].face0]) << "quad " << q;
+  }
+}
+
 // The shader reads the map at the mesh uv slot it is given: a map red on its left half and blue
 // on its right colours white strands red at u = 0.25 and blue at u = 0.75, whatever the strand
 // uv, under a white unit light with no specular.
@@ -147,7 +205,9 @@ TEST(FurColorMap, TheShaderReadsTheMapAtTheMeshUv) {
   su.shells = &shells;
   su.shell_tint = &tint;
   su.base_faces = 1;
-  su.color_map = &map;
+  const FurColorMap only{&map, {}};
+  su.color_maps = &only;
+  su.color_map_count = 1;
   su.sampler.filter = raster::Filter::Nearest;
   su.map_filter = raster::Filter::Nearest;
   FurShader shader(su);
@@ -190,7 +250,9 @@ TEST(FurColorMap, TheShaderReadsTheMapAtTheMeshUv) {
   }
   // Where the mesh file places the map (MapPlacement) holds for the fur as for the surface:
   // u' = 1 - u swaps the halves.
-  su.map_placement.m = {-1.0f, 0.0f, 1.0f, 0.0f, 1.0f, 0.0f};
+  FurColorMap flipped{&map, {}};
+  flipped.placement.m = {-1.0f, 0.0f, 1.0f, 0.0f, 1.0f, 0.0f};
+  su.color_maps = &flipped;
   FurShader placed(su);
   placed.set_grey_lighting(true);
   placed.set_map_uv_slot(FurGreyVaryings::kCount);
@@ -198,6 +260,52 @@ TEST(FurColorMap, TheShaderReadsTheMapAtTheMeshUv) {
   for (int l = 0; l < kLanes; ++l) {
     EXPECT_FLOAT_EQ(out[0][l], l < 8 ? 0.0f : 1.0f) << "lane " << l;
     EXPECT_FLOAT_EQ(out[2][l], l < 8 ? 1.0f : 0.0f) << "lane " << l;
+  }
+
+  // Several maps, per face: of two base faces (layer 1's primitives 2 and 3), face 0 takes map 1
+  // (green) and face 1 none (white), whichever half of the red-blue map its lanes lie on; one
+  // block holds both faces. A fin quad takes its own map (set_fin_maps): quads 0 and 1 (primitives
+  // 0-1 and 2-3), maps 0 (the red-blue map, at the lanes' u) and 1.
+  raster::Texture green;
+  const uint8_t green_texel[4] = {0, 255, 0, 255};
+  ASSERT_FALSE(raster::Texture::from_rgba8(1, 1, green_texel, raster::TexelEncoding::Srgb, green).has_value());
+  const FurColorMap maps[2] = {{&map, {}}, {&green, {}}};
+  const uint32_t face_map[2] = {1, kNoFurColorMap};
+  su.base_faces = 2;
+  su.color_maps = maps;
+  su.color_map_count = 2;
+  su.face_color_map = face_map;
+  FurShader per_face(su);
+  per_face.set_grey_lighting(true);
+  per_face.set_map_uv_slot(FurGreyVaryings::kCount);
+  for (int l = 0; l < kLanes; ++l) primitive[l] = l % 4 < 2 ? 2 : 3;
+  per_face.shade(b);
+  for (int l = 0; l < kLanes; ++l) {
+    const bool face0 = l % 4 < 2;
+    EXPECT_FLOAT_EQ(out[0][l], face0 ? 0.0f : 1.0f) << "lane " << l;
+    EXPECT_FLOAT_EQ(out[1][l], 1.0f) << "lane " << l;
+    EXPECT_FLOAT_EQ(out[2][l], face0 ? 0.0f : 1.0f) << "lane " << l;
+  }
+  raster::Texture fin;
+  const uint8_t fin_texels[2 * 2] = {255, 255, 255, 255};
+  ASSERT_FALSE(raster::Texture::from_la8(2, 1, fin_texels, fin).has_value());
+  FurShaderSetup fu = su;
+  fu.fins = true;
+  fu.fin = &fin;
+  fu.fin_tint_root = glm::vec3(1.0f);
+  fu.face_color_map = face_map;  // any: the fins take their quads' maps
+  FurShader fins(fu);
+  fins.set_grey_lighting(true);
+  fins.set_map_uv_slot(FurGreyVaryings::kCount);
+  const uint32_t quad_map[2] = {0, 1};
+  fins.set_fin_maps(quad_map);
+  for (int l = 0; l < kLanes; ++l) primitive[l] = l % 4 < 2 ? 1 : 2;  // quads 0 and 1
+  fins.shade(b);
+  for (int l = 0; l < kLanes; ++l) {
+    const bool quad0 = l % 4 < 2, red = l < 8;
+    EXPECT_FLOAT_EQ(out[0][l], quad0 && red ? 1.0f : 0.0f) << "lane " << l;
+    EXPECT_FLOAT_EQ(out[1][l], quad0 ? 0.0f : 1.0f) << "lane " << l;
+    EXPECT_FLOAT_EQ(out[2][l], quad0 && !red ? 1.0f : 0.0f) << "lane " << l;
   }
 }
 

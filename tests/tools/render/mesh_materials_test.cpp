@@ -127,27 +127,58 @@ TEST(MeshMaterials, TheIdAovNumbersTrianglesAsTheFileDoes) {
   EXPECT_EQ(seen, (std::vector<uint32_t>{0, 1, 2, 3, 4}));
 }
 
-// Fur that reads the colour map takes one: faces of two colour maps are refused, naming the
-// field and the materials; the scene's colour map, which covers every part, is drawn.
-TEST(MeshMaterials, FurColourMapNeedsOneMap) {
+// Fur that reads the colour map takes each face's (until 2026-11-27 faces of two colour maps were
+// refused): red strands over the red material, blue over the blue, and the scene's colour map,
+// which covers every part, red everywhere. Two files of the same texels draw the same pixels as
+// one file named by both materials (each lane samples its map as it would alone), and faces of a
+// material without a map grow untinted strands beside tinted ones.
+TEST(MeshMaterials, FurTakesEachFacesColourMap) {
   SceneDir dir;
   write_flat_map(dir, "red.png", 255, 0, 0);
+  write_flat_map(dir, "red2.png", 255, 0, 0);
   write_flat_map(dir, "blue.png", 0, 0, 255);
   write_patch(dir, "newmtl a\nmap_Kd red.png\nnewmtl b\nmap_Kd blue.png\n");
-  const std::string fur = R"(, "fur": {"shells": 4, "texture_size": 16, "use_color_map": true})";
-  try {
-    render_at(scene_of(dir, {"both.obj"}, "lambert", fur), {});
-    FAIL() << "fur over two colour maps was drawn";
-  } catch (const io::InputError& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("objects[0].fur.use_color_map"), std::string::npos) << what;
-    EXPECT_NE(what.find("2 map sets (materials `a` and `b`)"), std::string::npos) << what;
-  }
-  io::Scene with_scene_map = scene_of(dir, {"both.obj"}, "lambert", fur);
+  const std::string fur =
+      R"(, "fur": {"shells": 4, "texture_size": 16, "use_color_map": true, "root_color": [1, 1, 1],
+                   "tip_color": [1, 1, 1]})";
+  const FrameImage both = render_at(scene_of(dir, {"both.obj"}, "unlit", fur), {});
+  EXPECT_GT(pixels_of(both, 0), 300);
+  EXPECT_GT(pixels_of(both, 2), 300);
+  io::Scene with_scene_map = scene_of(dir, {"both.obj"}, "unlit", fur);
   with_scene_map.objects[0].material.color_map = dir.path() / "red.png";
-  const FrameImage img = render_at(with_scene_map, {});
-  EXPECT_EQ(pixels_of(img, 2), 0);  // the scene's red map everywhere
-  EXPECT_GT(pixels_of(img, 0), 300);
+  const FrameImage red = render_at(with_scene_map, {});
+  EXPECT_EQ(pixels_of(red, 2), 0);  // the scene's red map everywhere
+  EXPECT_GT(pixels_of(red, 0), 600);
+
+  // Every fin, in each order (the layer order hands each layer's fin draw its part of the quads'
+  // maps), per-pixel lighting and the double references: both maps, the fins' too.
+  for (const io::SortQuality sort : {io::SortQuality::layer, io::SortQuality::tile, io::SortQuality::exact})
+    for (const io::Precision precision : {io::Precision::simd, io::Precision::double_precision}) {
+      io::Quality q;
+      q.sort = sort;
+      q.fins = fur::FinMode::all;
+      q.precision = precision;
+      for (const FurLighting lighting : {FurLighting::vertex, FurLighting::pixel}) {
+        const FrameImage img = render_at(scene_of(dir, {"both.obj"}, "unlit", fur), q, 2, lighting);
+        EXPECT_GT(pixels_of(img, 0), 300) << int(sort) << " " << int(precision) << " " << int(lighting);
+        EXPECT_GT(pixels_of(img, 2), 300) << int(sort) << " " << int(precision) << " " << int(lighting);
+      }
+    }
+
+  dir.write("m.mtl", "newmtl a\nmap_Kd red.png\nnewmtl b\nmap_Kd red2.png\n");
+  const FrameImage two_files = render_at(scene_of(dir, {"both.obj"}, "unlit", fur), {});
+  dir.write("m.mtl", "newmtl a\nmap_Kd red.png\nnewmtl b\nmap_Kd red.png\n");
+  const FrameImage one_file = render_at(scene_of(dir, {"both.obj"}, "unlit", fur), {});
+  EXPECT_TRUE(same_pixels(two_files, one_file));
+  EXPECT_GT(pixels_of(one_file, 0), 600);
+
+  dir.write("m.mtl", "newmtl a\nmap_Kd red.png\nnewmtl b\n");
+  const FrameImage half = render_at(scene_of(dir, {"both.obj"}, "unlit", fur), {});
+  int white = 0;
+  for (size_t p = 0; p + 3 < half.color.size(); p += 4)
+    white += half.color[p] > 0.5f && half.color[p + 1] > 0.5f && half.color[p + 2] > 0.5f;
+  EXPECT_GT(pixels_of(half, 0), 200);
+  EXPECT_GT(white, 200);
 }
 
 // The scene's map replaces the file's on every face: faces whose materials differed only in that

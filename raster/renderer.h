@@ -58,11 +58,13 @@ struct RenderOptions {
   // result to be premultiplied too (pelt's renders pass the scene's background so).
   glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};
   SortMode sort = SortMode::None;
-  // SortMode::Exact: the most fragments a tile holds at once. A tile whose translucent items
-  // could leave more (each item counted at 16 a block of its bounding box) draws its translucent
-  // pass in bands of blocks, one after another, each within it: the same image, and a worker's
-  // fragment lists bounded (a pile of full-screen layers held them all, 631 MB at 512 x 512 for a
-  // thousand blended quads). A single 4 x 4 block over it is drawn alone and may exceed it.
+  // SortMode::Exact: the most fragments a tile holds at once. A tile whose src-over fragments,
+  // counted by coverage and depth before shading, pass it draws its translucent pass in bands of
+  // blocks, one after another, each within it, so a worker's fragment lists stay bounded (a pile
+  // of full-screen layers held them all, 631 MB at 512 x 512 for a thousand blended quads). Each
+  // pixel blends the same fragments in the same order; a batch may pack a banded tile's blocks
+  // otherwise, which can move a derivative shader's level of detail. A single 4 x 4 block over
+  // the cap is drawn alone and may exceed it.
   uint32_t exact_fragment_cap = kExactFragmentCap;
 };
 

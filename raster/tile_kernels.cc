@@ -718,7 +718,10 @@ void CompositeExact(TileScratch& s) {
   s.pixel_start.assign(kTilePixels + 1, 0);
   for (const auto& f : s.fragments) ++s.pixel_start[f.pixel + 1];
   for (uint32_t p = 0; p < kTilePixels; ++p) s.pixel_start[p + 1] += s.pixel_start[p];
-  s.by_pixel.reserve(count);  // exactly: a list that grew by half again could pass the cap
+  if (s.by_pixel.capacity() < count) {  // exactly, and nothing copied: a doubled list could pass the cap
+    s.by_pixel.clear();
+    s.by_pixel.reserve(count);
+  }
   s.by_pixel.resize(count);
   s.pixel_next.assign(s.pixel_start.begin(), s.pixel_start.end() - 1);
   for (const auto& f : s.fragments) s.by_pixel[s.pixel_next[f.pixel]++] = f;
@@ -772,19 +775,33 @@ template <class Pass>
 void ExactPasses(const FrameView& frame, TileScratch& s, int32_t tx0, int32_t ty0, uint32_t cap, Pass&& pass) {
   constexpr int kSide = kBlocksPerTileSide;
   uint64_t total = 0;
+  // Additive fragments blend at once and are never held: not counted.
+  const auto held = [&](const TriSetup& t) { return frame.draws[t.draw].state.blend == BlendMode::AlphaOver; };
   for (const TranslucentRef& ref : s.translucent) {
     const TriSetup& t = *ref.tri;
+    if (!held(t)) continue;
     const int32_t x0 = std::max(t.x0, tx0), x1 = std::min(t.xmax, tx0 + kTileSize - 1);
     const int32_t y0 = std::max(t.y0, ty0), y1 = std::min(t.ymax, ty0 + kTileSize - 1);
     if (x0 > x1 || y0 > y1) continue;
     total += uint64_t((x1 - tx0) / kBlockSize - (x0 - tx0) / kBlockSize + 1) *
              uint64_t((y1 - ty0) / kBlockSize - (y0 - ty0) / kBlockSize + 1) * kBlockLanes;
   }
-  if (total <= cap) return pass(s.block_valid, 0, 0, kSide - 1, kSide - 1);
+  // The list reserved to what the pass may hold, at most the cap: grown by doubling it could pass
+  // the cap by half again.
+  const auto reserve = [&](uint64_t n) {
+    if (s.fragments.capacity() >= n) return;
+    s.fragments.clear();
+    s.fragments.reserve(size_t(n));
+  };
+  if (total <= cap) {
+    reserve(total);
+    return pass(s.block_valid, 0, 0, kSide - 1, kSide - 1);
+  }
   uint64_t bound[kBlocksPerTile] = {};
   total = 0;
   for (const TranslucentRef& ref : s.translucent) {
     const TriSetup& t = *ref.tri;
+    if (!held(t)) continue;
     TileEdges te;
     if (!tile_region_edges(t, tx0, ty0, te)) continue;
     DispatchDepth(frame.draws[t.draw].state, [&]<DepthFunc F, bool W>() {
@@ -795,6 +812,7 @@ void ExactPasses(const FrameView& frame, TileScratch& s, int32_t tx0, int32_t ty
       });
     });
   }
+  reserve(std::min<uint64_t>(total, cap));
   if (total <= cap) return pass(s.block_valid, 0, 0, kSide - 1, kSide - 1);
   uint64_t row[kSide] = {};
   for (int b = 0; b < kBlocksPerTile; ++b) row[b / kSide] += bound[b];

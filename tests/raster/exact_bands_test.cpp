@@ -6,6 +6,7 @@
 // all: 631 MB at 512 x 512 for a thousand blended full-screen quads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -108,6 +109,44 @@ TEST(ExactBands, BandsDrawTheSamePlanesWithinTheCap) {
       }
     }
   });
+}
+
+// A translucent draw that writes depth among the pile (later fragments of its pixels then fail
+// the test) and the overdraw plane (the fragments that passed, per pixel): the same values banded
+// or not, at 1 and 3 threads.
+TEST(ExactBands, DepthWritingLayersAndTheOverdrawPlaneKeepTheirValues) {
+  const Soup pile = soup(30, 0), sheets = soup(0, 200);
+  const VaryingShader blended(0.3f, true), written(0.5f, false);
+  DrawCall writing = draw_of(sheets, written, BlendMode::AlphaOver);
+  writing.state.depth_write = true;
+  const DrawCall draws[3] = {draw_of(pile, blended, BlendMode::AlphaOver), writing,
+                             draw_of(pile, blended, BlendMode::AlphaOver)};
+  struct Planes {
+    std::vector<float> color, depth;
+    std::vector<uint32_t> overdraw;
+    RasterStats stats;
+  };
+  const auto planes = [&](uint32_t cap, int threads) {
+    Planes p;
+    p.color.assign(size_t(kWidth) * kHeight * 4, 0.0f);
+    p.depth.assign(size_t(kWidth) * kHeight, 0.0f);
+    p.overdraw.assign(size_t(kWidth) * kHeight, 0u);
+    Renderer r(threads);
+    RenderTarget t{kWidth, kHeight, p.color.data(), p.depth.data()};
+    t.overdraw = p.overdraw.data();
+    r.render(draws, exact(cap), t, &p.stats);
+    return p;
+  };
+  const Planes whole = planes(kExactFragmentCap, 1);
+  for (const int threads : {1, 3}) {
+    const Planes banded = planes(2000, threads);
+    EXPECT_GT(banded.stats.exact_passes, whole.stats.exact_passes);
+    EXPECT_EQ(banded.color, whole.color) << threads;
+    EXPECT_EQ(banded.depth, whole.depth) << threads;
+    EXPECT_EQ(banded.overdraw, whole.overdraw) << threads;
+  }
+  // The written depth holds fragments back: fewer than the two piles' layers at some pixel.
+  EXPECT_LT(*std::min_element(whole.overdraw.begin(), whole.overdraw.end()), 60u);
 }
 
 // Slivers whose bounding boxes cover whole tiles but whose fragments are few: counted, they fit

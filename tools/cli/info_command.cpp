@@ -164,7 +164,7 @@ int run_info(const InfoOptions& o) {
         std::printf("       length   x the first channel of %s at the mesh's uvs; %zu of %zu base faces grow none\n",
                     o.fur_length_map.filename().string().c_str(), g->bald_faces, c->base_faces);
       if (f.use_color_map)
-        std::printf("       colour   root_color to tip_color x the object's colour map at the mesh's uvs\n");
+        std::printf("       colour   root_color to tip_color x each face's colour map at the mesh's uvs (none: x 1)\n");
       std::printf("       vertices base %zu, shell %zu, fin %zu (shared), sum %zu\n", c->base_vertices,
                   c->shell_vertices, c->fin_vertices, c->total_vertices);
       std::printf("       faces    base %zu, shell %zu, fin %zu, sum %zu\n", c->base_faces, c->shell_faces,

@@ -790,12 +790,21 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     if (t.dissolve <= 0.0)  // tinyobjloader reads Tr as 1 - d
       asks.push_back("invisible as written (`d 0` or `Tr 1`; some exporters mean opaque by `Tr 1`)");
     if (!t.alpha_texname.empty()) asks.push_back("cut out by `map_d " + t.alpha_texname + "`");
+    const bool blended = t.dissolve > 0.0 && t.dissolve < 1.0;
+    char value[48];
+    std::snprintf(value, sizeof value, "%g", double(float(t.dissolve)));
+    if (blended && libraries.placements_of(int(id)).transparency_by_tr)
+      out.warnings.push_back("material `" + shown_name(t.name) + "` gives its transparency by `Tr` alone, which "
+                             "exporters write both ways: read as the specification says, an opacity of " + value +
+                             " (write `d` for the opacity meant)");
+    if (blended && t.dissolve < 0.01)
+      out.warnings.push_back("material `" + shown_name(t.name) + "` is nearly invisible (an opacity of " +
+                             std::string(value) + ")");
     if (asks.empty()) continue;
-    char blend[64];
-    std::snprintf(blend, sizeof blend, "its faces are blended by `d` %g alone", double(float(t.dissolve)));
+    const std::string blend = std::string("its faces are blended by `d` ") + value + " without the map";
     out.warnings.push_back("material `" + shown_name(t.name) + "` is " + asks[0] +
                            (asks.size() > 1 ? " and " + asks[1] : std::string()) + ", which pelt does not draw: " +
-                           (t.dissolve > 0.0 && t.dissolve < 1.0 ? std::string(blend) : "its faces are drawn opaque"));
+                           (blended ? blend : "its faces are drawn opaque"));
   }
   const bool no_face_material = std::find(material_used.begin(), material_used.end(), 1) == material_used.end();
   if (no_face_material && std::any_of(materials.begin(), materials.end(), [](const tinyobj::material_t& t) {

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <sstream>
 #include <string_view>
 #include <system_error>
@@ -118,6 +119,7 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
   std::string_view rest(text);
   if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);
   std::string out, material, key;
+  std::set<std::string> d_given, tr_given;  // materials (keys) whose `d`, `Tr` the library gives
   out.reserve(rest.size());
   size_t line_number = 0;
   while (!rest.empty()) {
@@ -153,13 +155,20 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
       }
       const std::string at = "line " + std::to_string(line_number) + " `" + std::string(w[0]) + "`";
       double value = 0.0;
+      // A comment may follow the value, with or without a blank (`d 0.5#half`, as tinyobjloader reads it).
+      std::string_view word = k < w.size() ? w[k].substr(0, w[k].find('#')) : std::string_view();
+      if (word.empty()) k = w.size();
       if (k >= w.size())
         throw InputError(library.string(), at, "has no value (a number, 1 for opaque)");
-      if (!is_number(w[k], value) || !std::isfinite(value))
+      if (!is_number(word, value) || !std::isfinite(value))
         throw InputError(library.string(), at,
-                         "`" + std::string(w[k]) + "` is not a finite number" +
-                             (w[k].find(',') != std::string_view::npos ? " (a decimal point, not a comma)" : ""));
-      out.append(w[0]).append(" ").append(w[k]).push_back('\n');
+                         "`" + std::string(word) + "` is not a finite number" +
+                             (word.find(',') != std::string_view::npos ? " (a decimal point, not a comma)" : ""));
+      if (!key.empty()) {
+        if (w[0] == "d") d_given.insert(key);
+        else tr_given.insert(key);
+      }
+      out.append(w[0]).append(" ").append(word).push_back('\n');
       continue;
     }
     if (!is_map_statement(w[0])) {
@@ -230,6 +239,8 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
     }
     out.append(w[0]).append(" ").append(file).push_back('\n');
   }
+  for (const std::string& m : tr_given)
+    if (!d_given.contains(m)) placements[m].transparency_by_tr = true;
   return out;
 }
 

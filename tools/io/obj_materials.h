@@ -33,6 +33,9 @@ struct LibraryRecord {
 // Where a material's maps lie (map_Kd's and norm's -s, -o and -clamp), in OBJ's uv space.
 struct MtlPlacements {
   MapPlacement color, normal;
+  // The material's transparency was given by `Tr` alone (no `d`): exporters write it both ways
+  // (1 - d as the specification says, or d as 3ds Max does), so the loader says how it read it.
+  bool transparency_by_tr = false;
   bool operator==(const MtlPlacements&) const = default;
 };
 

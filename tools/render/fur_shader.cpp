@@ -17,6 +17,7 @@ struct alignas(64) Scratch {
   alignas(64) float map[4][kLanes];  // the colour map's texels (use_color_map)
   alignas(64) float part[4][kLanes];  // one of several colour maps' texels, at its lanes
   uint32_t lane_map[kLanes];           // each lane's colour map (several)
+  uint32_t present[kLanes];            // the maps the batch's lanes take, each once
   uint16_t mask[raster::kMaxBatchBlocks];
   alignas(64) float tint[3][raster::kMaxBatchBlocks];  // per block: its layer's tint (shells)
 };
@@ -50,8 +51,16 @@ void FurShader::sample_color_maps(const raster::FragmentBatch& b, float* const m
     s.lane_map[i] = s_.fins ? (quad_map_ ? quad_map_[p / 2] : kNoFurColorMap) : s_.face_color_map[p % s_.base_faces];
   }
   for (int c = 0; c < 4; ++c) std::fill_n(map[c], n, 1.0f);  // a face of no map: times 1
+  // The maps the batch's lanes take, each once: a mesh of many materials samples only those.
+  size_t present = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t m = s.lane_map[i];
+    if (m == kNoFurColorMap || (present > 0 && s.present[present - 1] == m)) continue;
+    if (std::find(s.present, s.present + present, m) == s.present + present) s.present[present++] = m;
+  }
   float* const part[4] = {s.part[0], s.part[1], s.part[2], s.part[3]};
-  for (size_t m = 0; m < s_.color_map_count; ++m) {
+  for (size_t j = 0; j < present; ++j) {
+    const uint32_t m = s.present[j];
     bool any = false;
     for (uint32_t k = 0; k < b.blocks; ++k) {
       uint32_t bits = 0;

@@ -754,7 +754,7 @@ TEST_F(RenderCommand, FurTakesTheColourMapOnlyWhereThereIsOne) {
     "objects": [{"mesh": "box:3", "material": {"type": "lambert", "color_map": "map.png"}, )" + fur + "}]}");
   const Result info = run_pelt({"info", with.string()}, dir.path());
   ASSERT_EQ(info.code, 0) << info.err;
-  EXPECT_NE(info.out.find("colour   root_color to tip_color x the object's colour map"), std::string::npos)
+  EXPECT_NE(info.out.find("colour   root_color to tip_color x each face's colour map at the mesh's uvs (none: x 1)"), std::string::npos)
       << info.out;
   Result r = run_pelt({"render", with.string(), "-o", (dir.path() / "with.png").string(), "-q"}, dir.path());
   EXPECT_EQ(r.code, 0) << r.err;

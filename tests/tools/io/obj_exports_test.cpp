@@ -270,13 +270,16 @@ TEST(ObjExports, TransparencyIsDrawnAndCutOutsAreNamed) {
       "t.obj", joined({"mtllib t.mtl", kQuad + "usemtl glass", "f 1/1 2/2 3/3", "usemtl leaf", "f 1/1 3/3 4/4",
                        "usemtl solid", "f 2/2 3/3 4/4", "usemtl max", "f 1/1 2/2 4/4", "usemtl tinted",
                        "f 4/4 3/3 2/2"})));
-  ASSERT_EQ(l.warnings.size(), 3u) << ::testing::PrintToString(l.warnings);
+  ASSERT_EQ(l.warnings.size(), 4u) << ::testing::PrintToString(l.warnings);
   EXPECT_EQ(l.warnings[0], "material `leaf` is cut out by `map_d leaf_a.png`, which pelt does not draw: its faces are "
                            "drawn opaque");
   EXPECT_EQ(l.warnings[1], "material `max` is invisible as written (`d 0` or `Tr 1`; some exporters mean opaque by "
                            "`Tr 1`), which pelt does not draw: its faces are drawn opaque");
-  EXPECT_EQ(l.warnings[2], "material `tinted` is cut out by `map_d t_a.png`, which pelt does not draw: its faces are "
-                           "blended by `d` 0.75 alone");
+  // `Tr` alone is written both ways by exporters: how it was read is said.
+  EXPECT_EQ(l.warnings[2], "material `tinted` gives its transparency by `Tr` alone, which exporters write both ways: "
+                           "read as the specification says, an opacity of 0.75 (write `d` for the opacity meant)");
+  EXPECT_EQ(l.warnings[3], "material `tinted` is cut out by `map_d t_a.png`, which pelt does not draw: its faces are "
+                           "blended by `d` 0.75 without the map");
   // glass and tinted blend (by 0.5 and by 1 - 0.25), the three others share the opaque set.
   ASSERT_EQ(l.maps.size(), 3u);
   EXPECT_EQ(l.triangle_maps, (std::vector<uint32_t>{0, 1, 1, 1, 2}));
@@ -309,6 +312,14 @@ TEST(ObjExports, TransparencyValuesAreChecked) {
   refused("newmtl m\nKd 1 1 1\nTr half\n", "line 3 `Tr`", "`half` is not a finite number");
   refused("newmtl m\nd\n", "line 2 `d`", "has no value (a number, 1 for opaque)");
   refused("newmtl m\nd -halo nan\n", "line 2 `d`", "`nan` is not a finite number");
+
+  // A comment right after the value, as tinyobjloader reads it; a value near 0 is named.
+  dir.write("c.mtl", "newmtl m\nd 0.005#nearly gone\n");
+  const LoadedMesh c = load_mesh_file(dir.write("c.obj", joined({"mtllib c.mtl", kQuad + "usemtl m", "f 1/1 2/2 3/3"})));
+  ASSERT_EQ(c.maps.size(), 1u);
+  EXPECT_EQ(c.maps[0].alpha_factor, 0.005f);
+  ASSERT_EQ(c.warnings.size(), 1u) << ::testing::PrintToString(c.warnings);
+  EXPECT_EQ(c.warnings[0], "material `m` is nearly invisible (an opacity of 0.005)");
 
   dir.write("halo.mtl", "newmtl m\nd -halo 0.4\n");
   const LoadedMesh l = load_mesh_file(dir.write("halo.obj", joined({"mtllib halo.mtl", kQuad + "usemtl m", "f 1/1 2/2 3/3"})));

@@ -152,7 +152,8 @@ TEST(MeshMaterials, FurTakesEachFacesColourMap) {
 
   // Every fin, in each order (the layer order hands each layer's fin draw its part of the quads'
   // maps), per-pixel lighting and the double references: both maps, the fins' too.
-  for (const io::SortQuality sort : {io::SortQuality::layer, io::SortQuality::tile, io::SortQuality::exact})
+  for (const io::SortQuality sort : {io::SortQuality::none, io::SortQuality::layer, io::SortQuality::tile,
+                                     io::SortQuality::surface, io::SortQuality::exact})
     for (const io::Precision precision : {io::Precision::simd, io::Precision::double_precision}) {
       io::Quality q;
       q.sort = sort;

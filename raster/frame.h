@@ -184,16 +184,28 @@ struct TileEdges {
   bool all_accepted;
 };
 
+// The 4x4 blocks of the tile at (tx0, ty0) that triangle t's bounding box meets: columns
+// [c0, c1] and rows [r0, r1] of the tile's blocks. False when it meets none.
+struct TileBlocks {
+  int32_t c0, r0, c1, r1;
+};
+inline bool tile_blocks(const TriSetup& t, int32_t tx0, int32_t ty0, TileBlocks& b) {
+  const int32_t x0 = t.x0 > tx0 ? t.x0 : tx0;
+  const int32_t y0 = t.y0 > ty0 ? t.y0 : ty0;
+  const int32_t x1 = t.xmax < tx0 + kTileSize - 1 ? t.xmax : tx0 + kTileSize - 1;
+  const int32_t y1 = t.ymax < ty0 + kTileSize - 1 ? t.ymax : ty0 + kTileSize - 1;
+  if (x0 > x1 || y0 > y1) return false;
+  b = {(x0 - tx0) / kBlockSize, (y0 - ty0) / kBlockSize, (x1 - tx0) / kBlockSize, (y1 - ty0) / kBlockSize};
+  return true;
+}
+
 inline bool tile_region_edges(const TriSetup& t, int32_t tx0, int32_t ty0, TileEdges& te) {
-  const int32_t bx0 = t.x0 > tx0 ? t.x0 : tx0;
-  const int32_t by0 = t.y0 > ty0 ? t.y0 : ty0;
-  const int32_t bx1 = t.xmax < tx0 + kTileSize - 1 ? t.xmax : tx0 + kTileSize - 1;
-  const int32_t by1 = t.ymax < ty0 + kTileSize - 1 ? t.ymax : ty0 + kTileSize - 1;
-  if (bx0 > bx1 || by0 > by1) return false;
-  te.rx0 = tx0 + ((bx0 - tx0) & ~(kBlockSize - 1));
-  te.ry0 = ty0 + ((by0 - ty0) & ~(kBlockSize - 1));
-  te.rx1 = tx0 + ((bx1 - tx0) | (kBlockSize - 1));
-  te.ry1 = ty0 + ((by1 - ty0) | (kBlockSize - 1));
+  TileBlocks b;
+  if (!tile_blocks(t, tx0, ty0, b)) return false;
+  te.rx0 = tx0 + b.c0 * kBlockSize;
+  te.ry0 = ty0 + b.r0 * kBlockSize;
+  te.rx1 = tx0 + b.c1 * kBlockSize + kBlockSize - 1;
+  te.ry1 = ty0 + b.r1 * kBlockSize + kBlockSize - 1;
   te.all_accepted = true;
   for (int k = 0; k < 3; ++k) {
     const EdgeEq& e = t.edge[k];

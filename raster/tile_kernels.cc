@@ -759,18 +759,6 @@ void CompositeExact(TileScratch& s) {
   s.fragments.clear();
 }
 
-// SortMode::Exact's translucent pass in regions of the tile that each leave at most `cap`
-// fragments (RenderOptions::exact_fragment_cap): pass(valid, bx0, by0, bx1, by1) for each, its
-// blocks [bx0, bx1] x [by0, by1] in `valid` (the tile's own valid lanes there, none elsewhere).
-// An item leaves at most 16 fragments in each block of its bounding box: where the tile's sum is
-// within the cap (most furry tiles) it is one pass, at no cost. Otherwise the fragments the
-// depth test passes are counted per block first (coverage and depth alone, no write, no
-// shading), and only a tile that leaves more than the cap is drawn in bands of whole block rows,
-// a row over the cap alone in runs of its blocks. Each pixel still blends the same fragments in
-// the same order; only how a batch packs its blocks changes, which for a shader with derivatives
-// may move a block's level of detail (a slot merges the triangles the batch still holds), so a
-// banded tile is the same image up to that. A tile that stays within the cap is drawn as it
-// always was (the default scene's busiest tile holds 68 k fragments against the cap's 524 k).
 // At most how many pixel centres triangle t covers in all: a convex set of area A and perimeter P
 // holds at most A + P / 2 + 1 lattice points (Nosarzewska's bound), here with A from the edge
 // functions' sum (512 A, less their floors) and P from their steps (1/256 pixel). A fur fin or a
@@ -785,6 +773,19 @@ inline uint64_t CentreBound(const TriSetup& t) {
   return bound < 1e18 ? uint64_t(bound) : uint64_t{1} << 60;
 }
 
+// SortMode::Exact's translucent pass in regions of the tile that each leave at most `cap`
+// fragments (RenderOptions::exact_fragment_cap): pass(valid, bx0, by0, bx1, by1) for each, its
+// blocks [bx0, bx1] x [by0, by1] in `valid` (the tile's own valid lanes there, none elsewhere).
+// An item leaves at most 16 fragments in each block of its bounding box, and at most its
+// CentreBound: where the tile's sum of the smaller is within the cap (every furry tile measured)
+// it is one pass, after a walk over its set-ups (2-3 % of an exact fur frame). Otherwise the fragments the
+// depth test passes are counted per block first (coverage and depth alone, no write, no
+// shading), and only a tile that leaves more than the cap is drawn in bands of whole block rows,
+// a row over the cap alone in runs of its blocks. Each pixel still blends the same fragments in
+// the same order; only how a batch packs its blocks changes, which for a shader with derivatives
+// may move a block's level of detail (a slot merges the triangles the batch still holds), so a
+// banded tile is the same image up to that. A tile that stays within the cap is drawn as it
+// always was (the default scene's busiest tile holds 68 k fragments against the cap's 524 k).
 template <class Pass>
 void ExactPasses(const FrameView& frame, TileScratch& s, int32_t tx0, int32_t ty0, uint32_t cap, Pass&& pass) {
   constexpr int kSide = kBlocksPerTileSide;
@@ -796,12 +797,9 @@ void ExactPasses(const FrameView& frame, TileScratch& s, int32_t tx0, int32_t ty
   for (size_t k = 0; k < items; ++k) {
     if (k + kPrefetchAhead < items) PrefetchSetup(s.translucent[k + kPrefetchAhead].tri);
     const TriSetup& t = *s.translucent[k].tri;
-    if (!held(t)) continue;
-    const int32_t x0 = std::max(t.x0, tx0), x1 = std::min(t.xmax, tx0 + kTileSize - 1);
-    const int32_t y0 = std::max(t.y0, ty0), y1 = std::min(t.ymax, ty0 + kTileSize - 1);
-    if (x0 > x1 || y0 > y1) continue;
-    const uint64_t box = uint64_t((x1 - tx0) / kBlockSize - (x0 - tx0) / kBlockSize + 1) *
-                         uint64_t((y1 - ty0) / kBlockSize - (y0 - ty0) / kBlockSize + 1) * kBlockLanes;
+    TileBlocks b;
+    if (!held(t) || !tile_blocks(t, tx0, ty0, b)) continue;
+    const uint64_t box = uint64_t(b.c1 - b.c0 + 1) * uint64_t(b.r1 - b.r0 + 1) * kBlockLanes;
     total += std::min(box, CentreBound(t));
   }
   // The list reserved to what the pass may hold, at most the cap: grown by doubling it could pass
@@ -1010,9 +1008,11 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
   const size_t translucent_count = s.translucent.size();
   const bool count_overdraw = frame.target.overdraw != nullptr;
   const bool exact = frame.options.sort == SortMode::Exact;
-  // The items whose bounding box meets the pixels [rx0, rx1] x [ry0, ry1], on the blocks `valid`
-  // holds; then their blend, or under the exact sort their composite.
-  auto translucent_pass = [&](const uint16_t* valid, int32_t rx0, int32_t ry0, int32_t rx1, int32_t ry1) {
+  // The items whose bounding box meets the tile's blocks [bx0, bx1] x [by0, by1], on the blocks
+  // `valid` holds; then their blend, or under the exact sort their composite.
+  auto translucent_pass = [&](const uint16_t* valid, int32_t bx0, int32_t by0, int32_t bx1, int32_t by1) {
+    const int32_t rx0 = tx0 + bx0 * kBlockSize, ry0 = ty0 + by0 * kBlockSize;
+    const int32_t rx1 = tx0 + (bx1 + 1) * kBlockSize - 1, ry1 = ty0 + (by1 + 1) * kBlockSize - 1;
     for (size_t k = 0; k < translucent_count; ++k) {
       if (k + 2 * kPrefetchAhead < translucent_count) PrefetchSetup(s.translucent[k + 2 * kPrefetchAhead].tri);
       if (k + kPrefetchAhead < translucent_count) prefetch_indices(*s.translucent[k + kPrefetchAhead].tri);
@@ -1051,15 +1051,10 @@ void RasterTile(const FrameView& frame, uint32_t tile, TileScratch& s) {
       CompositeExact(s);
     }
   };
-  if (!exact || translucent_count == 0) {
-    translucent_pass(s.block_valid, tx0, ty0, tx0 + kTileSize - 1, ty0 + kTileSize - 1);
-  } else {
-    ExactPasses(frame, s, tx0, ty0, frame.options.exact_fragment_cap,
-                [&](const uint16_t* valid, int32_t bx0, int32_t by0, int32_t bx1, int32_t by1) {
-                  translucent_pass(valid, tx0 + bx0 * kBlockSize, ty0 + by0 * kBlockSize,
-                                   tx0 + (bx1 + 1) * kBlockSize - 1, ty0 + (by1 + 1) * kBlockSize - 1);
-                });
-  }
+  if (!exact || translucent_count == 0)
+    translucent_pass(s.block_valid, 0, 0, kBlocksPerTileSide - 1, kBlocksPerTileSide - 1);
+  else
+    ExactPasses(frame, s, tx0, ty0, frame.options.exact_fragment_cap, translucent_pass);
 
   ResolveTile(frame, tx0, ty0, s);
 }

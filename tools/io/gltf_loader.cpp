@@ -63,12 +63,7 @@ class GltfReader {
                               " scaled to a point or a line: not drawn");
     if (out_.mesh.indices.empty())
       throw InputError(file_, "", "the default scene has no triangles");
-    {
-      std::string where;
-      for (size_t k = 0; k < std::min<size_t>(3, uvless_.size()); ++k) where += (k ? ", " : "") + uvless_[k];
-      if (uvless_.size() > 3) where += ", ...";
-      settle_uvs(out_, std::move(uv_missing_), "no TEXCOORD_0 in " + where);
-    }
+    settle_uvs(out_, std::move(uv_missing_), "no TEXCOORD_0 in", uvless_);
     // Each primitive keeps its material's maps; a file whose primitives all use one set of
     // maps (or none) needs no list per triangle. Until 2026-11-27 the first primitive's maps
     // were drawn on the whole mesh.
@@ -573,9 +568,7 @@ class GltfReader {
       } else {
         has_uvs = false;
         m.uvs.resize(m.positions.size(), glm::vec2(0.0f));
-        // A mesh drawn by several nodes is read once per node: its primitives named once.
-        if (uvless_.size() < 4 && std::find(uvless_.begin(), uvless_.end(), pw) == uvless_.end())
-          uvless_.push_back(pw);
+        note_uvless(uvless_, pw);  // once, though a mesh drawn by several nodes is read once per node
       }
 
       std::vector<uint32_t> idx;
@@ -856,7 +849,7 @@ class GltfReader {
   std::vector<std::string> hidden_;                // nodes scaled to a point or a line
   uint64_t deformed_ = 0;                          // vertex values moved by morphs and skins
   std::vector<uint8_t> uv_missing_;  // per vertex (settle_uvs)
-  std::vector<std::string> uvless_;  // the first primitives without uvs, at most 4
+  std::vector<std::string> uvless_;  // the first primitives without uvs (note_uvless)
   std::vector<MeshMaps> sets_;                 // maps_of's, in the order of their first primitive
   std::string unmaterialed_;                   // the first drawn primitive without a material
   uint64_t unmaterialed_triangles_ = 0;        // and the triangles of all such primitives

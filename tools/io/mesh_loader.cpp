@@ -112,7 +112,12 @@ uint32_t add_map_set(std::vector<MeshMaps>& sets, MeshMaps set) {
   return uint32_t(sets.size() - 1);
 }
 
-void settle_uvs(LoadedMesh& out, std::vector<uint8_t> missing, const std::string& where) {
+void note_uvless(std::vector<std::string>& names, const std::string& name) {
+  if (names.size() < 4 && std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+}
+
+void settle_uvs(LoadedMesh& out, std::vector<uint8_t> missing, const std::string& what,
+                const std::vector<std::string>& names) {
   Mesh& m = out.mesh;
   // Counted by triangles: a vertex no triangle uses (an empty primitive's) decides nothing.
   size_t without = 0;
@@ -123,6 +128,12 @@ void settle_uvs(LoadedMesh& out, std::vector<uint8_t> missing, const std::string
     return;
   }
   out.uv_missing = std::move(missing);
+  // At most three names, and "..." when there are more.
+  const size_t shown = std::min<size_t>(3, names.size());
+  std::string where = what;
+  for (size_t k = 0; k < shown; ++k)
+    where += (k == 0 ? " " : k + 1 == shown && names.size() <= 3 ? " and " : ", ") + names[k];
+  if (names.size() > 3) where += ", ...";
   out.warnings.push_back(std::to_string(without) + " of " + std::to_string(m.triangle_count()) +
                          " triangles have no texture coordinates (" + where +
                          "): no map may be drawn on them, and fur on the mesh cannot lay its strands by the uvs");

@@ -35,10 +35,15 @@ void finish_normals(LoadedMesh& out, bool has_normals, bool any_normals, NormalS
 // alike, and the same alpha), else of `set` appended. Both loaders give each face its set so.
 uint32_t add_map_set(std::vector<MeshMaps>& sets, MeshMaps set);
 
+// Adds `name` to `names` unless it is there or four are (settle_uvs shows three and "...").
+void note_uvless(std::vector<std::string>& names, const std::string& name);
+
 // Settles the texture coordinates a loader read (out.mesh.uvs, (0, 0) where missing[v] = 1), by
 // triangles (a triangle lacks uvs when a corner does): none kept when every triangle lacks them;
-// otherwise kept, with out.uv_missing set when some triangle lacks them and a warning naming
-// `where` (the file's elements without uvs, e.g. "faces of material `a`").
-void settle_uvs(LoadedMesh& out, std::vector<uint8_t> missing, const std::string& where);
+// otherwise kept, with out.uv_missing set when some triangle lacks them and a warning naming the
+// file's elements without uvs, `what` then `names` (note_uvless): "faces of material `a` and no
+// material", "no TEXCOORD_0 in meshes[0].primitives[1]".
+void settle_uvs(LoadedMesh& out, std::vector<uint8_t> missing, const std::string& what,
+                const std::vector<std::string>& names);
 
 }  // namespace pelt::io::detail

@@ -551,7 +551,7 @@ void take_material_maps(LoadedMesh& out, const std::vector<tinyobj::material_t>&
       set.alpha_factor = float(mat.dissolve);
     }
     const std::filesystem::path& library_dir = libraries.folder_of(int(id));
-    const MtlPlacements& placements = libraries.placements_of(int(id));
+    const MtlExtras& placements = libraries.extras_of(int(id));
     if (!mat.diffuse_texname.empty()) {
       set.color_map.path = find_named_file(mat.diffuse_texname, library_dir, dir);
       set.color_map.placement = placements.color;
@@ -664,7 +664,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   std::vector<uint64_t> smoothing;  // per vertex, when by_smoothing
   bool all_normals = true;
   std::vector<uint8_t> uv_missing;         // per vertex (settle_uvs)
-  std::vector<std::string> uvless_names;   // "material `a`", "no material": of faces without uvs, at most 4
+  std::vector<std::string> uvless_names;   // "material `a`", "no material": of faces without uvs (note_uvless)
   Mesh& m = out.mesh;
   size_t face_number = 0;
   std::vector<char> material_used(materials.size(), 0);  // by material id
@@ -747,8 +747,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
           const std::string name = id >= 0 && size_t(id) < materials.size()
                                        ? "material `" + shown_name(materials[size_t(id)].name) + "`"
                                        : "no material";
-          if (uvless_names.size() < 4 && std::find(uvless_names.begin(), uvless_names.end(), name) == uvless_names.end())
-            uvless_names.push_back(name);
+          note_uvless(uvless_names, name);
         }
         corner_vertices.push_back(it->second);
         corner_positions.push_back(m.positions[it->second]);
@@ -770,15 +769,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
                            "`, the text from `#` taken as a comment");
   }
   add_library_warnings(out, shown_name(untrue_warnings_dropped(warnings, first_of_name, found)));
-  {
-    // At most three names, and "..." when there are more.
-    const size_t shown = std::min<size_t>(3, uvless_names.size());
-    std::string where = "faces of";
-    for (size_t k = 0; k < shown; ++k)
-      where += (k == 0 ? " " : k + 1 == shown && uvless_names.size() <= 3 ? " and " : ", ") + uvless_names[k];
-    if (uvless_names.size() > 3) where += ", ...";
-    settle_uvs(out, std::move(uv_missing), where);
-  }
+  settle_uvs(out, std::move(uv_missing), "faces of", uvless_names);
   finish_normals(out, all_normals, nn > 0, NormalSharing::per_position, smoothing);
 
   // What a used material asks for that pelt does not draw: no surface at all, and cut-out maps
@@ -793,7 +784,7 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     const bool blended = t.dissolve > 0.0 && t.dissolve < 1.0;
     char value[48];
     std::snprintf(value, sizeof value, "%g", double(float(t.dissolve)));
-    if (blended && libraries.placements_of(int(id)).transparency_by_tr)
+    if (blended && libraries.extras_of(int(id)).transparency_by_tr())
       out.warnings.push_back("material `" + shown_name(t.name) + "` gives its transparency by `Tr` alone, which "
                              "exporters write both ways: read as the specification says, an opacity of " + value +
                              " (write `d` for the opacity meant)");

@@ -9,7 +9,6 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
-#include <set>
 #include <sstream>
 #include <string_view>
 #include <system_error>
@@ -115,11 +114,10 @@ std::filesystem::path find_named_file(const std::string& name, const std::filesy
 }
 
 std::string mend_mtl(const std::string& text, const std::filesystem::path& library, std::vector<std::string>& warnings,
-                     std::map<std::string, MtlPlacements>& placements) {
+                     std::map<std::string, MtlExtras>& extras) {
   std::string_view rest(text);
   if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);
   std::string out, material, key;
-  std::set<std::string> d_given, tr_given;  // materials (keys) whose `d`, `Tr` the library gives
   out.reserve(rest.size());
   size_t line_number = 0;
   while (!rest.empty()) {
@@ -138,8 +136,8 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
       std::string name(trimmed(line.substr(line.find("newmtl") + 6)));
       material = name;
       std::replace_if(name.begin(), name.end(), blank, kNameBlank);
-      key = placements.contains(name) ? std::string() : name;  // a repeated name: tinyobjloader uses the first
-      if (!key.empty()) placements[key] = {};
+      key = extras.contains(name) ? std::string() : name;  // a repeated name: tinyobjloader uses the first
+      if (!key.empty()) extras[key] = {};
       out.append("newmtl ").append(name).push_back('\n');
       continue;
     }
@@ -164,10 +162,7 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
         throw InputError(library.string(), at,
                          "`" + std::string(word) + "` is not a finite number" +
                              (word.find(',') != std::string_view::npos ? " (a decimal point, not a comma)" : ""));
-      if (!key.empty()) {
-        if (w[0] == "d") d_given.insert(key);
-        else tr_given.insert(key);
-      }
+      if (!key.empty()) (w[0] == "d" ? extras[key].d : extras[key].tr) = true;
       out.append(w[0]).append(" ").append(word).push_back('\n');
       continue;
     }
@@ -234,22 +229,20 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
     if (turbulent)
       warnings.push_back(who + " is turbulent (-t), which pelt does not apply: the map is drawn without it");
     if (!key.empty()) {
-      if (w[0] == "map_Kd") placements[key].color = placement;
-      if (w[0] == "norm") placements[key].normal = placement;
+      if (w[0] == "map_Kd") extras[key].color = placement;
+      if (w[0] == "norm") extras[key].normal = placement;
     }
     out.append(w[0]).append(" ").append(file).push_back('\n');
   }
-  for (const std::string& m : tr_given)
-    if (!d_given.contains(m)) placements[m].transparency_by_tr = true;
   return out;
 }
 
 MaterialLibraries::MaterialLibraries(std::filesystem::path obj_dir, std::vector<LibraryRecord> records)
     : obj_dir_(std::move(obj_dir)), records_(std::move(records)) {}
 
-const MtlPlacements& MaterialLibraries::placements_of(int id) const {
-  static const MtlPlacements kNone;
-  return id >= 0 && size_t(id) < placements_.size() ? placements_[size_t(id)] : kNone;
+const MtlExtras& MaterialLibraries::extras_of(int id) const {
+  static const MtlExtras kNone;
+  return id >= 0 && size_t(id) < extras_.size() ? extras_[size_t(id)] : kNone;
 }
 
 const std::filesystem::path& MaterialLibraries::folder_of(int id) const {
@@ -293,15 +286,15 @@ void MaterialLibraries::load(const std::filesystem::path& library, std::vector<t
                              std::map<std::string, int>* by_name, std::string* warn, std::string* err) {
   std::ifstream in(library, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::map<std::string, MtlPlacements> placements;
-  std::istringstream mended(mend_mtl(text, library, warnings_, placements));
+  std::map<std::string, MtlExtras> extras;
+  std::istringstream mended(mend_mtl(text, library, warnings_, extras));
   const size_t before = materials->size();
   tinyobj::LoadMtl(by_name, materials, &mended, warn, err);
   folder_.resize(materials->size(), obj_dir_);
-  placements_.resize(materials->size());
+  extras_.resize(materials->size());
   for (size_t id = before; id < materials->size(); ++id) {
     folder_[id] = library.parent_path();
-    if (const auto it = placements.find((*materials)[id].name); it != placements.end()) placements_[id] = it->second;
+    if (const auto it = extras.find((*materials)[id].name); it != extras.end()) extras_[id] = it->second;
   }
 }
 

@@ -30,13 +30,15 @@ struct LibraryRecord {
   std::string text;
 };
 
-// Where a material's maps lie (map_Kd's and norm's -s, -o and -clamp), in OBJ's uv space.
-struct MtlPlacements {
+// What mend_mtl reads of a material that tinyobjloader does not keep: where its maps lie
+// (map_Kd's and norm's -s, -o and -clamp, in OBJ's uv space) and which of `d` and `Tr` it gives.
+struct MtlExtras {
   MapPlacement color, normal;
-  // The material's transparency was given by `Tr` alone (no `d`): exporters write it both ways
-  // (1 - d as the specification says, or d as 3ds Max does), so the loader says how it read it.
-  bool transparency_by_tr = false;
-  bool operator==(const MtlPlacements&) const = default;
+  bool d = false, tr = false;
+  // The transparency given by `Tr` alone: exporters write it both ways (1 - d as the
+  // specification says, or d as 3ds Max does), so the loader says how it read it.
+  bool transparency_by_tr() const { return tr && !d; }
+  bool operator==(const MtlExtras&) const = default;
 };
 
 // The `mtllib` records of one OBJ file, read when tinyobjloader meets each.
@@ -52,8 +54,8 @@ class MaterialLibraries final : public tinyobj::MaterialReader {
 
   // The folder of the library that defined material `id` (the OBJ's folder for none).
   const std::filesystem::path& folder_of(int id) const;
-  // Where material `id`'s maps lie (the default placement for none).
-  const MtlPlacements& placements_of(int id) const;
+  // What mend_mtl read of material `id` (the defaults for none).
+  const MtlExtras& extras_of(int id) const;
   const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
@@ -65,7 +67,7 @@ class MaterialLibraries final : public tinyobj::MaterialReader {
   size_t next_ = 0;                              // the record of tinyobjloader's next call
   std::vector<std::filesystem::path> loaded_;    // the library files read
   std::vector<std::filesystem::path> folder_;    // per material id
-  std::vector<MtlPlacements> placements_;        // per material id
+  std::vector<MtlExtras> extras_;            // per material id
   std::vector<std::string> warnings_;
 };
 
@@ -78,13 +80,14 @@ std::filesystem::path find_named_file(const std::string& name, const std::filesy
 
 // MTL text as tinyobjloader should read it: a byte-order mark dropped, material names' blanks
 // kept (kNameBlank), and each map statement pelt draws (map_Kd, norm, bump, map_Bump) reduced to
-// its file name, after its options are read at their arities. The placement map_Kd's and
-// norm's -s, -o and -clamp give goes to `placements`, by material name as tinyobjloader reads
-// it (the first material of a name, as tinyobjloader's `usemtl` finds it). What pelt cannot
-// honour (a turbulent map, -t) and a map statement naming no file are added to `warnings`,
-// naming `library`'s file name; a value that is not a finite number, or a scale of 0, throws
-// InputError naming `library`, the line and the option.
+// its file name, after its options are read at their arities, and each `d` and `Tr` to its value
+// (`d -halo f` to f, a comment dropped). The placement map_Kd's and norm's -s, -o and -clamp
+// give, and which of `d` and `Tr` a material gives, go to `extras`, by material name as
+// tinyobjloader reads it (the first material of a name, as tinyobjloader's `usemtl` finds it).
+// What pelt cannot honour (a turbulent map, -t, a halo) and a map statement naming no file are
+// added to `warnings`, naming `library`'s file name; a value that is not a finite number, or a
+// scale of 0, throws InputError naming `library`, the line and the option.
 std::string mend_mtl(const std::string& text, const std::filesystem::path& library, std::vector<std::string>& warnings,
-                     std::map<std::string, MtlPlacements>& placements);
+                     std::map<std::string, MtlExtras>& extras);
 
 }  // namespace pelt::io::detail

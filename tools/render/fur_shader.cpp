@@ -46,9 +46,21 @@ void FurShader::sample_color_maps(const raster::FragmentBatch& b, float* const m
   // map sampled at its own lanes alone. A block may hold lanes of two maps (triangles of one
   // layer sharing an edge across a material border); each lane's level of detail is still its
   // block's, so a lane samples as it would with its map alone.
-  for (size_t i = 0; i < n; ++i) {
-    const uint32_t p = b.primitive[i] + s_.primitive_offset;
-    s.lane_map[i] = s_.fins ? (quad_map_ ? quad_map_[p / 2] : kNoFurColorMap) : s_.face_color_map[p % s_.base_faces];
+  for (uint32_t k = 0; k < b.blocks; ++k) {
+    const uint32_t* prim = b.primitive + size_t{k} * raster::kBlockLanes;
+    uint32_t* lane = s.lane_map + size_t{k} * raster::kBlockLanes;
+    if (s_.fins) {
+      for (uint32_t l = 0; l < raster::kBlockLanes; ++l)
+        lane[l] = quad_map_ ? quad_map_[(prim[l] + s_.primitive_offset) / 2] : kNoFurColorMap;
+      continue;
+    }
+    // A block's lanes lie on one layer (shade's runs): one division a block finds its first
+    // triangle, and a lane's base face is its triangle less that.
+    const uint32_t first = (prim[0] + s_.primitive_offset) / s_.base_faces * s_.base_faces;
+    for (uint32_t l = 0; l < raster::kBlockLanes; ++l) {
+      const uint32_t face = prim[l] + s_.primitive_offset - first;
+      lane[l] = face < s_.base_faces ? s_.face_color_map[face] : kNoFurColorMap;  // an uncovered lane's
+    }
   }
   for (int c = 0; c < 4; ++c) std::fill_n(map[c], n, 1.0f);  // a face of no map: times 1
   // The maps the batch's lanes take, each once: a mesh of many materials samples only those.

@@ -26,15 +26,10 @@ void write_front(const SceneDir& dir, Alpha alpha) {
 
 const std::string kUnlitWhite = R"({"type": "unlit", "color": [1, 1, 1]})";
 
-// Mesh file `mesh` of dir seen from +z, unlit.
+// Mesh file `mesh` of dir seen from +z, unlit, with nearest texels where the scene's quality holds.
 io::Scene mesh_scene(const SceneDir& dir, const std::string& mesh, const std::string& material = kUnlitWhite,
                      const std::string& object_extra = "") {
-  return dir.scene(R"({"pelt": 1, "image": {"width": 64, "height": 64, "background": [0, 0, 0]},
-      "camera": {"eye": [0, 0, 4], "target": [0, 0, 0], "fovy_deg": 40},
-      "lights": [{"type": "ambient", "intensity": 1}],
-      "quality": {"filter": "nearest"},
-      "objects": [{"mesh": ")" + (dir.path() / mesh).string() + R"(",
-                   "material": )" + material + object_extra + "}]}");
+  return front_view_scene(dir, mesh, material, object_extra, R"("filter": "nearest")");
 }
 
 io::Scene quads_scene(const SceneDir& dir, const std::string& front, const std::string& material = kUnlitWhite,

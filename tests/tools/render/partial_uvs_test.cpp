@@ -44,10 +44,7 @@ void write_files(const SceneDir& dir, const std::string& obj) {
 
 io::Scene quads_scene(const SceneDir& dir, const std::string& mesh, const std::string& object_extra = "",
                       const std::string& material = R"({"type": "unlit", "color": [1, 1, 1]})") {
-  return dir.scene(R"({"pelt": 1, "image": {"width": 64, "height": 64, "background": [0, 0, 0]},
-      "camera": {"eye": [0, 0, 4], "target": [0, 0, 0], "fovy_deg": 40},
-      "lights": [{"type": "ambient", "intensity": 1}],
-      "objects": [{"mesh": ")" + (dir.path() / mesh).string() + R"(", "material": )" + material + object_extra + "}]}");
+  return front_view_scene(dir, mesh, material, object_extra);
 }
 
 struct Counts {

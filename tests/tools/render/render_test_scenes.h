@@ -84,6 +84,19 @@ class SceneDir : public io::TempDir {
   io::Scene scene(const std::string& json) const { return io::parse_scene(json, path() / "scene.json"); }
 };
 
+// Mesh file `mesh` of `dir` seen from (0, 0, 4) down -z, 40 degrees, in a 64 x 64 black frame
+// under a unit ambient light: the view of the tests of meshes' materials (two quads of
+// two_quads_gltf.h and their OBJ twins). `quality`: the members of the scene's quality block.
+inline io::Scene front_view_scene(const SceneDir& dir, const std::string& mesh, const std::string& material,
+                                  const std::string& object_extra = "", const std::string& quality = "") {
+  return dir.scene(R"({"pelt": 1, "image": {"width": 64, "height": 64, "background": [0, 0, 0]},
+      "camera": {"eye": [0, 0, 4], "target": [0, 0, 0], "fovy_deg": 40},
+      "lights": [{"type": "ambient", "intensity": 1}],)" +
+                   (quality.empty() ? std::string() : R"("quality": {)" + quality + "},") +
+                   R"("objects": [{"mesh": ")" + (dir.path() / mesh).string() + R"(", "material": )" + material +
+                   object_extra + "}]}");
+}
+
 // Frame 0 of `scene` at quality `q`.
 inline FrameImage render_at(const io::Scene& scene, const io::Quality& q, int threads = 2,
                             FurLighting lighting = FurLighting::vertex) {

@@ -8,7 +8,10 @@
 # the 10-million-input sweeps while compiling in about half the time of -O2; benchmarks
 # are built too, so a change that breaks them is caught. The test files themselves compile at
 # -O0 (PELT_TEST_CODE_FLAGS, tests/CMakeLists.txt): a quarter less compile time for the suite,
-# about the same run time. The libFuzzer targets need clang
+# about the same run time. Each test binary runs as a few GoogleTest shards, not a process per
+# case (PELT_TEST_SHARDS, tests/CMakeLists.txt): the same cases in about half the time; a
+# failing shard's log names its failed cases, and `ctest -R binary_name` runs one binary's
+# shards. The libFuzzer targets need clang
 # and run separately (tools/fuzz.sh, docs/robustness.md).
 #   PELT_TEST_JOBS   build and ctest parallelism (default: nproc)
 #   PELT_TEST_BUILD  build folder (default: build-test)
@@ -19,7 +22,7 @@ jobs=${PELT_TEST_JOBS:-$(nproc)}
 build=${PELT_TEST_BUILD:-build-test}
 
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1" \
-  -DPELT_SANITIZE=address,undefined -DPELT_TEST_CODE_FLAGS=-O0
+  -DPELT_SANITIZE=address,undefined -DPELT_TEST_CODE_FLAGS=-O0 -DPELT_TEST_SHARDS=ON
 cmake --build "$build" -j"$jobs"
 # ASan's leak checker and UBSan both end the process with an error; halt_on_error makes
 # ASan stop at the first report so the failing test names the cause.

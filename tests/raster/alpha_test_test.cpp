@@ -141,7 +141,9 @@ TEST(AlphaTest, KeptFragmentsAreStoredOpaque) {
     const uint32_t draw = (img.id[p] - 1) / 300, prim = (img.id[p] - 1) % 300;
     ASSERT_EQ(img.color[4 * p + 0], float(prim % 7) / 7.0f) << p;
     ASSERT_EQ(img.color[4 * p + 2], float(draw) / 4.0f) << p;
-    if (draw == 1 || draw == 2) ASSERT_EQ(img.color[4 * p + 3], 1.0f) << p;  // plain draws store their alpha
+    if (draw == 1 || draw == 2) {
+      ASSERT_EQ(img.color[4 * p + 3], 1.0f) << p;  // plain draws store their alpha
+    }
   }
 }
 

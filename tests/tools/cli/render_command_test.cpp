@@ -12,73 +12,17 @@
 
 #include <sys/stat.h>
 
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/tools/cli/render_command_fixture.h"
 #include "tests/tools/cli/run_pelt.h"
 #include "tools/io/image_io.h"
-#include "tools/render/overdraw_heatmap.h"
 
 namespace pelt::cli_test {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A small animated scene: the camera orbits, the key light dims.
-std::string animated_scene(int frames) {
-  return R"({
-  "pelt": 1,
-  "image": {"width": 48, "height": 36, "background": [0.1, 0.1, 0.1]},
-  "camera": {"eye": [0, 2, 6], "target": [0, 0, 0], "fovy_deg": 45, "near": 0.5, "far": 30},
-  "lights": [
-    {"type": "directional", "direction": [0.3, 0.8, 0.5], "intensity": 1},
-    {"type": "ambient", "intensity": 0.2}
-  ],
-  "objects": [
-    {"mesh": "box:3", "transform": {"rotate_deg": [10, 20, 0]}, "material": {"type": "lambert", "color": [0.8, 0.5, 0.3]}},
-    {"mesh": "plane:2", "transform": {"translate": [0, -1.5, 0], "scale": 4}, "material": {"type": "lambert"}}
-  ],
-  "animation": {"frames": )" + std::to_string(frames) + R"(, "fps": 12,
-    "camera": {"orbit": {"azimuth_deg": {"keys": [{"frame": 0, "value": 0}, {"frame": )" + std::to_string(frames - 1) + R"(, "value": 120}]}}},
-    "lights": [{"light": 0, "intensity": {"interpolation": "smooth", "keys": [{"frame": 0, "value": 1.5}, {"frame": )" +
-         std::to_string(frames - 1) + R"(, "value": 0.3}]}}]}
-})";
-}
-
-struct RenderCommand : ::testing::Test {
-  TempDir dir;
-  fs::path scene;
-  void SetUp() override { scene = dir.write("shot.json", animated_scene(8)); }
-  Result pelt(std::vector<std::string> args) {
-    args.insert(args.begin(), {"render", scene.string()});
-    return run_pelt(args, dir.path());
-  }
-  std::string frame_file(const std::string& folder, int k) {
-    char name[32];
-    std::snprintf(name, sizeof name, "f_%03d.png", k);
-    return read_text(dir.path() / folder / name);
-  }
-  // Starts a render of 20000 tiny frames (still running when a signal comes) to `out` and waits
-  // until `ready()`: by then its signal handler is installed. False when pelt ended first.
-  bool start_long_render(const fs::path& out, const std::function<bool()>& ready, Child& c) {
-    const fs::path long_scene = dir.write("long.json", animated_scene(20000));
-    c = start_pelt({"render", long_scene.string(), "-o", out.string(), "--width", "8", "--height", "8", "--threads", "1"},
-                   dir.path());
-    int status = 0;
-    pid_t ended = 0;
-    while (!ready() && (ended = ::waitpid(c.pid, &status, WNOHANG)) == 0)
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    return ended == 0;
-  }
-  // The regular files in `folder`, sorted.
-  std::vector<std::string> files(const std::string& folder) {
-    std::vector<std::string> out;
-    for (const auto& e : fs::directory_iterator(dir.path() / folder)) out.push_back(e.path().filename().string());
-    std::sort(out.begin(), out.end());
-    return out;
-  }
-};
 
 TEST_F(RenderCommand, FrameAloneEqualsFrameInRange) {
   const Result range = pelt({"-o", (dir.path() / "seq/f_###.png").string(), "--frames", "0:7", "--threads", "2"});
@@ -874,40 +818,6 @@ TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
   EXPECT_TRUE(!fs::exists(dir.path() / "out") || files("out").empty());
 }
 
-TEST_F(RenderCommand, PngSequenceAndGifReadBack) {
-  const Result seq = pelt({"-o", (dir.path() / "seq/f_###.png").string(), "--frames", "2:6", "--width", "40",
-                           "--height", "30", "-q"});
-  ASSERT_EQ(seq.code, 0) << seq.err;
-  const std::vector<std::string> names = files("seq");
-  EXPECT_EQ(names, (std::vector<std::string>{"f_002.png", "f_003.png", "f_004.png", "f_005.png", "f_006.png"}));
-  for (const std::string& n : names) {
-    auto in = OIIO::ImageInput::open((dir.path() / "seq" / n).string());
-    ASSERT_TRUE(in) << n;
-    EXPECT_EQ(in->spec().width, 40);
-    EXPECT_EQ(in->spec().height, 30);
-  }
-
-  const fs::path gif = dir.path() / "anim/shot.gif";
-  const Result g = pelt({"-o", gif.string(), "-q"});
-  ASSERT_EQ(g.code, 0) << g.err;
-  auto in = OIIO::ImageInput::open(gif.string());
-  ASSERT_TRUE(in) << OIIO::geterror();
-  int subimages = 0;
-  while (in->seek_subimage(subimages, 0)) {
-    EXPECT_EQ(in->spec().width, 48);
-    EXPECT_EQ(in->spec().height, 36);
-    // 12 fps: a delay of 8 centiseconds per frame.
-    int rational[2] = {0, 0};
-    EXPECT_TRUE(in->spec().getattribute("FramesPerSecond", OIIO::TypeRational, rational));
-    EXPECT_EQ(rational[0], 100);
-    EXPECT_EQ(rational[1], 8);
-    ++subimages;
-  }
-  EXPECT_EQ(subimages, 8);
-  for (const auto& e : fs::directory_iterator(gif.parent_path()))
-    EXPECT_EQ(e.path().filename(), "shot.gif");  // no temporary left
-}
-
 TEST_F(RenderCommand, StatsListEveryRenderedFrame) {
   const fs::path stats = dir.path() / "logs" / "shot" / "stats.json";  // folders made for it, as for -o
   const Result r = pelt({"-o", (dir.path() / "s/f_#.exr").string(), "--frames", "3:5", "--stats", stats.string(), "-q"});
@@ -925,70 +835,6 @@ TEST_F(RenderCommand, StatsListEveryRenderedFrame) {
     EXPECT_TRUE(wrote) << f.dump();
   }
   EXPECT_TRUE(fs::exists(dir.path() / "s/f_5.exr"));
-}
-
-// --aov overdraw: per pixel, the translucent fragments that passed the depth test, as 32-bit
-// unsigned TIFF or float EXR (over the frame they add up to the stats' fragments_blended), or as
-// a heat map in a PNG.
-TEST_F(RenderCommand, OverdrawCountsTheBlendedFragments) {
-  const fs::path fur = dir.write("fur.json", R"({"pelt": 1,
-  "image": {"width": 96, "height": 72},
-  "camera": {"eye": [3.5, 2.5, 5.0], "target": [0, 0, 0]},
-  "lights": [{"type": "directional", "direction": [0.3, 0.8, 0.5]}],
-  "objects": [{"mesh": "box:3", "material": {"type": "lambert"},
-               "fur": {"shells": 8, "texture_size": 32, "fins": "all"}}]})");
-  auto read = [&](const fs::path& p, OIIO::TypeDesc type, auto& pixels) {
-    auto in = OIIO::ImageInput::open(p.string());
-    ASSERT_TRUE(in) << p << ": " << OIIO::geterror();
-    ASSERT_EQ(in->spec().nchannels, 1) << p;
-    pixels.resize(size_t(in->spec().width) * in->spec().height);
-    ASSERT_TRUE(in->read_image(0, 0, 0, 1, type, pixels.data())) << p;
-  };
-  const fs::path stats = dir.path() / "od.json";
-  Result r = run_pelt({"render", fur.string(), "-o", (dir.path() / "od.tif").string(), "--aov", "overdraw",
-                       "--stats", stats.string(), "-q"},
-                      dir.path());
-  ASSERT_EQ(r.code, 0) << r.err;
-  r = run_pelt({"render", fur.string(), "-o", (dir.path() / "od.exr").string(), "--aov", "overdraw", "-q"}, dir.path());
-  ASSERT_EQ(r.code, 0) << r.err;
-  std::vector<uint32_t> counts;
-  std::vector<float> floats;
-  read(dir.path() / "od.tif", OIIO::TypeDesc::UINT32, counts);
-  read(dir.path() / "od.exr", OIIO::TypeDesc::FLOAT, floats);
-  ASSERT_EQ(counts.size(), size_t(96 * 72));
-  ASSERT_EQ(floats.size(), counts.size());
-  uint64_t sum = 0;
-  for (size_t i = 0; i < counts.size(); ++i) {
-    EXPECT_EQ(float(counts[i]), floats[i]) << i;
-    sum += counts[i];
-  }
-  const nlohmann::json j = nlohmann::json::parse(read_text(stats));
-  EXPECT_EQ(sum, j["frames"][0]["raster"]["fragments_blended"].get<uint64_t>());
-  EXPECT_EQ(j["frames"][0]["raster"]["exact_passes"].get<uint64_t>(), 0u);  // the tile sort
-  EXPECT_GT(*std::max_element(counts.begin(), counts.end()), 8u);  // shells and fins pile up
-  EXPECT_GT(std::count(counts.begin(), counts.end(), 0u), 0);       // the background has none
-  // Under the exact sort: a pass a tile that holds anything (of 2 x 2 tiles of 64), each holding
-  // at most the fragments blended.
-  const fs::path exact_stats = dir.path() / "exact.json";
-  r = run_pelt({"render", fur.string(), "-o", (dir.path() / "exact.png").string(), "--sort", "exact", "--stats",
-                exact_stats.string(), "-q"},
-               dir.path());
-  ASSERT_EQ(r.code, 0) << r.err;
-  const nlohmann::json e = nlohmann::json::parse(read_text(exact_stats))["frames"][0]["raster"];
-  EXPECT_GE(e["exact_passes"].get<uint64_t>(), 1u);
-  EXPECT_LE(e["exact_passes"].get<uint64_t>(), 4u);
-  EXPECT_GT(e["exact_fragments_peak"].get<uint64_t>(), 0u);
-  EXPECT_LE(e["exact_fragments_peak"].get<uint64_t>(), e["fragments_blended"].get<uint64_t>());
-
-  // A PNG is the counts' picture (render::heatmap_rgb8), pixel for pixel.
-  r = run_pelt({"render", fur.string(), "-o", (dir.path() / "od.png").string(), "--aov", "overdraw", "-q"}, dir.path());
-  ASSERT_EQ(r.code, 0) << r.err;
-  auto in = OIIO::ImageInput::open((dir.path() / "od.png").string());
-  ASSERT_TRUE(in) << OIIO::geterror();
-  ASSERT_EQ(in->spec().nchannels, 3);
-  std::vector<uint8_t> picture(counts.size() * 3);
-  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, picture.data()));
-  EXPECT_EQ(picture, render::heatmap_rgb8(counts));
 }
 
 // A --stats path that cannot be written is refused before the first frame, not after the

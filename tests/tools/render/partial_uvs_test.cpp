@@ -25,13 +25,16 @@ std::string two_quads_obj(bool back_uvs, bool front_uvs, bool with_mtl = true) {
   s += "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n";
   s += "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
   const auto quad = [](int first, bool uvs) {
+    // Appended piece by piece: GCC 12's -Wstringop-overflow misreads `"/" + std::to_string(..)` here.
     std::string f = "f";
-    for (int k = 0; k < 4; ++k)
-      f += " " + std::to_string(first + k) + (uvs ? "/" + std::to_string(k + 1) : std::string());
-    return f + "\n";
+    for (int k = 0; k < 4; ++k) {
+      f.append(" ").append(std::to_string(first + k));
+      if (uvs) f.append("/").append(std::to_string(k + 1));
+    }
+    return f.append("\n");
   };
-  s += (with_mtl ? "usemtl back\n" : "") + quad(1, back_uvs);
-  s += (with_mtl ? "usemtl front\n" : "") + quad(5, front_uvs);
+  s.append(with_mtl ? "usemtl back\n" : "").append(quad(1, back_uvs));
+  s.append(with_mtl ? "usemtl front\n" : "").append(quad(5, front_uvs));
   return s;
 }
 

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "tools/cli/commands.h"
+#include "tools/cli/huge_page_malloc.h"
 #include "tools/cli/parse_errors.h"
 #include "tools/io/input_error.h"
 
@@ -59,6 +60,7 @@ std::string empty_list_item(CLI::App& app, int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  pelt::cli::restart_with_huge_page_malloc(argv);
   CLI::App app{"pelt: tiled SIMD rasterizer for fur and skin"};
   app.set_version_flag("--version", std::string("pelt ") + PELT_VERSION, "Print pelt's version and exit");
   app.require_subcommand(1);

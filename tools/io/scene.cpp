@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "raster/clip.h"
 #include "tools/io/animation_block.h"
 #include "tools/io/input_error.h"
 #include "tools/io/json_fields.h"
@@ -80,8 +81,16 @@ Camera parse_camera(const JsonFields& js, const json& j, const std::string& path
   if (const json* v = JsonFields::find(j, "up")) c.up = js.direction(*v, json_child(path, "up"));
   if (const json* v = JsonFields::find(j, "fovy_deg"))
     c.fovy_deg = static_cast<float>(js.number_in(*v, json_child(path, "fovy_deg"), 0.0, 180.0, true, true));
-  if (const json* v = JsonFields::find(j, "near"))
-    c.near = static_cast<float>(js.number_in(*v, json_child(path, "near"), 0.0, 1e30, true));
+  if (const json* v = JsonFields::find(j, "near")) {
+    const double near = js.number_in(*v, json_child(path, "near"), 0.0, 1e30, true);
+    c.near = static_cast<float>(near);
+    // The rasterizer keeps no vertex nearer the eye than raster::kMinW (its floor on clip w, which
+    // keeps 1/w within a float's planes): with a nearer plane, what lies between would vanish
+    // without a word.
+    if (near < raster::kMinW)
+      js.fail(json_child(path, "near"), "must be at least 1e-06, the nearest view depth pelt draws, got " +
+                                            v->dump() + " (scale the scene up instead)");
+  }
   if (const json* v = JsonFields::find(j, "far"))
     c.far = static_cast<float>(js.number_in(*v, json_child(path, "far"), 0.0, 1e30, true));
   if (!(c.far > c.near))

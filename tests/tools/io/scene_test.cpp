@@ -296,6 +296,11 @@ TEST_F(SceneFixture, OutOfRange) {
 // where its intensity would keep the product in range.
 TEST_F(SceneFixture, RangeEdgesAndRequiredDirection) {
   expect_error(edited("\"far\": 50", "\"far\": 0.5"), "camera.far", "must be greater than near");
+  // The rasterizer keeps no vertex nearer than raster::kMinW: a nearer plane would let what lies
+  // between vanish (until 2026-11-28 a plane of 3e-7 at 9e-7 from the eye drew nothing, exit 0).
+  expect_error(edited("\"near\": 0.5", "\"near\": 3e-8"), "camera.near",
+               "must be at least 1e-06, the nearest view depth pelt draws, got 3e-08");
+  EXPECT_EQ(load_scene(write_scene(edited("\"near\": 0.5", "\"near\": 1e-6"))).camera.near, 1e-6f);
   expect_error(edited("\"direction\": [0, 0, 2], ", ""), "lights[0].direction", "required field is missing");
   expect_error(edited("\"background\": [0.1, 0.2, 0.3, 1.0]", "\"background\": [0.1, -0.2, 0.3, 1.0]"),
                "image.background[1]", "must be >= 0");

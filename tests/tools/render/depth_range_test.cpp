@@ -12,9 +12,9 @@ namespace {
 
 std::string box_with_depth_range(const char* near, const char* far) {
   return std::string(R"({"pelt": 1, "image": {"width": 128, "height": 96, "background": [0, 0, 0]},
-      "camera": {"eye": [0.3, 0.4, 5], "target": [0, 0, 0], "near": )") +
+      "camera": {"eye": [3, 4, 50], "target": [0, 0, 0], "near": )") +
          near + R"(, "far": )" + far + R"(},
-      "objects": [{"mesh": "box:2", "material": {"type": "unlit", "color": [1, 1, 1]}}]})";
+      "objects": [{"mesh": "box:2", "transform": {"scale": 10}, "material": {"type": "unlit", "color": [1, 1, 1]}}]})";
 }
 
 size_t lit_pixels(const std::string& json, std::vector<std::string>& warnings) {
@@ -33,13 +33,14 @@ size_t lit_pixels(const std::string& json, std::vector<std::string>& warnings) {
 
 TEST(DepthRange, ASurfaceBeyondTheDepthReachIsDrawnAndTheSceneWarned) {
   std::vector<std::string> usual_warnings, tiny_warnings;
-  const size_t usual = lit_pixels(box_with_depth_range("0.1", "100"), usual_warnings);
-  const size_t tiny = lit_pixels(box_with_depth_range("1e-7", "100"), tiny_warnings);
+  // The nearest plane a scene may have (raster::kMinW), its reach 2^24 x 1e-6 short of the box.
+  const size_t usual = lit_pixels(box_with_depth_range("1", "1000"), usual_warnings);
+  const size_t tiny = lit_pixels(box_with_depth_range("1e-6", "1000"), tiny_warnings);
   EXPECT_GT(usual, 3000u);
   EXPECT_EQ(tiny, usual);  // before kClearDepth: 0, the box gone
   EXPECT_TRUE(usual_warnings.empty());
   ASSERT_EQ(tiny_warnings.size(), 1u);
-  EXPECT_NE(tiny_warnings[0].find("(camera.near): surfaces farther than about 1.68 scene units (2^24 x near) all take "
+  EXPECT_NE(tiny_warnings[0].find("(camera.near): surfaces farther than about 16.8 scene units (2^24 x near) all take "
                                   "the far plane's depth"),
             std::string::npos)
       << tiny_warnings[0];

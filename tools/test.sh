@@ -10,8 +10,8 @@
 # -O0 (PELT_TEST_CODE_FLAGS, tests/CMakeLists.txt): a quarter less compile time for the suite,
 # about the same run time. Each test binary runs as a few GoogleTest shards, not a process per
 # case (PELT_TEST_SHARDS, tests/CMakeLists.txt): the same cases in about half the time; a
-# failing shard's log names its failed cases, and `ctest -R binary_name` runs one binary's
-# shards. The libFuzzer targets need clang
+# failing shard's log shows each case it ran and its failures, and `ctest -R binary_name` runs
+# one binary's shards. The libFuzzer targets need clang
 # and run separately (tools/fuzz.sh, docs/robustness.md).
 #   PELT_TEST_JOBS   build and ctest parallelism (default: nproc)
 #   PELT_TEST_BUILD  build folder (default: build-test)

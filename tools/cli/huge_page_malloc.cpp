@@ -1,13 +1,32 @@
 #include "tools/cli/huge_page_malloc.h"
 
 #include <charconv>
+#include <climits>
 #include <cstdlib>
 #include <fstream>
 
 #include <gnu/libc-version.h>
+#include <sys/auxv.h>
 #include <unistd.h>
 
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define PELT_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define PELT_ASAN 1
+#endif
+
 namespace pelt::cli {
+namespace {
+
+// Set for the restarted process only: GLIBC_TUNABLES as it was before ("" when unset), given
+// back at once, so the programs pelt starts (the plot's Python) see the user's environment, and
+// so the restart happens once even where glibc drops the tunable (a setuid binary).
+constexpr const char* kRestartedFrom = "PELT_GLIBC_TUNABLES_BEFORE_RESTART";
+
+}  // namespace
 
 std::optional<std::string> huge_page_tunables(const char* present, std::string_view kernel_modes,
                                               std::string_view glibc_version) {
@@ -27,21 +46,37 @@ std::optional<std::string> huge_page_tunables(const char* present, std::string_v
 }
 
 void restart_with_huge_page_malloc(char** argv) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(PELT_ASAN)
   (void)argv;
+  (void)kRestartedFrom;
 #else
+  if (const char* before = std::getenv(kRestartedFrom)) {  // this is the restarted process
+    if (*before) ::setenv("GLIBC_TUNABLES", before, 1);
+    else ::unsetenv("GLIBC_TUNABLES");
+    ::unsetenv(kRestartedFrom);
+    return;
+  }
+  // Not for a setuid binary (glibc ignores the tunable there), nor when the dynamic loader was
+  // run as the program (`ld.so ./pelt`: /proc/self/exe is the loader).
+  if (::getauxval(AT_SECURE) != 0 || ::getauxval(AT_BASE) == 0) return;
   const char* present = std::getenv("GLIBC_TUNABLES");
   std::ifstream f("/sys/kernel/mm/transparent_hugepage/enabled");
   std::string modes;
   std::getline(f, modes);
   const std::optional<std::string> with = huge_page_tunables(present, modes, gnu_get_libc_version());
   if (!with) return;
-  const std::optional<std::string> saved = present ? std::optional<std::string>(present) : std::nullopt;
-  if (::setenv("GLIBC_TUNABLES", with->c_str(), 1) != 0) return;
-  ::execv("/proc/self/exe", argv);
-  // No /proc (a bare chroot), or the binary is gone: run as it is, the environment as it was.
-  if (saved) ::setenv("GLIBC_TUNABLES", saved->c_str(), 1);
+  // The binary's own path, so the process keeps its name (`pelt`, not `exe`, for ps and pgrep);
+  // a binary replaced since it started ("... (deleted)") fails the exec, and pelt runs as it is.
+  char self[PATH_MAX];
+  const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
+  if (n <= 0) return;
+  self[n] = '\0';
+  const std::string saved = present ? present : "";
+  if (::setenv(kRestartedFrom, saved.c_str(), 1) != 0) return;
+  if (::setenv("GLIBC_TUNABLES", with->c_str(), 1) == 0) ::execv(self, argv);
+  if (present) ::setenv("GLIBC_TUNABLES", saved.c_str(), 1);
   else ::unsetenv("GLIBC_TUNABLES");
+  ::unsetenv(kRestartedFrom);
 #endif
 }
 

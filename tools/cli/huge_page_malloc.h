@@ -21,7 +21,9 @@ std::optional<std::string> huge_page_tunables(const char* present, std::string_v
                                               std::string_view glibc_version);
 
 // Executes this program again with those tunables, or returns: nothing to do, a sanitized build
-// (whose allocator is not glibc's), or the restart failed (pelt then runs as it is).
+// (whose allocator is not glibc's), a setuid binary, a program started by running the dynamic
+// loader, or the restart failed (pelt then runs as it is). The restarted process gives
+// GLIBC_TUNABLES back its value at once: only its own malloc, set up at its start, keeps it.
 void restart_with_huge_page_malloc(char** argv);
 
 }  // namespace pelt::cli

@@ -13,6 +13,7 @@
 #include "tools/cli/huge_page_malloc.h"
 #include "tools/cli/parse_errors.h"
 #include "tools/io/input_error.h"
+#include "tools/io/output_file.h"
 
 namespace {
 
@@ -87,13 +88,20 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "pelt: error: %s\n", pelt::cli::explain_parse_error(app, argc, argv, e).c_str());
     return 2;
   }
+  // A run that fails takes back the output folders it made and left empty.
   try {
     for (auto& [sub, run] : runs)
-      if (sub->parsed()) return run();
+      if (sub->parsed()) {
+        const int code = run();
+        if (code != 0) pelt::io::remove_created_folders();
+        return code;
+      }
   } catch (const pelt::io::InputError& e) {
+    pelt::io::remove_created_folders();
     std::fprintf(stderr, "pelt: error: %s\n", e.what());
     return 2;
   } catch (const std::exception& e) {
+    pelt::io::remove_created_folders();
     std::fprintf(stderr, "pelt: internal error: %s\n", e.what());
     return 1;
   }

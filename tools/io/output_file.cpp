@@ -1,5 +1,6 @@
 #include "tools/io/output_file.h"
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cerrno>
@@ -41,6 +42,17 @@ struct TempSlot {
 std::array<TempSlot, kTempSlots> g_temp_slots;
 std::atomic<pid_t> g_temp_writer_child{0};
 static_assert(std::atomic<pid_t>::is_always_lock_free, "read in a signal handler");
+
+// The folders prepare_output made, shallowest first, for a run that ends before writing into
+// them: remove_created_folders takes back those still empty (rmdir removes nothing else).
+// Fixed storage as above; a folder past the slots is left, as before.
+constexpr int kFolderSlots = 16;
+struct FolderSlot {
+  std::atomic<bool> live{false};  // `path` is complete
+  char path[kTempPathBytes];
+};
+std::array<FolderSlot, kFolderSlots> g_folder_slots;
+std::atomic<int> g_folder_count{0};
 
 // TempCreation's gate. Sequentially consistent on both sides (a section counts itself in, then
 // reads g_ending; the handler sets g_ending, then reads the count): either the section sees the
@@ -160,6 +172,12 @@ void remove_temp_files_in_signal_handler() {
   }
   for (TempSlot& slot : g_temp_slots)
     if (slot.live.load(std::memory_order_acquire)) ::unlink(slot.path);
+  remove_created_folders();
+}
+
+void remove_created_folders() {
+  for (int i = std::min(g_folder_count.load(), kFolderSlots) - 1; i >= 0; --i)
+    if (g_folder_slots[size_t(i)].live.load(std::memory_order_acquire)) ::rmdir(g_folder_slots[size_t(i)].path);
 }
 
 OutputNames::OutputNames(const std::vector<std::filesystem::path>& inputs, std::string run) : run_(std::move(run)) {
@@ -261,7 +279,24 @@ void prepare_output(const std::filesystem::path& path, const std::string& field)
     return;
   }
   const std::filesystem::path dir = folder_of(path);
-  std::filesystem::create_directories(dir, ec);
+  {
+    // The folders this makes are listed in the same section as they are made, so a signal
+    // ending the run finds each one it made listed (and takes it back if still empty).
+    std::vector<std::filesystem::path> missing;  // deepest first
+    for (std::filesystem::path p = dir; !p.empty() && !std::filesystem::exists(p, ec); p = p.parent_path()) {
+      missing.push_back(p);
+      if (p == p.parent_path()) break;
+    }
+    const TempCreation creating;
+    std::filesystem::create_directories(dir, ec);
+    for (auto it = missing.rbegin(); !ec && it != missing.rend(); ++it) {
+      const std::string& name = it->native();
+      const int i = g_folder_count.fetch_add(1);
+      if (i >= kFolderSlots || name.size() >= kTempPathBytes) continue;
+      std::memcpy(g_folder_slots[size_t(i)].path, name.c_str(), name.size() + 1);
+      g_folder_slots[size_t(i)].live.store(true, std::memory_order_release);
+    }
+  }
   if (ec) throw InputError(file, field, "cannot create folder " + dir.string() + ": " + ec.message());
   // Creating the temporary is the test that counts: permissions, a read-only file system and
   // a full inode table all show here, as they would at the end of the run.

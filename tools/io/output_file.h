@@ -78,11 +78,15 @@ class TempFile {
 };
 
 // Removes every live TempFile's file, after killing and reaping the child set by
-// set_temp_writer_child, which may be writing one; first it waits for every TempCreation in
-// flight on other threads, and bars new ones. Async-signal-safe (kill, waitpid, unlink and
-// poll only, no allocation, no locks): for a handler about to end the process, which must not
-// return after it.
+// set_temp_writer_child, which may be writing one, then the empty folders of
+// remove_created_folders; first it waits for every TempCreation in flight on other threads,
+// and bars new ones. Async-signal-safe (kill, waitpid, unlink, rmdir and poll only, no
+// allocation, no locks): for a handler about to end the process, which must not return after it.
 void remove_temp_files_in_signal_handler();
+// Removes the folders prepare_output made that are still empty, deepest first: for a run that
+// ends with an error or a signal before writing into them (remove_temp_files_in_signal_handler
+// calls it). Async-signal-safe (rmdir only).
+void remove_created_folders();
 // A child process writing into a TempFile (the tradeoff's plot script), while it runs; 0: none.
 // Spawn the child and set it inside one TempCreation, or a signal in between would miss it.
 void set_temp_writer_child(pid_t pid);

@@ -276,6 +276,36 @@ TEST_F(RenderCommand, ASecondSignalLeavesNoTemporaryBehind) {
   EXPECT_FALSE(fs::exists(out / "a.gif"));
 }
 
+// A run that fails, or that a signal ends, before writing into the folders it made for its
+// outputs takes them back (until 2026-11-28 they stayed, empty); folders that were there stay.
+TEST_F(RenderCommand, ARunThatFailsTakesBackTheFoldersItMade) {
+  dir.write("afile", "");
+  const fs::path blocked = dir.path() / "afile" / "f.png";  // its folder is a regular file
+  const Result r = pelt({"-o", blocked.string(), "--frame", "0", "--stats", (dir.path() / "st/deep/s.json").string(), "-q"});
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("-o: cannot create folder"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "st")) << "the --stats folder made for the run stayed";
+  fs::create_directories(dir.path() / "kept");
+  const Result k = pelt({"-o", blocked.string(), "--frame", "0", "--stats", (dir.path() / "kept/s.json").string(), "-q"});
+  EXPECT_EQ(k.code, 2) << k.err;
+  EXPECT_TRUE(fs::is_directory(dir.path() / "kept"));
+
+  // A benchmark stops at once on a signal: its --json folder, made before the frames, goes too.
+  const fs::path json = dir.path() / "bench/deep/fps.json";
+  Child c = start_pelt({"bench", "fps", "--scenes", "box", "--threads", "1", "--width", "64", "--height", "48",
+                        "--frames", "100000", "--json", json.string()},
+                       dir.path());
+  int status = 0;
+  pid_t ended = 0;
+  while (!fs::exists(json.parent_path()) && (ended = ::waitpid(c.pid, &status, WNOHANG)) == 0)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ASSERT_EQ(ended, 0) << "pelt ended before it made the folder: " << read_text(c.err);
+  ::kill(c.pid, SIGINT);
+  const Result b = wait_child(c);
+  EXPECT_EQ(b.code, 128 + SIGINT) << b.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "bench")) << "the --json folder made for the run stayed";
+}
+
 // A furry box in wind, still (no animation block) or animated at `fps`.
 std::string windy_box(const std::string& wind, const std::string& animation) {
   return R"({"pelt": 1, "image": {"width": 40, "height": 30},

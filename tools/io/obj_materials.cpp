@@ -117,16 +117,39 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
                      std::map<std::string, MtlExtras>& extras) {
   std::string_view rest(text);
   if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);
-  std::string out, material, key;
+  std::string out, material, key, joined;
   out.reserve(rest.size());
-  size_t line_number = 0;
-  while (!rest.empty()) {
-    size_t end = rest.find_first_of("\r\n");
-    std::string_view line = rest.substr(0, end);
+  size_t lines_read = 0;
+  const auto next_line = [&] {
+    const size_t end = rest.find_first_of("\r\n");
+    const std::string_view line = rest.substr(0, end);
     rest.remove_prefix(end == std::string_view::npos ? rest.size() : end);
     if (!rest.empty() && rest.front() == '\r') rest.remove_prefix(1);
     if (!rest.empty() && rest.front() == '\n') rest.remove_prefix(1);
-    ++line_number;
+    ++lines_read;
+    return line;
+  };
+  // A statement whose last character (before trailing blanks) is `\` goes on in the next line,
+  // as the OBJ specification has it for both files (tinyobjloader would take the `\` for a word:
+  // `map_Kd \` named the file `\`). A comment line never goes on; a `\` on the last line is
+  // dropped. A statement is named by its first line.
+  const auto continued = [](std::string_view line) {
+    const size_t last = line.find_last_not_of(" \t");
+    const size_t first = line.find_first_not_of(" \t");
+    return last != std::string_view::npos && line[last] == '\\' && line[first] != '#';
+  };
+  while (!rest.empty()) {
+    std::string_view line = next_line();
+    const size_t line_number = lines_read;
+    if (continued(line)) {
+      joined.assign(line);
+      while (continued(joined)) {
+        joined.resize(joined.find_last_not_of(" \t"));  // the `\` and the blanks after it
+        if (rest.empty()) break;
+        joined.append(" ").append(next_line());
+      }
+      line = joined;
+    }
     const std::vector<std::string_view> w = words(line);
     if (w.empty() || w[0].front() == '#') {
       out.append(line).push_back('\n');

@@ -331,6 +331,32 @@ TEST(ObjExports, TransparencyValuesAreChecked) {
                            "silhouette, and blends it by the value alone");
 }
 
+// An MTL statement continued by `\` on the next line, as an OBJ record is (until 2026-11-28
+// tinyobjloader took the `\` for a word: `map_Kd \` named the file `\`); an error in it is named
+// by its first line, and a `\` on the last line continues into nothing.
+TEST(ObjExports, MtlStatementsContinueOverLines) {
+  TempDir dir;
+  dir.write("tex.png", "");
+  // The comment's `\` continues nothing: the `d` after it is read.
+  dir.write("m.mtl", "newmtl m\nmap_Kd -s 2 2 \\\n   tex.png\n# a comment \\\nd \\  \n0.5\nKd 1 1 1 \\");
+  const LoadedMesh l = load_mesh_file(dir.write("m.obj", joined({"mtllib m.mtl", kQuad + "usemtl m", "f 1/1 2/2 3/3"})));
+  EXPECT_EQ(l.color_map().path, (dir.path() / "tex.png").string());
+  EXPECT_EQ(l.color_map().placement.m[0], 2.0f);
+  ASSERT_EQ(l.maps.size(), 1u);
+  EXPECT_EQ(l.maps[0].alpha_mode, AlphaMode::blend);
+  EXPECT_EQ(l.maps[0].alpha_factor, 0.5f);
+  EXPECT_TRUE(l.warnings.empty()) << ::testing::PrintToString(l.warnings);
+
+  dir.write("bad.mtl", "newmtl m\nKd 1 1 1\nd \\\n  half\n");
+  try {
+    load_mesh_file(dir.write("bad.obj", joined({"mtllib bad.mtl", kQuad + "usemtl m", "f 1/1 2/2 3/3"})));
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field, "line 3 `d`") << e.what();
+    EXPECT_EQ(e.reason, "`half` is not a finite number") << e.what();
+  }
+}
+
 // A file whose libraries define maps but whose faces name no material draws none: said so.
 TEST(ObjExports, LibrariesWithMapsButNoUsemtlAreNamed) {
   TempDir dir;

@@ -704,6 +704,16 @@ void FillEmptyTile(const FrameView& frame, int32_t tx0, int32_t ty0) {
   }
 }
 
+// Room for at least n elements, exactly n when the vector must grow and nothing copied (its
+// elements are dropped then): the exact sort's lists hold at most the cap, which a vector grown
+// by doubling could pass by half again.
+template <class T>
+void ReserveExactly(std::vector<T>& v, size_t n) {
+  if (v.capacity() >= n) return;
+  v.clear();
+  v.reserve(n);
+}
+
 // SortMode::Exact: each pixel's fragments, farthest first (submission order among equal
 // depths), composited src-over onto the opaque result. Called per tile, after pass 3.
 //
@@ -718,10 +728,7 @@ void CompositeExact(TileScratch& s) {
   s.pixel_start.assign(kTilePixels + 1, 0);
   for (const auto& f : s.fragments) ++s.pixel_start[f.pixel + 1];
   for (uint32_t p = 0; p < kTilePixels; ++p) s.pixel_start[p + 1] += s.pixel_start[p];
-  if (s.by_pixel.capacity() < count) {  // exactly, and nothing copied: a doubled list could pass the cap
-    s.by_pixel.clear();
-    s.by_pixel.reserve(count);
-  }
+  ReserveExactly(s.by_pixel, count);
   s.by_pixel.resize(count);
   s.pixel_next.assign(s.pixel_start.begin(), s.pixel_start.end() - 1);
   for (const auto& f : s.fragments) s.by_pixel[s.pixel_next[f.pixel]++] = f;
@@ -802,15 +809,9 @@ void ExactPasses(const FrameView& frame, TileScratch& s, int32_t tx0, int32_t ty
     const uint64_t box = uint64_t(b.c1 - b.c0 + 1) * uint64_t(b.r1 - b.r0 + 1) * kBlockLanes;
     total += std::min(box, CentreBound(t));
   }
-  // The list reserved to what the pass may hold, at most the cap: grown by doubling it could pass
-  // the cap by half again.
-  const auto reserve = [&](uint64_t n) {
-    if (s.fragments.capacity() >= n) return;
-    s.fragments.clear();
-    s.fragments.reserve(size_t(n));
-  };
+  // The list reserved to what the pass may hold, at most the cap.
   if (total <= cap) {
-    reserve(total);
+    ReserveExactly(s.fragments, size_t(total));
     return pass(s.block_valid, 0, 0, kSide - 1, kSide - 1);
   }
   uint64_t bound[kBlocksPerTile] = {};
@@ -828,7 +829,7 @@ void ExactPasses(const FrameView& frame, TileScratch& s, int32_t tx0, int32_t ty
       });
     });
   }
-  reserve(std::min<uint64_t>(total, cap));
+  ReserveExactly(s.fragments, size_t(std::min<uint64_t>(total, cap)));
   if (total <= cap) return pass(s.block_valid, 0, 0, kSide - 1, kSide - 1);
   uint64_t row[kSide] = {};
   for (int b = 0; b < kBlocksPerTile; ++b) row[b / kSide] += bound[b];

@@ -88,22 +88,18 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "pelt: error: %s\n", pelt::cli::explain_parse_error(app, argc, argv, e).c_str());
     return 2;
   }
-  // A run that fails takes back the output folders it made and left empty.
+  int code = 1;
   try {
     for (auto& [sub, run] : runs)
-      if (sub->parsed()) {
-        const int code = run();
-        if (code != 0) pelt::io::remove_created_folders();
-        return code;
-      }
+      if (sub->parsed()) code = run();
   } catch (const pelt::io::InputError& e) {
-    pelt::io::remove_created_folders();
     std::fprintf(stderr, "pelt: error: %s\n", e.what());
-    return 2;
+    code = 2;
   } catch (const std::exception& e) {
-    pelt::io::remove_created_folders();
     std::fprintf(stderr, "pelt: internal error: %s\n", e.what());
-    return 1;
+    code = 1;
   }
-  return 1;
+  // A run that fails takes back the output folders it made and left empty.
+  if (code != 0) pelt::io::remove_created_folders();
+  return code;
 }

@@ -284,10 +284,8 @@ bool continues(const std::string& line) {
   return !text.empty() && text.back() == '\\';
 }
 
-// One record of the file: its lines joined where `\` continues them, the byte-order mark dropped
-// from the file's first line. `lines`: how many of the file's lines it took; `mended`: set
-// when the record is not the file's text as tinyobjloader would read it. A `\` on the file's
-// last line continues into nothing and is dropped.
+}  // namespace
+
 bool read_record(std::istream& in, std::string& record, size_t& lines, bool first, bool& mended) {
   if (!read_line(in, record)) return false;
   lines = 1;
@@ -308,6 +306,8 @@ bool read_record(std::istream& in, std::string& record, size_t& lines, bool firs
   }
   return true;
 }
+
+namespace {
 
 // What tinyobjloader calls its MaterialReader with for an `mtllib` record (`rest`: the text
 // after `mtllib `): its names split at blanks, `\` escaping the next character, and the first

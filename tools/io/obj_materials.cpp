@@ -115,41 +115,17 @@ std::filesystem::path find_named_file(const std::string& name, const std::filesy
 
 std::string mend_mtl(const std::string& text, const std::filesystem::path& library, std::vector<std::string>& warnings,
                      std::map<std::string, MtlExtras>& extras) {
-  std::string_view rest(text);
-  if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);
-  std::string out, material, key, joined;
-  out.reserve(rest.size());
-  size_t lines_read = 0;
-  const auto next_line = [&] {
-    const size_t end = rest.find_first_of("\r\n");
-    const std::string_view line = rest.substr(0, end);
-    rest.remove_prefix(end == std::string_view::npos ? rest.size() : end);
-    if (!rest.empty() && rest.front() == '\r') rest.remove_prefix(1);
-    if (!rest.empty() && rest.front() == '\n') rest.remove_prefix(1);
-    ++lines_read;
-    return line;
-  };
-  // A statement whose last character (before trailing blanks) is `\` goes on in the next line,
-  // as the OBJ specification has it for both files (tinyobjloader would take the `\` for a word:
-  // `map_Kd \` named the file `\`). A comment line never goes on; a `\` on the last line is
-  // dropped. A statement is named by its first line.
-  const auto continued = [](std::string_view line) {
-    const size_t last = line.find_last_not_of(" \t");
-    const size_t first = line.find_first_not_of(" \t");
-    return last != std::string_view::npos && line[last] == '\\' && line[first] != '#';
-  };
-  while (!rest.empty()) {
-    std::string_view line = next_line();
-    const size_t line_number = lines_read;
-    if (continued(line)) {
-      joined.assign(line);
-      while (continued(joined)) {
-        joined.resize(joined.find_last_not_of(" \t"));  // the `\` and the blanks after it
-        if (rest.empty()) break;
-        joined.append(" ").append(next_line());
-      }
-      line = joined;
-    }
+  std::string out, material, key;
+  out.reserve(text.size());
+  // Statements as OBJ records are read (read_record): continued by `\` on the next line (until
+  // 2026-11-28 tinyobjloader took the `\` for a word: `map_Kd \` named the file `\`), the
+  // byte-order mark dropped; a statement is named by its first line.
+  std::istringstream in(text);
+  std::string record;
+  size_t lines = 0;
+  bool mended = false;  // read_record's note for an OBJ; this text is always given as rewritten
+  for (size_t line_number = 1; read_record(in, record, lines, line_number == 1, mended); line_number += lines) {
+    const std::string_view line = record;
     const std::vector<std::string_view> w = words(line);
     if (w.empty() || w[0].front() == '#') {
       out.append(line).push_back('\n');

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <filesystem>
+#include <istream>
 #include <map>
 #include <optional>
 #include <string>
@@ -78,7 +79,14 @@ class MaterialLibraries final : public tinyobj::MaterialReader {
 std::filesystem::path find_named_file(const std::string& name, const std::filesystem::path& first,
                                       const std::filesystem::path& second);
 
-// MTL text as tinyobjloader should read it: a byte-order mark dropped, material names' blanks
+// One record of an OBJ or MTL file: its lines joined where `\` continues them (the OBJ
+// specification's rule; a comment line never goes on, a `\` before a trailing comment does), the
+// byte-order mark dropped from the file's first line (`first`). `lines`: how many of the file's
+// lines it took; `mended`: set when the record is not the file's text as tinyobjloader would read
+// it. A `\` on the file's last line continues into nothing and is dropped. (obj_loader.cpp)
+bool read_record(std::istream& in, std::string& record, size_t& lines, bool first, bool& mended);
+
+// MTL text as tinyobjloader should read it: statements read by read_record, material names' blanks
 // kept (kNameBlank), and each map statement pelt draws (map_Kd, norm, bump, map_Bump) reduced to
 // its file name, after its options are read at their arities, and each `d` and `Tr` to its value
 // (`d -halo f` to f, a comment dropped). The placement map_Kd's and norm's -s, -o and -clamp

@@ -506,7 +506,8 @@ size_t fur_base_vertex_count(const Mesh& mesh, const FurParams& params) {
 }
 
 std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams& params,
-                                             FurGeometry& out, std::span<const float> length_scale) {
+                                             FurGeometry& out, std::span<const float> length_scale,
+                                             std::span<const glm::vec2> map_uvs) {
   std::vector<glm::vec3> normals;
   StrandLayout layout;
   if (auto e = prepare(input, params, normals, out.bounds, layout)) return e;
@@ -541,7 +542,12 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   out.mesh_uvs.clear();
   out.length_scale.clear();
   out.bald_faces = 0;
-  if (params.use_color_map) {
+  if (!map_uvs.empty()) {
+    if (map_uvs.size() != input.positions.size())
+      return ParamError{"mesh.uvs", std::to_string(map_uvs.size()) + " map coordinates for " +
+                                        std::to_string(input.positions.size()) + " vertices"};
+    out.mesh_uvs = box ? gathered(map_uvs, layout.split.source) : std::vector<glm::vec2>(map_uvs.begin(), map_uvs.end());
+  } else if (params.use_color_map) {
     if (base.uvs.size() != N)
       return ParamError{"use_color_map", "the colour map is read at the mesh's texture coordinates, and this mesh has none"};
     out.mesh_uvs = base.uvs;

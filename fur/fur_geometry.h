@@ -97,8 +97,9 @@ struct FurGeometry {
   // to (1,2,3)); v = s / (S-1), 0 at the root, 1 at the tip.
   std::vector<glm::vec2> fin_uvs;
   std::vector<uint16_t> layer;  // s
-  // Per base vertex (size N), only with params.use_color_map: the mesh's own texture coordinate,
-  // where the colour map is read (the shell uvs are the strand texture's, scaled or projected).
+  // Per base vertex (size N), only with params.use_color_map or build_fur_geometry's map_uvs: the
+  // mesh's own texture coordinate, where the colour map (or a cut-out's alpha) is read (the shell
+  // uvs are the strand texture's, scaled or projected).
   std::vector<glm::vec2> mesh_uvs;
   // Per base vertex (size N), only with a length map: the scale of eq. 1's offsets (see
   // build_fur_geometry), and how many base faces grow no fur for it.
@@ -177,8 +178,13 @@ std::vector<glm::vec3> uv_comb_directions(const Mesh& base, const std::vector<gl
 // scales eq. 1's offsets per base vertex: vertex I = i + s N sits at base_v[i] + g[i] SL_D s
 // scale[i], the copies of one strand taking their mean scale. A face whose corners all have 0 grows
 // no shells (its shell triangles are points); a fin between two bare vertices has no height.
+// `map_uvs` (optional, one per mesh vertex): texture coordinates where the renderer reads a map
+// under the fur (a cut-out's alpha), kept as mesh_uvs whatever lays the strands, so a caller may
+// hand the fur a mesh without uvs (to lay its strands by the box mapping) and still read its maps.
+// Empty: mesh_uvs are base.uvs, and only under use_color_map.
 std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& params,
-                                             FurGeometry& out, std::span<const float> length_scale = {});
+                                             FurGeometry& out, std::span<const float> length_scale = {},
+                                             std::span<const glm::vec2> map_uvs = {});
 
 // The base vertex count build_fur_geometry would give (the mesh's own, or more under the box
 // mapping), for estimating memory before building; the mesh's own count when it would fail.

@@ -133,9 +133,11 @@ uint64_t image_texture_bytes(uint64_t texels, uint64_t file_bytes_per_texel) {
 
 // Object i's colour or normal map (`key`), sized from its header as the renderer will load
 // it (map_source), plus `extra` bytes that come with it; empty field when it has none.
+// `fur_cut`: the fur is cut out by the map's alpha, copied into an La8 texture of the map's size
+// (cut_alpha_texture), which comes with it.
 MemoryPart map_part(const io::Scene& scene, size_t i, const char* key, const std::string& noun,
                     const std::filesystem::path& from_scene, const io::TextureRef& named, uint64_t extra,
-                    const std::string& what_extra) {
+                    const std::string& what_extra, bool fur_cut = false) {
   MemoryPart p;
   const std::optional<MapSource> src = map_source(from_scene, named);
   if (!src) return p;
@@ -155,14 +157,21 @@ MemoryPart map_part(const io::Scene& scene, size_t i, const char* key, const std
   }
   p.what += ", " + std::to_string(width) + " x " + std::to_string(height) + " texels" + what_extra;
   p.field = object_field(i) + (src->named_by_mesh ? ".mesh" : ".material." + std::string(key));
-  p.bytes = sat_add(image_texture_bytes(uint64_t(width) * uint64_t(height), file_bytes_per_texel), extra);
+  const uint64_t texels = uint64_t(width) * uint64_t(height);
+  p.bytes = sat_add(image_texture_bytes(texels, file_bytes_per_texel), extra);
+  if (fur_cut) {  // the copy's level 0 as bytes, and its mip chain at 2 bytes a texel
+    p.bytes = sat_add(p.bytes, sat_add(sat_mul(texels, 2), mipmapped_rgba8(texels) / 2));
+    p.what += ", and its alpha for the fur's cut-out";
+  }
   p.kind = noun + "s";
   p.object = int(i);
   return p;
 }
 
+// `cut_by_map`: a part of the mesh is cut out by its colour map's alpha (alphaMode MASK), which the
+// fur reads at the mesh uvs as a colour map.
 void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, int threads, bool drawn,
-                   std::vector<MemoryPart>& parts, std::vector<MemoryPart>& frame_parts) {
+                   bool cut_by_map, std::vector<MemoryPart>& parts, std::vector<MemoryPart>& frame_parts) {
   const fur::FurParams& fp = *scene.objects[i].fur;
   std::string shells_field;
   const int shells = effective_shells(scene, i, shells_field);
@@ -189,9 +198,9 @@ void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, in
   uint64_t g = sat_mul(c.base_vertices, kFurBytesPerBaseVertex);
   g = sat_add(g, sat_mul(c.shell_vertices, kFurBytesPerVertex));
   if (fins) g = sat_add(g, sat_mul(c.shell_vertices, kFurBytesPerFinVertex));
-  // A colour map's mesh uv: two more varyings per fur vertex in the shell and fin arrays, and the
-  // mesh uvs per base vertex; a length map's scale per base vertex.
-  if (fp.use_color_map) {
+  // A colour map's or a cut-out's mesh uv: two more varyings per fur vertex in the shell and fin
+  // arrays, and the mesh uvs per base vertex; a length map's scale per base vertex.
+  if (fp.use_color_map || (cut_by_map && drawn)) {
     g = sat_add(g, sat_mul(c.shell_vertices, (fins ? 2 : 1) * FurMapUv::kCount * sizeof(float)));
     g = sat_add(g, sat_mul(c.base_vertices, sizeof(glm::vec2)));
   }
@@ -406,6 +415,13 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
     const MeshParts parts = mesh_parts(so, loaded);
     // Each image once, however many parts draw it (the renderer's load_map).
     std::set<MapImage> counted;
+    // The images whose alpha cuts the fur out (a MASK part's colour map, the fur drawn): each comes
+    // with its La8 copy, whichever part reads it first.
+    std::set<MapImage> cut_images;
+    for (const uint32_t k : parts.first_set)
+      if (const io::MeshMaps& set = loaded.set(k); so.fur && fur_drawn && set.alpha_mode == io::AlphaMode::mask)
+        if (const std::optional<MapSource> src = map_source(so.material.color_map, set.color_map))
+          cut_images.insert(map_image("color_map", *src, true));
     bool tangents_counted = false;
     for (const uint32_t k : parts.first_set) {
       const io::MeshMaps& set = loaded.set(k);
@@ -414,8 +430,11 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
         const std::optional<MapSource> src = map_source(from_scene, named);
         return src && counted.insert(map_image(key, *src, alpha)).second;
       };
+      const std::optional<MapSource> color = map_source(so.material.color_map, set.color_map);
+      const bool fur_cut = color && keeps_alpha(set) && cut_images.count(map_image("color_map", *color, true)) > 0;
       if (once("color_map", so.material.color_map, set.color_map, keeps_alpha(set)))
-        e.parts.push_back(map_part(scene, i, "color_map", "colour map", so.material.color_map, set.color_map, 0, ""));
+        e.parts.push_back(
+            map_part(scene, i, "color_map", "colour map", so.material.color_map, set.color_map, 0, "", fur_cut));
       // A normal map brings the four tangent-frame varyings per vertex, and the frames.
       if (once("normal_map", so.material.normal_map, set.normal_map, false)) {
         const uint64_t tangents = tangents_counted ? 0 : sat_mul(uint64_t(m.positions.size()), 2 * 4 * sizeof(float));
@@ -446,7 +465,13 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
                            sat_add(raster_bytes(draw_vertices, m.triangle_count()),
                                    sat_mul(kObjectBytes, uint64_t(parts.count()))),
                            std::string(kSetupsKind), int(i)});
-    if (so.fur) add_fur_parts(scene, meshes[i], i, threads, fur_drawn, e.parts, frame_parts);
+    if (so.fur) {
+      const bool cut_by_map = std::any_of(parts.first_set.begin(), parts.first_set.end(), [&](uint32_t k) {
+        const io::MeshMaps& set = loaded.set(k);
+        return set.alpha_mode == io::AlphaMode::mask && map_source(so.material.color_map, set.color_map).has_value();
+      });
+      add_fur_parts(scene, meshes[i], i, threads, fur_drawn, cut_by_map, e.parts, frame_parts);
+    }
     if (!so.fur_length_map.empty()) {  // read as floats and sampled once, then freed
       const std::string field = object_field(i) + ".fur.length_map";
       const io::ImageHeader h = asked_by("in " + field + " of " + scene.file.string(),

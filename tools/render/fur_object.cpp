@@ -95,9 +95,23 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
                     [&](uint32_t m) { return m != kNoFurColorMap && m >= color_maps_.size(); }))
       throw std::invalid_argument("FurObject: face_color_map must give each base face one of the colour maps, or none");
   }
+  cut_maps_ = options.cut_maps;
+  face_cut_map_ = options.face_cut_map;
+  if (!cut_maps_.empty() &&
+      (!(face_cut_map_.empty() ? cut_maps_.size() == 1 : face_cut_map_.size() == base.triangle_count()) ||
+       std::any_of(face_cut_map_.begin(), face_cut_map_.end(),
+                   [&](uint32_t m) { return m != kNoFurCut && m >= cut_maps_.size(); })))
+    throw std::invalid_argument("FurObject: face_cut_map must give each base face one of the cut-outs, or none");
+  const bool cut_by_map =
+      std::any_of(cut_maps_.begin(), cut_maps_.end(), [](const FurCutMap& c) { return c.map.texture != nullptr; });
+  mesh_uvs_ = !color_maps_.empty() || cut_by_map;
+  const std::vector<glm::vec2>& map_uvs = options.map_uvs.empty() ? base.uvs : options.map_uvs;
+  if (cut_by_map && map_uvs.size() != base.positions.size())
+    throw std::invalid_argument("FurObject: a cut-out's map needs one texture coordinate per mesh vertex");
   {
     StageTimer t(setup, "fur_geometry");
-    if (auto e = fur::build_fur_geometry(base, params, geo_, options.length_scale))
+    if (auto e = fur::build_fur_geometry(base, params, geo_, options.length_scale,
+                                         cut_by_map ? std::span<const glm::vec2>(map_uvs) : std::span<const glm::vec2>()))
       throw_fur_error(origin, e->field, e->reason);
   }
   if (options.textures) {
@@ -133,7 +147,7 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
   tangents_.resize(v);
   wind_forces_.resize(geo_.base_vertex_count);
   const int vc = (lighting_ == FurLighting::pixel ? FurPixelVaryings::kCount : FurVaryings::kCount) +
-                 (color_maps_.empty() ? 0 : FurMapUv::kCount);
+                 (mesh_uvs_ ? FurMapUv::kCount : 0);
   shell_varyings_.resize(v * vc);
   if (fins_) {
     fin_varyings_.resize(v * vc);
@@ -157,7 +171,7 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
       fin_varyings_[i * vc + uv] = geo_.fin_uvs[i].x;
       fin_varyings_[i * vc + uv + 1] = geo_.fin_uvs[i].y;
     }
-  if (lighting_ == FurLighting::pixel && !color_maps_.empty()) write_mesh_uvs(vc);
+  if (lighting_ == FurLighting::pixel && mesh_uvs_) write_mesh_uvs(vc);
 }
 
 void FurObject::write_mesh_uvs(int stride) {
@@ -184,7 +198,8 @@ size_t FurObject::memory_bytes() const {
              bytes(gravity_pose_) + bytes(wind_pose_) + bytes(pose_) + bytes(tangents_) +
              bytes(shell_varyings_) + bytes(fin_varyings_) + bytes(fin_list_) + bytes(light_soa_.storage) +
              bytes(pose_clip_) + bytes(shell_keys_) + bytes(geo_.mesh_uvs) + bytes(geo_.length_scale) +
-             bytes(face_color_map_) + bytes(fin_quad_map_);
+             bytes(face_color_map_) + bytes(fin_quad_map_) + bytes(cut_maps_) + bytes(face_cut_map_) +
+             bytes(fin_quad_cut_);
   for (const raster::Texture& t : shell_tex_.layers) n += t.bytes();
   return n + fin_tex_.bytes();
 }
@@ -245,7 +260,7 @@ int FurObject::lighting_varying_count() const {
 }
 
 int FurObject::varying_count() const {
-  return lighting_varying_count() + (color_maps_.empty() ? 0 : FurMapUv::kCount);
+  return lighting_varying_count() + (mesh_uvs_ ? FurMapUv::kCount : 0);
 }
 
 void FurObject::rebuild_varyings() {
@@ -267,7 +282,7 @@ void FurObject::rebuild_varyings() {
     static_assert(FurGreyVaryings::kUv == FurVaryings::kUv && FurGreyVaryings::kDiffuse == FurVaryings::kDiffuse);
     const bool write_uvs = stride != uv_stride_;
     uv_stride_ = stride;
-    if (write_uvs && !color_maps_.empty()) write_mesh_uvs(stride);
+    if (write_uvs && mesh_uvs_) write_mesh_uvs(stride);
     for (size_t i = 0; i < count; ++i) {
       float* sv = shell_varyings_.data() + i * stride;
       if (write_uvs) {
@@ -315,9 +330,11 @@ void FurObject::rebuild_fin_list() {
   fin_list_.clear();
   fin_quad_weight_.clear();
   fin_quad_map_.clear();
-  const bool maps = !face_color_map_.empty();
+  fin_quad_cut_.clear();
+  const bool maps = !face_color_map_.empty(), cuts = !face_cut_map_.empty();
   auto add_map = [&](uint32_t e) {
     if (maps) fin_quad_map_.push_back(face_color_map_[geo_.edges[e].face0]);
+    if (cuts) fin_quad_cut_.push_back(face_cut_map_[geo_.edges[e].face0]);
   };
   auto quad = [&](uint32_t s, uint32_t e) -> const uint32_t* {
     return geo_.fin_indices.data() + (size_t{s} * edges + e) * 6;
@@ -330,6 +347,7 @@ void FurObject::rebuild_fin_list() {
     fin_list_.reserve(size_t{edges} * (layers - 1) * 6);
     fin_quad_weight_.reserve(size_t{edges} * (layers - 1));
     if (maps) fin_quad_map_.reserve(size_t{edges} * (layers - 1));
+    if (cuts) fin_quad_cut_.reserve(size_t{edges} * (layers - 1));
     fin_ends_.resize(layers);
     uint32_t* ends = fin_ends_.data();
     uint32_t count = layers - 1;
@@ -509,6 +527,9 @@ void FurObject::prepare_shaders(const std::vector<shading::Light>& lights, const
       su.color_maps = color_maps_.data();  // placed as the base surface reads them (MaterialShader)
       su.color_map_count = color_maps_.size();
       su.face_color_map = face_color_map_.empty() ? nullptr : face_color_map_.data();
+      su.cut_maps = cut_maps_.data();  // placed as the base surface reads them too
+      su.cut_map_count = cut_maps_.size();
+      su.face_cut_map = face_cut_map_.empty() ? nullptr : face_cut_map_.data();
       su.map_filter = filter_;
       shaders_.push_back(std::make_unique<FurShader>(su));
     }
@@ -522,6 +543,8 @@ void FurObject::prepare_shaders(const std::vector<shading::Light>& lights, const
     sh.set_fins(weight && sort == FurSort::layer && k % 2 == 1 ? weight + fin_segment_[k / 2] : weight);
     const uint32_t* quad_map = fin_quad_map_.empty() ? nullptr : fin_quad_map_.data();
     sh.set_fin_maps(quad_map && sort == FurSort::layer && k % 2 == 1 ? quad_map + fin_segment_[k / 2] : quad_map);
+    const uint32_t* quad_cut = fin_quad_cut_.empty() ? nullptr : fin_quad_cut_.data();
+    sh.set_fin_cuts(quad_cut && sort == FurSort::layer && k % 2 == 1 ? quad_cut + fin_segment_[k / 2] : quad_cut);
     sh.set_grey_lighting(grey_);
     sh.set_map_uv_slot(lighting_varying_count());
   }

@@ -62,6 +62,14 @@ struct FurDrawOptions {
   // untinted); a fin takes its edge's first face's.
   std::vector<FurColorMap> color_maps;
   std::vector<uint32_t> face_color_map;  // one per base face, or empty
+  // The cut-outs of the surface under the fur (its mesh file's alphaMode MASK parts): strands are
+  // not drawn where it is cut away. One and no face_cut_map: every face's. Otherwise base face f's
+  // is cut_maps[face_cut_map[f]], or none (kNoFurCut); a fin takes its edge's first face's.
+  std::vector<FurCutMap> cut_maps;
+  std::vector<uint32_t> face_cut_map;  // one per base face, or empty
+  // One per mesh vertex: the texture coordinates a cut-out's map is read at, for a caller that hands
+  // the fur its mesh without uvs (to lay the strands by the box mapping). Empty: the mesh's own.
+  std::vector<glm::vec2> map_uvs;
   // One per mesh vertex, in [0, 1] (fur.length_map, read by the caller): the fur's length there
   // as a fraction of params.length (fur::build_fur_geometry). Empty: the full length everywhere.
   std::vector<float> length_scale;
@@ -116,6 +124,8 @@ class FurObject {
   // With FurDrawOptions::face_color_map, each fin quad's colour map (its edge's first face's), in
   // the order of the fin draws' quads as of the last update(); otherwise empty.
   const std::vector<uint32_t>& fin_quad_maps() const { return fin_quad_map_; }
+  // Likewise each fin quad's cut-out with FurDrawOptions::face_cut_map.
+  const std::vector<uint32_t>& fin_quad_cuts() const { return fin_quad_cut_; }
   // Floats per vertex of the fur draws' varyings as of the last update().
   int varying_count() const;
   uint64_t triangles() const;
@@ -128,7 +138,8 @@ class FurObject {
   // The draws' shaders for the frame's sort (built when the sort changes) and their per-frame
   // inputs: lights, eye, fin weights.
   void prepare_shaders(const std::vector<shading::Light>& lights, const glm::vec3& eye);
-  // The lighting layout's own floats per vertex, before the mesh uv that a colour map adds.
+  // The lighting layout's own floats per vertex, before the mesh uv that a colour map or a
+  // cut-out's map adds.
   int lighting_varying_count() const;
   void rebuild_varyings();
   // The mesh uvs into both varying arrays' records of `stride` floats, as their last two.
@@ -148,6 +159,10 @@ class FurObject {
   std::vector<FurColorMap> color_maps_;  // read at the mesh uvs (FurMapUv) when any
   std::vector<uint32_t> face_color_map_;  // FurDrawOptions::face_color_map
   std::vector<uint32_t> fin_quad_map_;    // with face_color_map_: each fin quad's (its edge's face0's)
+  std::vector<FurCutMap> cut_maps_;       // FurDrawOptions::cut_maps
+  std::vector<uint32_t> face_cut_map_;    // FurDrawOptions::face_cut_map
+  std::vector<uint32_t> fin_quad_cut_;    // with face_cut_map_: each fin quad's (its edge's face0's)
+  bool mesh_uvs_ = false;  // a colour map or a cut-out's map is read at the mesh uvs (FurMapUv)
   int uv_stride_ = 0;  // the record stride the uvs in the varying arrays were written for (0: none yet)
   shading::FurLightParams light_params_;
   fur::FurGeometry geo_;

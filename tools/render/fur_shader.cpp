@@ -1,6 +1,8 @@
 #include "tools/render/fur_shader.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <vector>
 
 #include "raster/config.h"
 #include "shading/fur_vertex_lit.h"
@@ -25,6 +27,21 @@ thread_local Scratch tls_scratch;
 
 }  // namespace
 
+raster::Texture cut_alpha_texture(const raster::Texture& map, const raster::ParallelFor& parallel) {
+  const int w = map.width(), h = map.height();
+  std::vector<uint8_t> la(size_t(w) * size_t(h) * 2);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = (size_t(y) * size_t(w) + size_t(x)) * 2;
+      la[i] = uint8_t(map.texel(0, x, y) >> 24);
+      la[i + 1] = 255;
+    }
+  raster::Texture out;
+  if (const auto e = raster::Texture::from_la8(w, h, la.data(), out, parallel))
+    throw std::logic_error("cut_alpha_texture: " + e->message());  // the map's own size was accepted
+  return out;
+}
+
 void FurShader::set_view(const std::vector<shading::Light>& lights, const glm::vec3& eye) {
   lights_ = lights;
   eye_[0] = eye.x;
@@ -32,14 +49,20 @@ void FurShader::set_view(const std::vector<shading::Light>& lights, const glm::v
   eye_[2] = eye.z;
 }
 
-void FurShader::sample_color_maps(const raster::FragmentBatch& b, float* const map[4]) const {
+template <class MapAt>
+void FurShader::sample_face_maps(const raster::FragmentBatch& b, size_t count, const uint32_t* face_map,
+                                 const uint32_t* quad_map, uint32_t none, MapAt map_at, float* const out[4]) const {
   Scratch& s = tls_scratch;
   const size_t n = size_t{b.blocks} * raster::kBlockLanes;
   const float* u = b.varying[map_uv_slot_];
   const float* v = b.varying[map_uv_slot_ + 1];
-  if (!s_.face_color_map) {  // one map, every face's
-    sample_placed(*s_.color_maps[0].texture, s_.color_maps[0].placement, s_.map_filter, u, v, n, map,
-                  s_.double_precision, b.mask);
+  if (!face_map) {  // one map, every face's
+    const FurColorMap& m = map_at(0);
+    if (m.texture) {
+      sample_placed(*m.texture, m.placement, s_.map_filter, u, v, n, out, s_.double_precision, b.mask);
+    } else {
+      for (int c = 0; c < 4; ++c) std::fill_n(out[c], n, 1.0f);
+    }
     return;
   }
   // Per face: each lane's map from its face (a shell's base face, a fin quad's edge), then each
@@ -51,7 +74,7 @@ void FurShader::sample_color_maps(const raster::FragmentBatch& b, float* const m
     uint32_t* lane = s.lane_map + size_t{k} * raster::kBlockLanes;
     if (s_.fins) {
       for (uint32_t l = 0; l < raster::kBlockLanes; ++l)
-        lane[l] = quad_map_ ? quad_map_[(prim[l] + s_.primitive_offset) / 2] : kNoFurColorMap;
+        lane[l] = quad_map ? quad_map[(prim[l] + s_.primitive_offset) / 2] : none;
       continue;
     }
     // A block's lanes lie on one layer (shade's runs): one division a block finds its first
@@ -59,20 +82,22 @@ void FurShader::sample_color_maps(const raster::FragmentBatch& b, float* const m
     const uint32_t first = (prim[0] + s_.primitive_offset) / s_.base_faces * s_.base_faces;
     for (uint32_t l = 0; l < raster::kBlockLanes; ++l) {
       const uint32_t face = prim[l] + s_.primitive_offset - first;
-      lane[l] = face < s_.base_faces ? s_.face_color_map[face] : kNoFurColorMap;  // an uncovered lane's
+      lane[l] = face < s_.base_faces ? face_map[face] : none;  // an uncovered lane's
     }
   }
-  for (int c = 0; c < 4; ++c) std::fill_n(map[c], n, 1.0f);  // a face of no map: times 1
+  for (int c = 0; c < 4; ++c) std::fill_n(out[c], n, 1.0f);  // a face of no map: times 1
   // The maps the batch's lanes take, each once: a mesh of many materials samples only those.
   size_t present = 0;
   for (size_t i = 0; i < n; ++i) {
     const uint32_t m = s.lane_map[i];
-    if (m == kNoFurColorMap || (present > 0 && s.present[present - 1] == m)) continue;
+    if (m == none || (present > 0 && s.present[present - 1] == m)) continue;
     if (std::find(s.present, s.present + present, m) == s.present + present) s.present[present++] = m;
   }
   float* const part[4] = {s.part[0], s.part[1], s.part[2], s.part[3]};
   for (size_t j = 0; j < present; ++j) {
     const uint32_t m = s.present[j];
+    if (m >= count || !map_at(m).texture) continue;
+    const FurColorMap& map = map_at(m);
     bool any = false;
     for (uint32_t k = 0; k < b.blocks; ++k) {
       uint32_t bits = 0;
@@ -81,11 +106,32 @@ void FurShader::sample_color_maps(const raster::FragmentBatch& b, float* const m
       any |= s.mask[k] != 0;
     }
     if (!any) continue;
-    sample_placed(*s_.color_maps[m].texture, s_.color_maps[m].placement, s_.map_filter, u, v, n, part,
-                  s_.double_precision, s.mask);
+    sample_placed(*map.texture, map.placement, s_.map_filter, u, v, n, part, s_.double_precision, s.mask);
     for (int c = 0; c < 4; ++c)
       for (size_t i = 0; i < n; ++i)
-        if (s.lane_map[i] == m) map[c][i] = part[c][i];
+        if (s.lane_map[i] == m) out[c][i] = part[c][i];
+  }
+}
+
+void FurShader::apply_cuts(const raster::FragmentBatch& b, float* alpha) const {
+  Scratch& s = tls_scratch;
+  const size_t n = size_t{b.blocks} * raster::kBlockLanes;
+  float* const cut[4] = {s.map[0], s.map[1], s.map[2], s.map[3]};
+  sample_face_maps(b, s_.cut_map_count, s_.face_cut_map, quad_cut_, kNoFurCut,
+                   [&](uint32_t m) -> const FurColorMap& { return s_.cut_maps[m].map; }, cut);
+  // The surface's own test (MaterialShader): kept where the map's alpha (the luminance of
+  // cut_alpha_texture) times the factor reaches the cutoff. A lane of no cut-out, or of one
+  // without a map, reads 1.
+  const float* a = cut[0];
+  if (!s_.face_cut_map) {
+    const float f = s_.cut_maps[0].factor, cutoff = s_.cut_maps[0].cutoff;
+    for (size_t i = 0; i < n; ++i) alpha[i] = f * a[i] >= cutoff ? alpha[i] : 0.0f;
+    return;
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t m = s.lane_map[i];
+    if (m == kNoFurCut) continue;
+    alpha[i] = s_.cut_maps[m].factor * a[i] >= s_.cut_maps[m].cutoff ? alpha[i] : 0.0f;
   }
 }
 
@@ -141,7 +187,8 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
   if (s_.color_map_count > 0) {
     // Every channel of the strand texel (La8: all equal) times the map's colour under it.
     float* const map_out[4] = {s.map[0], s.map[1], s.map[2], s.map[3]};
-    sample_color_maps(b, map_out);
+    sample_face_maps(b, s_.color_map_count, s_.face_color_map, quad_map_, kNoFurColorMap,
+                     [&](uint32_t m) -> const FurColorMap& { return s_.color_maps[m]; }, map_out);
     for (int c = 0; c < 3; ++c)
       for (size_t i = 0; i < n; ++i) texel_out[c][i] *= s.map[c][i];
   }
@@ -150,6 +197,7 @@ void FurShader::shade(const raster::FragmentBatch& b) const {
     // two dependent loads a lane, this was about 1.5 % of a teapot:5 frame.)
     for (size_t i = 0; i < n; ++i) alpha[i] *= quad_weight_[(b.primitive[i] + s_.primitive_offset) / 2];
   }
+  if (s_.cut_map_count > 0) apply_cuts(b, alpha);
 
   // Colour = min(1, tint * texel): per block the layer's tint for the luminance shells, per lane
   // a tint from the fin's height v (root to tip) for the luminance fin.

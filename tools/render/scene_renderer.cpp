@@ -238,6 +238,24 @@ void refuse_uvless_fur(const io::Scene& scene, size_t index, bool color_map, siz
                            (without == 1 ? "has" : "have") + " none");
 }
 
+// The index of `item` in `list` (an entry `same` as it), appended when there is none.
+template <class T, class Same>
+uint32_t index_or_add(std::vector<T>& list, const T& item, Same same) {
+  const auto it = std::find_if(list.begin(), list.end(), [&](const T& e) { return same(e, item); });
+  if (it != list.end()) return uint32_t(it - list.begin());
+  list.push_back(item);
+  return uint32_t(list.size() - 1);
+}
+
+// Per base face, its part's entry of `of_part` (the fur's colour map or cut-out); empty when every
+// part has the same one, which then stands for every face.
+std::vector<uint32_t> per_face(const std::vector<uint32_t>& of_part, const MeshParts& parts, size_t triangles) {
+  if (std::all_of(of_part.begin(), of_part.end(), [&](uint32_t k) { return k == of_part[0]; })) return {};
+  std::vector<uint32_t> faces(triangles);
+  for (size_t t = 0; t < triangles; ++t) faces[t] = of_part[parts.triangle_part.empty() ? 0 : parts.triangle_part[t]];
+  return faces;
+}
+
 // Gives each part its triangles (split_mesh) with their own copies of the vertices they use:
 // positions, normals, uvs and the `vc` varyings of each.
 void copy_parts(const Mesh& m, const std::vector<float>& varyings, int vc, std::vector<PartSplit> split,
@@ -561,18 +579,39 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
           io::MapPlacement unused;
           const FurColorMap map{load_map(kColorMap, so.material.color_map, set.color_map, set.material, false, unused),
                                 part.desc.color_placement};
-          const auto same = std::find_if(fo.color_maps.begin(), fo.color_maps.end(), [&](const FurColorMap& m) {
-            return m.texture == map.texture && m.placement == map.placement;
+          map_of_part[p] = index_or_add(fo.color_maps, map, [](const FurColorMap& a, const FurColorMap& b) {
+            return a.texture == b.texture && a.placement == b.placement;
           });
-          map_of_part[p] = uint32_t(same - fo.color_maps.begin());
-          if (same == fo.color_maps.end()) fo.color_maps.push_back(map);
         }
-        if (std::any_of(map_of_part.begin(), map_of_part.end(), [&](uint32_t k) { return k != map_of_part[0]; })) {
-          fo.face_color_map.resize(m.triangle_count());
-          for (size_t t = 0; t < m.triangle_count(); ++t)
-            fo.face_color_map[t] = map_of_part[parts.triangle_part.empty() ? 0 : parts.triangle_part[t]];
-        }
+        fo.face_color_map = per_face(map_of_part, parts, m.triangle_count());
       }
+      // The fur is cut where its surface is (alphaMode MASK): each such part's map with its alpha,
+      // as the surface reads it, one cut-out per distinct test; per base face when not every part
+      // is cut alike.
+      std::vector<uint32_t> cut_of_part(parts.count(), kNoFurCut);
+      std::map<const raster::Texture*, const raster::Texture*> cut_alpha;  // each map's alpha copied once
+      for (size_t p = 0; p < parts.count(); ++p) {
+        const MaterialDesc& d = obj->parts[p].desc;
+        if (d.alpha_mode != io::AlphaMode::mask || !fo.textures) continue;  // fur not drawn: nothing to cut
+        const raster::Texture* alpha = nullptr;
+        if (d.color_map) {
+          const raster::Texture*& copy = cut_alpha[d.color_map];
+          if (!copy) {
+            StageTimer t(setup_stats_, "textures");
+            obj->textures.push_back(std::make_unique<raster::Texture>(cut_alpha_texture(*d.color_map, parallel)));
+            copy = obj->textures.back().get();
+          }
+          alpha = copy;
+        }
+        const FurCutMap cut{{alpha, d.color_placement}, d.alpha_factor, d.alpha_cutoff};
+        cut_of_part[p] = index_or_add(fo.cut_maps, cut, [](const FurCutMap& a, const FurCutMap& b) {
+          return a.map.texture == b.map.texture && (!a.map.texture || a.map.placement == b.map.placement) &&
+                 a.factor == b.factor && a.cutoff == b.cutoff;
+        });
+      }
+      fo.face_cut_map = per_face(cut_of_part, parts, m.triangle_count());
+      // Set aside for the strands' layout, the uvs are still where a cut-out's map is read.
+      if (!fo.cut_maps.empty() && uvless_faces > 0) fo.map_uvs = set_aside;
       if (!so.fur_length_map.empty()) {
         StageTimer t(setup_stats_, "textures");
         input_files_.push_back(so.fur_length_map);

@@ -17,6 +17,7 @@
 
 #include "fur/fur_geometry.h"
 #include "tests/tools/render/render_test_scenes.h"
+#include "tests/tools/render/two_quads_gltf.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/render/scene_renderer.h"
@@ -320,6 +321,50 @@ TEST(MemoryEstimate, TheFurMapsAreCounted) {
   RenderSettings rs;
   rs.threads = 1;
   const SceneRenderer r(both, meshes, rs);
+  EXPECT_GE(b.renderer_total(), r.memory_estimate());
+}
+
+// Fur over a cut-out (alphaMode MASK with a map) reads the map's alpha, copied, at the mesh uvs as a
+// colour map is read: the estimate counts the copy and the uvs, and still bounds what the renderer
+// holds. A cut by the factor alone reads no map and counts neither.
+TEST(MemoryEstimate, AFurCutOutsMeshUvsAreCounted) {
+  SceneDir dir;
+  const uint8_t texels[4 * 4] = {0, 255, 0, 0, 0, 255, 0, 255, 0, 255, 0, 255, 0, 255, 0, 0};
+  io::write_image_atomic(dir.path() / "front.png", 2, 2, 4, io::PixelType::u8, texels);
+  int files = 0;
+  auto scene = [&](const std::string& front) {
+    const std::string name = "quads" + std::to_string(files++) + ".gltf";
+    dir.write(name, test::two_quads_gltf(front));
+    return front_view_scene(dir, name, R"({"type": "lambert"})", R"(, "fur": {"shells": 8, "texture_size": 32})");
+  };
+  const std::string map = R"("pbrMetallicRoughness":{"baseColorTexture":{"index":0}})";
+  const io::Scene opaque = scene("{" + map + "}"), cut = scene(R"({"alphaMode":"MASK",)" + map + "}");
+  const io::Scene by_factor = scene(R"({"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.2]}})");
+  const MemoryEstimate a = estimate_memory(opaque, io::load_scene_meshes(opaque), 0, 0, 1, 1);
+  const MemoryEstimate b = estimate_memory(cut, io::load_scene_meshes(cut), 0, 0, 1, 1);
+  const MemoryEstimate c = estimate_memory(by_factor, io::load_scene_meshes(by_factor), 0, 0, 1, 1);
+  const auto fur_geometry = [](const MemoryEstimate& e) -> const MemoryPart& {
+    for (const MemoryPart& p : e.parts)
+      if (p.kind == "fur geometry") return p;
+    throw std::logic_error("no fur geometry part");
+  };
+  const std::string& what = fur_geometry(a).what;
+  const size_t at = what.find(" vertices");
+  ASSERT_NE(at, std::string::npos) << what;
+  const uint64_t vertices = std::stoull(what.substr(what.rfind(' ', at - 1) + 1)), base = vertices / 8;
+  EXPECT_EQ(fur_geometry(b).bytes - fur_geometry(a).bytes, vertices * 2 * 2 * sizeof(float) + base * 8);
+  EXPECT_EQ(fur_geometry(c).bytes, fur_geometry(a).bytes);
+  // The map comes with its alpha copied for the fur (cut_alpha_texture), 2 bytes a texel and levels.
+  const auto colour_map = [](const MemoryEstimate& e) -> const MemoryPart& {
+    for (const MemoryPart& p : e.parts)
+      if (p.kind == "colour maps") return p;
+    throw std::logic_error("no colour map part");
+  };
+  EXPECT_EQ(colour_map(b).bytes - colour_map(a).bytes, 4 * 2 + (4 * 4 * 4 / 3 + 4) / 2);
+  EXPECT_NE(colour_map(b).what.find("its alpha for the fur's cut-out"), std::string::npos) << colour_map(b).what;
+  RenderSettings rs;
+  rs.threads = 1;
+  const SceneRenderer r(cut, io::load_scene_meshes(cut), rs);
   EXPECT_GE(b.renderer_total(), r.memory_estimate());
 }
 

@@ -1,0 +1,139 @@
+// Fur on a surface that its mesh file cuts out (glTF alphaMode MASK) grows only where the surface
+// is kept: a strand rooted in a hole is not drawn, shells and fins alike (FurCutMap). Until
+// 2026-11-28 the fur grew over the holes, floating over nothing.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tests/tools/render/render_test_scenes.h"
+#include "tests/tools/render/two_quads_gltf.h"
+#include "tools/io/image_io.h"
+
+namespace pelt::render::test {
+namespace {
+
+// front.png: 4 x 4 green texels, alpha 0 in the left half (u < 0.5) and 1 in the right, or 0
+// everywhere.
+void write_front(const SceneDir& dir, bool all_cut) {
+  std::vector<uint8_t> px;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) px.insert(px.end(), {0, 255, 0, uint8_t(all_cut || x < 2 ? 0 : 255)});
+  io::write_image_atomic(dir.path() / "front.png", 4, 4, 4, io::PixelType::u8, px.data());
+}
+
+const std::string kFrontMask = R"({"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})";
+// The back quad cut away whole by its factor's alpha (no map: MaterialShader's alpha is the factor).
+const std::string kBackGone = R"({"name":"back","alphaMode":"MASK","pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0]}})";
+
+// The two quads of two_quads_gltf.h with `back` as material 0, furry, seen from the front in a
+// black frame. The maps are read trilinear (render_at's default quality): the cut's edge is blurred
+// over a texel's width either side of u = 0.5, cut where the alpha is under 0.5.
+io::Scene furry_quads(const SceneDir& dir, const std::string& back, bool back_uvs = true,
+                      const std::string& fur_extra = "") {
+  std::string gltf = two_quads_gltf(kFrontMask, back_uvs);
+  const std::string from = R"("materials":[{"name":"back"},)";
+  gltf.replace(gltf.find(from), from.size(), R"("materials":[)" + back + ",");
+  dir.write("quads.gltf", gltf);
+  return front_view_scene(dir, "quads.gltf", R"({"type": "lambert"})",
+                          R"(, "fur": {"shells": 6, "texture_size": 32, "density": 30, "fins": "all",
+                                       "root_color": [1, 0.2, 0.2], "tip_color": [1, 0.6, 0.6])" +
+                              fur_extra + "}");
+}
+
+const float* pixel(const FrameImage& img, int x, int y) { return &img.color[(size_t(y) * 64 + size_t(x)) * 4]; }
+bool black(const float* p) { return p[0] == 0.0f && p[1] == 0.0f && p[2] == 0.0f; }
+
+// Pixels of the front quad (columns 10-54 on screen, its left half u < 0.5 left of 32) that are
+// not black, in its left half away from the cut's edge, and in its right half.
+struct Lit {
+  int left = 0, right = 0;
+};
+Lit lit(const FrameImage& img) {
+  Lit l;
+  for (int y = 14; y < 50; ++y) {
+    for (int x = 13; x < 28; ++x) l.left += !black(pixel(img, x, y));
+    for (int x = 37; x < 52; ++x) l.right += !black(pixel(img, x, y));
+  }
+  return l;
+}
+
+// The back quad gone and the front's left half cut: nothing is drawn over the left half (the
+// surface, its shells and the fins of its diagonal edge cut alike), while the right half keeps
+// its surface and fur. Per-vertex and per-pixel lighting, one and two threads.
+TEST(FurCutOut, NoStrandGrowsInAHole) {
+  SceneDir dir;
+  write_front(dir, false);
+  const io::Scene s = furry_quads(dir, kBackGone);
+  for (const FurLighting lighting : {FurLighting::vertex, FurLighting::pixel}) {
+    const FrameImage one = render_at(s, {}, 1, lighting), two = render_at(s, {}, 2, lighting);
+    const Lit l = lit(two);
+    EXPECT_EQ(l.left, 0) << int(lighting);
+    EXPECT_EQ(l.right, 15 * 36) << int(lighting);
+    EXPECT_TRUE(same_pixels(one, two)) << int(lighting);
+  }
+}
+
+// The fur is there to be cut: the same scene without the MASK (the front quad opaque) draws fur
+// over the left half, redder than the green surface under it.
+TEST(FurCutOut, TheFurIsDrawnWhereNothingIsCut) {
+  SceneDir dir;
+  write_front(dir, false);
+  std::string gltf = two_quads_gltf(R"({"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})");
+  dir.write("quads.gltf", gltf);
+  const io::Scene bare = front_view_scene(dir, "quads.gltf", R"({"type": "lambert"})");
+  const io::Scene furry = front_view_scene(dir, "quads.gltf", R"({"type": "lambert"})",
+                                           R"(, "fur": {"shells": 6, "texture_size": 32, "density": 30,
+                                                        "root_color": [1, 0.2, 0.2], "tip_color": [1, 0.6, 0.6]})");
+  const FrameImage a = render_at(bare, {}), b = render_at(furry, {});
+  int redder = 0;
+  for (int y = 14; y < 50; ++y)
+    for (int x = 13; x < 28; ++x) redder += pixel(b, x, y)[0] > pixel(a, x, y)[0] + 0.05f;
+  EXPECT_GT(redder, 100);
+}
+
+// One cut for the whole mesh (both quads in one material, one part, so the fur takes one cut-out
+// and no per-face list), every texel cut: the frame is black, fur and all.
+TEST(FurCutOut, AMeshCutAwayWholeGrowsNoFur) {
+  SceneDir dir;
+  write_front(dir, true);
+  const io::Scene s = furry_quads(dir, R"({"name":"back",)" + kFrontMask.substr(1));
+  ASSERT_EQ(SceneRenderer(s, RenderSettings{}).maps_drawn(0).size(), 1u);  // one part
+  const FrameImage img = render_at(s, {});
+  for (size_t p = 0; p + 3 < img.color.size(); p += 4) ASSERT_TRUE(black(&img.color[p])) << p / 4;
+}
+
+// A mesh some of whose faces have no uvs lays its strands by the box mapping, the uvs set aside;
+// the cut-out is still read at them.
+TEST(FurCutOut, FacesWithoutUvsBesideDoNotLoseTheCut) {
+  SceneDir dir;
+  write_front(dir, false);
+  const io::Scene s = furry_quads(dir, kBackGone, false);
+  const Lit l = lit(render_at(s, {}));
+  EXPECT_EQ(l.left, 0);
+  EXPECT_EQ(l.right, 15 * 36);
+}
+
+// The cut follows the surface's own test: with alphaCutoff 0 nothing is cut (alpha 0 reaches 0),
+// so the left half's green surface has red fur over it again.
+TEST(FurCutOut, TheCutoffDecidesForTheFurToo) {
+  SceneDir dir;
+  write_front(dir, false);
+  std::string gltf = two_quads_gltf(R"({"alphaMode":"MASK","alphaCutoff":0,)"
+                                    R"("pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})");
+  const std::string from = R"("materials":[{"name":"back"},)";
+  gltf.replace(gltf.find(from), from.size(), R"("materials":[)" + kBackGone + ",");
+  dir.write("quads.gltf", gltf);
+  const io::Scene s = front_view_scene(dir, "quads.gltf", R"({"type": "lambert"})",
+                                       R"(, "fur": {"shells": 6, "texture_size": 32, "density": 30, "fins": "all",
+                                                    "root_color": [1, 0, 0], "tip_color": [1, 0, 0]})");
+  const FrameImage img = render_at(s, {});
+  int red = 0;
+  for (int y = 14; y < 50; ++y)
+    for (int x = 13; x < 28; ++x) red += pixel(img, x, y)[0] > 0.05f;
+  EXPECT_GT(red, 15 * 36 * 9 / 10);  // every strand kept: under half were with the cutoff read as exclusive
+}
+
+}  // namespace
+}  // namespace pelt::render::test

@@ -233,6 +233,12 @@ void sample_reference(const Texture& tex, const SamplerState& state, const float
                       const float* v, size_t lanes, double* const out[4],
                       const uint16_t* block_mask = nullptr);
 
+// Wrap::Mirror's fold of `n` texture coordinates into [0, 1]: |c| modulo 2, reflected about 1,
+// every step exact in float (so NaN and infinities give NaN). By a Highway kernel (sample() folds
+// a mirrored axis with it), bit for bit fold_mirror_reference, which folds one.
+void fold_mirror(const float* in, float* out, size_t n);
+float fold_mirror_reference(float c);
+
 // The LOD of the 4x4 block at u[0..16), v[0..16) as defined above, before the bias and clamp
 // (may be -inf for a zero derivative). For tests and for shaders that want to skip work.
 double block_lod(const float* u, const float* v, int width, int height);

@@ -470,6 +470,39 @@ TEST(TextureSampling, MirrorReadsTheTexelsOpenGlReflects) {
   });
 }
 
+// The mirror's fold kernel is its scalar reference bit for bit, on every target: random
+// coordinates of every scale and sign, and the hard ones (mirror lines, an ulp either side of
+// them, signed zeros, denormals, coordinates past 2^24 where every float is even, the largest
+// float, infinities and NaN, which fold to NaN), at counts that leave a partial last vector.
+TEST(TextureSampling, TheMirrorFoldKernelIsItsReference) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<float> c = {0.0f, -0.0f, 1.0f, -1.0f, 2.0f, -2.0f, 3.0f, 0.5f, 1.5f, -1.5f, FLT_MIN, -FLT_MIN,
+                          FLT_TRUE_MIN, 16777216.0f, 16777218.0f, 33554436.0f, -1e30f, FLT_MAX, -FLT_MAX, inf, -inf, nan};
+  for (const float m : {1.0f, 2.0f, 3.0f, 1024.0f, 65537.0f})
+    for (const float x : {m, -m}) c.insert(c.end(), {std::nextafter(x, -inf), std::nextafter(x, inf)});
+  std::mt19937 rng(1234);
+  for (int k = 0; k < 4000; ++k) {
+    const float scale = std::ldexp(1.0f, int(rng() % 60) - 30);
+    c.push_back(scale * (std::uniform_real_distribution<float>(-4.0f, 4.0f)(rng)));
+  }
+  for_each_target([&](const std::string& target) {
+    for (const size_t n : {c.size(), size_t{1}, size_t{7}, size_t{17}, size_t{33}}) {
+      std::vector<float> got(n, -7.0f);
+      fold_mirror(c.data(), got.data(), n);
+      for (size_t i = 0; i < n; ++i) {
+        const float want = fold_mirror_reference(c[i]);
+        if (std::isnan(want)) {
+          ASSERT_TRUE(std::isnan(got[i])) << target << " c " << c[i];
+        } else {
+          ASSERT_EQ(std::memcmp(&got[i], &want, sizeof want), 0) << target << " c " << c[i] << " got " << got[i]
+                                                                 << " want " << want;
+          ASSERT_TRUE(want >= 0.0f && want <= 1.0f) << c[i];
+        }
+      }
+    }
+  });
+}
+
 // A block that crosses a mirror line keeps the level of detail of its coordinates: trilinear
 // at 4 texels a pixel along u, across u = 1, samples exactly what it samples at the mirror image of the
 // block, 2 - u, and what bilinear samples on level 2 alone, not the sharper level that folded

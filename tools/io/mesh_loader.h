@@ -23,6 +23,9 @@ struct TextureRef {
   // Linear: sRGB-decoded for colour maps, as stored for normal maps; shared by the map sets
   // that draw one image.
   std::shared_ptr<const ImageRGBA> pixels;
+  // The files `pixels` were read from, when a loader read them (an OBJ's map_Kd and map_d): inputs
+  // an output may not overwrite.
+  std::vector<std::filesystem::path> files;
   MapPlacement placement;  // in the file's own uv space (OBJ: v from the bottom)
 
   bool present() const { return !path.empty() || pixels != nullptr; }
@@ -38,7 +41,7 @@ inline constexpr const char* kNoMaterial = "(no material)";
 // The maps and alpha a material of the file draws, as far as pelt reads a material: faces of
 // two materials naming the same maps (the same images, placed alike) and alpha share one set.
 struct MeshMaps {
-  TextureRef color_map;   // glTF baseColorTexture / OBJ map_Kd
+  TextureRef color_map;   // glTF baseColorTexture / OBJ map_Kd (with map_d: its alpha, io/dissolve_map.h)
   TextureRef normal_map;  // glTF normalTexture / OBJ norm (a bump map is only warned of)
   // The first material drawn with these maps, as the file names it, or kNoMaterial (messages).
   std::string material;

@@ -11,11 +11,13 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
 #include <tiny_obj_loader.h>
 
+#include "tools/io/dissolve_map.h"
 #include "tools/io/input_error.h"
 #include "tools/io/mesh_loader_detail.h"
 #include "tools/io/obj_materials.h"
@@ -535,8 +537,10 @@ std::string face_line(const std::filesystem::path& path, size_t face) {
 void take_material_maps(LoadedMesh& out, const std::vector<tinyobj::material_t>& materials,
                         const MaterialLibraries& libraries, const std::filesystem::path& dir,
                         const std::vector<char>& material_used, const std::vector<int>& triangle_material,
-                        size_t faces_without_material) {
+                        size_t faces_without_material, const Budget& budget) {
   std::vector<MeshMaps> sets_of(materials.size() + 1);  // by material id; the last: no material
+  // Each colour and dissolve pair read once: (map_Kd's file or none, map_d's, map_d's channel).
+  std::map<std::tuple<std::string, std::string, char>, std::shared_ptr<const ImageRGBA>> dissolved;
   sets_of.back().material = kNoMaterial;
   for (size_t id = 0; id < materials.size(); ++id) {
     if (!material_used[id]) continue;
@@ -555,6 +559,27 @@ void take_material_maps(LoadedMesh& out, const std::vector<tinyobj::material_t>&
     if (!mat.diffuse_texname.empty()) {
       set.color_map.path = find_named_file(mat.diffuse_texname, library_dir, dir);
       set.color_map.placement = placements.color;
+    }
+    if (!mat.alpha_texname.empty()) {
+      // `map_d` (a dissolve map) blends the faces by it, as its colour map's alpha (three.js's and
+      // Blender's importers blend by it too): one image of both, read here, each pair once.
+      const std::filesystem::path dissolve = find_named_file(mat.alpha_texname, library_dir, dir);
+      const bool colored = set.color_map.present();
+      std::shared_ptr<const ImageRGBA>& pixels =
+          dissolved[{colored ? set.color_map.path.string() : std::string(), dissolve.string(), placements.alpha_channel}];
+      if (!pixels)
+        pixels = std::make_shared<const ImageRGBA>(
+            dissolved_color_map(colored ? &set.color_map.path : nullptr, dissolve, placements.alpha_channel, budget));
+      if (colored && !(placements.alpha == placements.color))
+        out.warnings.push_back("material `" + shown_name(mat.name) + "` places `map_d " + mat.alpha_texname +
+                               "` otherwise than its `map_Kd` (-s, -o, -clamp): the dissolve is read where the colour "
+                               "map lies");
+      set.color_map.files = colored ? std::vector{set.color_map.path, dissolve} : std::vector{dissolve};
+      set.color_map.pixels = pixels;
+      set.color_map.path.clear();
+      if (!colored) set.color_map.placement = placements.alpha;
+      set.alpha_mode = AlphaMode::blend;
+      if (!(mat.dissolve > 0.0 && mat.dissolve < 1.0)) set.alpha_factor = 1.0f;
     }
     if (!mat.normal_texname.empty()) {
       set.normal_map.path = find_named_file(mat.normal_texname, library_dir, dir);
@@ -772,15 +797,15 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
   settle_uvs(out, std::move(uv_missing), "faces of", uvless_names);
   finish_normals(out, all_normals, nn > 0, NormalSharing::per_position, smoothing);
 
-  // What a used material asks for that pelt does not draw: no surface at all, and cut-out maps
-  // (whether `map_d` means a cut-out or a blend the format does not say).
+  // What a used material asks for that pelt does not draw: no surface at all.
   for (size_t id = 0; id < materials.size(); ++id) {
     if (!material_used[id]) continue;
     const tinyobj::material_t& t = materials[id];
-    std::vector<std::string> asks;
     if (t.dissolve <= 0.0)  // tinyobjloader reads Tr as 1 - d
-      asks.push_back("invisible as written (`d 0` or `Tr 1`; some exporters mean opaque by `Tr 1`)");
-    if (!t.alpha_texname.empty()) asks.push_back("cut out by `map_d " + t.alpha_texname + "`");
+      out.warnings.push_back("material `" + shown_name(t.name) +
+                             "` is invisible as written (`d 0` or `Tr 1`; some exporters mean opaque by `Tr 1`), which "
+                             "pelt does not draw: its faces are " +
+                             (t.alpha_texname.empty() ? "drawn opaque" : "blended by its `map_d` alone"));
     const bool blended = t.dissolve > 0.0 && t.dissolve < 1.0;
     char value[48];
     std::snprintf(value, sizeof value, "%g", double(float(t.dissolve)));
@@ -791,20 +816,16 @@ LoadedMesh load_obj(const std::filesystem::path& path, const Budget& budget) {
     if (blended && t.dissolve < 0.01)
       out.warnings.push_back("material `" + shown_name(t.name) + "` is nearly invisible (an opacity of " +
                              std::string(value) + ")");
-    if (asks.empty()) continue;
-    const std::string blend = std::string("its faces are blended by `d` ") + value + " without the map";
-    out.warnings.push_back("material `" + shown_name(t.name) + "` is " + asks[0] +
-                           (asks.size() > 1 ? " and " + asks[1] : std::string()) + ", which pelt does not draw: " +
-                           (blended ? blend : "its faces are drawn opaque"));
   }
   const bool no_face_material = std::find(material_used.begin(), material_used.end(), 1) == material_used.end();
   if (no_face_material && std::any_of(materials.begin(), materials.end(), [](const tinyobj::material_t& t) {
-        return !t.diffuse_texname.empty() || !t.normal_texname.empty();
+        return !t.diffuse_texname.empty() || !t.normal_texname.empty() || !t.alpha_texname.empty();
       }))
     out.warnings.push_back(std::string("the material libraries define maps, but no face names a material (") +
                            (pre.uses.empty() ? "no `usemtl` record" : "no face follows a `usemtl` of a defined material") +
                            "): no map is drawn");
-  take_material_maps(out, materials, libraries, dir, material_used, triangle_material, faces_without_material);
+  take_material_maps(out, materials, libraries, dir, material_used, triangle_material, faces_without_material,
+                     budget);
   return out;
 }
 

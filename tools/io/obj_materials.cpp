@@ -85,8 +85,8 @@ constexpr MapOption kMapOptions[] = {{"-blendu", 1, 1}, {"-blendv", 1, 1},  {"-b
                                      {"-cc", 1, 1},     {"-colorspace", 1, 1}};
 
 bool is_map_statement(std::string_view keyword) {
-  return keyword == "map_Kd" || keyword == "norm" || keyword == "bump" || keyword == "map_Bump" ||
-         keyword == "map_bump";
+  return keyword == "map_Kd" || keyword == "norm" || keyword == "map_d" || keyword == "bump" ||
+         keyword == "map_Bump" || keyword == "map_bump";
 }
 
 }  // namespace
@@ -174,7 +174,8 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
     MapPlacement placement;
     float scale[2] = {1.0f, 1.0f}, offset[2] = {0.0f, 0.0f};
     const std::string at = "line " + std::to_string(line_number) + " `" + std::string(w[0]) + "`";
-    const bool placed = w[0] == "map_Kd" || w[0] == "norm";
+    const bool placed = w[0] == "map_Kd" || w[0] == "norm" || w[0] == "map_d";
+    char channel = 0;
     size_t k = 1;
     while (k < w.size() && w[k].size() > 1 && w[k].front() == '-') {
       const auto* option = std::find_if(std::begin(kMapOptions), std::end(kMapOptions),
@@ -187,6 +188,14 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
         double value = 0.0;
         const bool number = is_number(w[k], value);
         if (taken >= option->least && !number) break;
+        if (name == "-imfchan" && w[0] == "map_d") {  // the channel its dissolve is read from
+          const std::string_view c = w[k];
+          if (c.size() != 1 || std::string_view("rgbml").find(c[0]) == std::string_view::npos)
+            throw InputError(library.string(), at + " -imfchan",
+                             "`" + std::string(c) + "` is no channel pelt reads a dissolve from: r, g, b, m (the "
+                             "alpha) or l (the luminance)");
+          channel = c[0];
+        }
         if (name == "-clamp") {
           std::string v(w[k]);
           std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -230,6 +239,10 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
     if (!key.empty()) {
       if (w[0] == "map_Kd") extras[key].color = placement;
       if (w[0] == "norm") extras[key].normal = placement;
+      if (w[0] == "map_d") {
+        extras[key].alpha = placement;
+        extras[key].alpha_channel = channel;
+      }
     }
     out.append(w[0]).append(" ").append(file).push_back('\n');
   }

@@ -32,9 +32,11 @@ struct LibraryRecord {
 };
 
 // What mend_mtl reads of a material that tinyobjloader does not keep: where its maps lie
-// (map_Kd's and norm's -s, -o and -clamp, in OBJ's uv space) and which of `d` and `Tr` it gives.
+// (map_Kd's, norm's and map_d's -s, -o and -clamp, in OBJ's uv space), the channel map_d's
+// -imfchan names, and which of `d` and `Tr` it gives.
 struct MtlExtras {
-  MapPlacement color, normal;
+  MapPlacement color, normal, alpha;
+  char alpha_channel = 0;  // map_d -imfchan: 'r', 'g', 'b', 'm' (matte: alpha) or 'l'; 0: not given
   bool d = false, tr = false;
   // The transparency given by `Tr` alone: exporters write it both ways (1 - d as the
   // specification says, or d as 3ds Max does), so the loader says how it read it.

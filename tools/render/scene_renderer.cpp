@@ -160,6 +160,7 @@ void load_object_map(const io::Scene& scene, size_t index, const MapKind& kind, 
                               : material.empty() ? " (the file names the map)"
                                                  : " (the file's material `" + material + "` names the map)"));
   io::ImageRGBA read;
+  if (!src->file && src->named_by_mesh) inputs.insert(inputs.end(), named.files.begin(), named.files.end());
   if (src->file) {
     inputs.push_back(*src->file);
     // A colour map's PNG may say it holds linear values (gAMA 1.0): honoured, but for a map a

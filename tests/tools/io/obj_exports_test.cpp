@@ -259,36 +259,39 @@ TEST(ObjExports, AUsemtlCommentIsCutOnlyWhenTheWholeNameIsNoMaterials) {
 }
 
 // A used material's `d` (or `Tr`) between 0 and 1 blends its faces by it (until 2026-11-27 drawn
-// opaque, with a warning); a cut-out map, and `d 0`, are not drawn: said so (an unused material's
-// are not).
-TEST(ObjExports, TransparencyIsDrawnAndCutOutsAreNamed) {
+// opaque, with a warning), and so does its `map_d` (until 2026-11-28 warned of and not drawn, see
+// obj_dissolve_test.cpp); `d 0` is not drawn: said so (an unused material's is not).
+TEST(ObjExports, TransparencyIsDrawnAndDZeroIsNamed) {
   TempDir dir;
+  dir.write("leaf_a.pgm", "P2\n1 1\n255\n51\n");  // a dissolve of 0.2
+  dir.write("t_a.pgm", "P2\n1 1\n255\n255\n");
   // (3ds Max writes `d 1` and `Tr 0` for every material: tinyobjloader's note on both is dropped.)
-  dir.write("t.mtl", "newmtl glass\nd 0.5\nnewmtl leaf\nmap_d leaf_a.png\nnewmtl solid\nd 1\nTr 0\n"
-                     "newmtl max\nTr 1\nnewmtl unused\nTr 0.9\nnewmtl tinted\nTr 0.25\nmap_d t_a.png\n");
+  dir.write("t.mtl", "newmtl glass\nd 0.5\nnewmtl leaf\nmap_d leaf_a.pgm\nnewmtl solid\nd 1\nTr 0\n"
+                     "newmtl max\nTr 1\nnewmtl unused\nTr 0.9\nnewmtl tinted\nTr 0.25\nmap_d t_a.pgm\n");
   const LoadedMesh l = load_mesh_file(dir.write(
       "t.obj", joined({"mtllib t.mtl", kQuad + "usemtl glass", "f 1/1 2/2 3/3", "usemtl leaf", "f 1/1 3/3 4/4",
                        "usemtl solid", "f 2/2 3/3 4/4", "usemtl max", "f 1/1 2/2 4/4", "usemtl tinted",
                        "f 4/4 3/3 2/2"})));
-  ASSERT_EQ(l.warnings.size(), 4u) << ::testing::PrintToString(l.warnings);
-  EXPECT_EQ(l.warnings[0], "material `leaf` is cut out by `map_d leaf_a.png`, which pelt does not draw: its faces are "
-                           "drawn opaque");
-  EXPECT_EQ(l.warnings[1], "material `max` is invisible as written (`d 0` or `Tr 1`; some exporters mean opaque by "
+  ASSERT_EQ(l.warnings.size(), 2u) << ::testing::PrintToString(l.warnings);
+  EXPECT_EQ(l.warnings[0], "material `max` is invisible as written (`d 0` or `Tr 1`; some exporters mean opaque by "
                            "`Tr 1`), which pelt does not draw: its faces are drawn opaque");
   // `Tr` alone is written both ways by exporters: how it was read is said.
-  EXPECT_EQ(l.warnings[2], "material `tinted` gives its transparency by `Tr` alone, which exporters write both ways: "
+  EXPECT_EQ(l.warnings[1], "material `tinted` gives its transparency by `Tr` alone, which exporters write both ways: "
                            "read as the specification says, an opacity of 0.75 (write `d` for the opacity meant)");
-  EXPECT_EQ(l.warnings[3], "material `tinted` is cut out by `map_d t_a.png`, which pelt does not draw: its faces are "
-                           "blended by `d` 0.75 without the map");
-  // glass and tinted blend (by 0.5 and by 1 - 0.25), the three others share the opaque set.
-  ASSERT_EQ(l.maps.size(), 3u);
-  EXPECT_EQ(l.triangle_maps, (std::vector<uint32_t>{0, 1, 1, 1, 2}));
+  // glass blends by 0.5, leaf by its map, tinted by 1 - 0.25 times its map; solid and max share the
+  // opaque set.
+  ASSERT_EQ(l.maps.size(), 4u);
+  EXPECT_EQ(l.triangle_maps, (std::vector<uint32_t>{0, 1, 2, 2, 3}));
   EXPECT_EQ(l.maps[0].alpha_mode, AlphaMode::blend);
   EXPECT_EQ(l.maps[0].alpha_factor, 0.5f);
   EXPECT_EQ(l.maps[0].material, "glass");
-  EXPECT_EQ(l.maps[1].alpha_mode, AlphaMode::opaque);
-  EXPECT_EQ(l.maps[2].alpha_mode, AlphaMode::blend);
-  EXPECT_EQ(l.maps[2].alpha_factor, 0.75f);
+  EXPECT_EQ(l.maps[1].alpha_mode, AlphaMode::blend);
+  EXPECT_EQ(l.maps[1].alpha_factor, 1.0f);
+  ASSERT_TRUE(l.maps[1].color_map.pixels);
+  EXPECT_NEAR(l.maps[1].color_map.pixels->rgba[3], 0.2f, 1e-6f);
+  EXPECT_EQ(l.maps[2].alpha_mode, AlphaMode::opaque);
+  EXPECT_EQ(l.maps[3].alpha_mode, AlphaMode::blend);
+  EXPECT_EQ(l.maps[3].alpha_factor, 0.75f);
 }
 
 // `d` and `Tr` are numbers: a word that is none, which tinyobjloader reads as 0 (invisible, or

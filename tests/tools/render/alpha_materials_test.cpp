@@ -3,7 +3,9 @@
 // sees it; BLEND blends the surface over it. Until 2026-11-27 both were drawn opaque.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -118,22 +120,46 @@ TEST(AlphaMaterials, BlendBlendsOverWhatLiesBehind) {
   EXPECT_EQ(count(img).green, 0);
 }
 
+// The OBJ twin of two_quads_gltf.h: a white back quad (material `back`) and a front one of
+// material `glass`, whose MTL statements are `glass` (a green 1 x 1 map g.ppm is there to name).
+io::Scene glass_quads(const SceneDir& dir, const std::string& glass) {
+  dir.write("q.obj", "mtllib q.mtl\nv -2 -2 -0.5\nv 2 -2 -0.5\nv 2 2 -0.5\nv -2 2 -0.5\n"
+                     "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                     "usemtl back\nf 1/1 2/2 3/3 4/4\nusemtl glass\nf 5/1 6/2 7/3 8/4\n");
+  dir.write("q.mtl", "newmtl back\nnewmtl glass\n" + glass);
+  dir.write("g.ppm", "P3\n1 1\n255\n0 255 0\n");
+  return mesh_scene(dir, "q.obj");
+}
+
 // An OBJ material's `d` blends its faces as BLEND does: a green map at d 0.25 over the white back
 // quad gives (0.75, 1, 0.75). Until 2026-11-27 it was drawn opaque, with a warning.
 TEST(AlphaMaterials, ObjDissolveBlendsOverWhatLiesBehind) {
   SceneDir dir;
-  dir.write("q.obj", "mtllib q.mtl\nv -2 -2 -0.5\nv 2 -2 -0.5\nv 2 2 -0.5\nv -2 2 -0.5\n"
-                     "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-                     "usemtl back\nf 1/1 2/2 3/3 4/4\nusemtl glass\nf 5/1 6/2 7/3 8/4\n");
-  dir.write("q.mtl", "newmtl back\nnewmtl glass\nd 0.25\nmap_Kd g.ppm\n");
-  dir.write("g.ppm", "P3\n1 1\n255\n0 255 0\n");
-  const FrameImage img = render_at(mesh_scene(dir, "q.obj"), {});
+  const FrameImage img = render_at(glass_quads(dir, "d 0.25\nmap_Kd g.ppm\n"), {});
   const float* mid = &img.color[(size_t(32) * 64 + 32) * 4];
   EXPECT_NEAR(mid[0], 0.75f, 1e-3f);
   EXPECT_NEAR(mid[1], 1.0f, 1e-3f);
   EXPECT_NEAR(mid[2], 0.75f, 1e-3f);
   const float* corner = &img.color[(size_t(4) * 64 + 4) * 4];  // the back quad alone: white
   EXPECT_EQ(corner[0], 1.0f);
+}
+
+// An OBJ material's `map_d` blends its faces by the map as `d` does by its value: a green map with a
+// dissolve of 64/255 over the white back quad, and the files it read are the scene's inputs (an
+// output may not overwrite them). Until 2026-11-28 map_d was warned of and drawn opaque.
+TEST(AlphaMaterials, ObjDissolveMapBlendsOverWhatLiesBehind) {
+  SceneDir dir;
+  dir.write("a.pgm", "P2\n1 1\n255\n64\n");
+  const io::Scene s = glass_quads(dir, "map_Kd g.ppm\nmap_d a.pgm\n");
+  const FrameImage img = render_at(s, {});
+  const float* mid = &img.color[(size_t(32) * 64 + 32) * 4];
+  const float a = 64.0f / 255.0f;
+  EXPECT_NEAR(mid[0], 1.0f - a, 1e-3f);
+  EXPECT_NEAR(mid[1], 1.0f, 1e-3f);
+  EXPECT_NEAR(mid[2], 1.0f - a, 1e-3f);
+  const std::vector<std::filesystem::path> inputs = SceneRenderer(s, RenderSettings{}).input_files();
+  for (const char* f : {"g.ppm", "a.pgm"})
+    EXPECT_NE(std::find(inputs.begin(), inputs.end(), dir.path() / f), inputs.end()) << f;
 }
 
 // On a translucent skin (Opacity below 1, every part blended) MASK still cuts: the front quad's

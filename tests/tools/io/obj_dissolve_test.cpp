@@ -1,0 +1,115 @@
+// An MTL material's `map_d` (its dissolve map) blends its faces as its colour map's alpha
+// (io/dissolve_map.h): the loader hands on one image, map_Kd's colour with map_d's dissolve.
+// Until 2026-11-28 map_d was warned of and not drawn.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tests/tools/io/temp_dir.h"
+#include "tools/io/image_io.h"
+#include "tools/io/input_error.h"
+#include "tools/io/mesh_loader.h"
+#include "tools/io/srgb.h"
+
+namespace pelt::io {
+namespace {
+
+const std::string kQuadObj =
+    "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3 4/4\n";
+
+LoadedMesh quad_with(const TempDir& dir, const std::string& mtl) {
+  dir.write("q.mtl", mtl);
+  return load_mesh_file(dir.write("q.obj", kQuadObj));
+}
+
+// Texel (x, y)'s channel c of the set's combined map.
+float texel(const LoadedMesh& l, int x, int y, int c) {
+  const ImageRGBA& img = *l.set(0).color_map.pixels;
+  return img.pixel(x, y)[c];
+}
+
+// A grey map_d beside an RGB map_Kd: the colour's texels, sRGB-decoded as a colour map is, with the
+// grey level as their alpha, read linear (data, not colour); the set blends by it, and names both
+// files as its inputs.
+TEST(ObjDissolve, AGreyDissolveMapIsTheColourMapsAlpha) {
+  TempDir dir;
+  dir.write("c.ppm", "P3\n2 1\n255\n255 0 0  0 128 0\n");
+  dir.write("d.pgm", "P2\n2 1\n255\n0 51\n");
+  const LoadedMesh l = quad_with(dir, "newmtl m\nmap_Kd c.ppm\nmap_d d.pgm\n");
+  ASSERT_EQ(l.maps.size(), 1u);
+  const MeshMaps& set = l.set(0);
+  EXPECT_EQ(set.alpha_mode, AlphaMode::blend);
+  EXPECT_EQ(set.alpha_factor, 1.0f);
+  ASSERT_TRUE(set.color_map.pixels);
+  EXPECT_TRUE(set.color_map.path.empty());
+  EXPECT_EQ(set.color_map.files, (std::vector{dir.path() / "c.ppm", dir.path() / "d.pgm"}));
+  EXPECT_EQ(texel(l, 0, 0, 0), 1.0f);
+  EXPECT_NEAR(texel(l, 1, 0, 1), srgb8_to_linear(128), 1e-6f);
+  EXPECT_EQ(texel(l, 0, 0, 3), 0.0f);
+  EXPECT_NEAR(texel(l, 1, 0, 3), 0.2f, 1e-6f);
+  EXPECT_TRUE(l.warnings.empty()) << ::testing::PrintToString(l.warnings);
+}
+
+// An RGBA map_d (often the colour map's own file) gives its alpha; -imfchan picks a channel
+// (m: the alpha, l: the luminance); without map_Kd the colour is white at the dissolve's size; `d`
+// below 1 multiplies, as the factor.
+TEST(ObjDissolve, TheChannelIsTheAlphaOrTheOneNamed) {
+  TempDir dir;
+  const uint8_t rgba[2 * 4] = {255, 0, 0, 102, 0, 0, 255, 204};
+  write_image_atomic(dir.path() / "d.png", 2, 1, 4, PixelType::u8, rgba);
+  const LoadedMesh alpha = quad_with(dir, "newmtl m\nd 0.5\nmap_d d.png\n");
+  EXPECT_NEAR(texel(alpha, 0, 0, 3), 0.4f, 1e-6f);
+  EXPECT_NEAR(texel(alpha, 1, 0, 3), 0.8f, 1e-6f);
+  EXPECT_EQ(texel(alpha, 1, 0, 0), 1.0f);  // white
+  EXPECT_EQ(alpha.set(0).alpha_factor, 0.5f);
+  const LoadedMesh red = quad_with(dir, "newmtl m\nmap_d -imfchan r d.png\n");
+  EXPECT_EQ(texel(red, 0, 0, 3), 1.0f);
+  EXPECT_EQ(texel(red, 1, 0, 3), 0.0f);
+  const LoadedMesh lum = quad_with(dir, "newmtl m\nmap_d -imfchan l d.png\n");
+  EXPECT_NEAR(texel(lum, 0, 0, 3), 0.2126f, 1e-6f);
+  EXPECT_NEAR(texel(lum, 1, 0, 3), 0.0722f, 1e-6f);
+  try {
+    quad_with(dir, "newmtl m\nmap_d -imfchan z d.png\n");
+    ADD_FAILURE() << "-imfchan z was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, (dir.path() / "q.mtl").string());
+    EXPECT_EQ(e.field, "line 2 `map_d` -imfchan");
+    EXPECT_EQ(e.reason, "`z` is no channel pelt reads a dissolve from: r, g, b, m (the alpha) or l (the luminance)");
+  }
+}
+
+// A dissolve of another size is read bilinearly at the colour texels' centres: a 1 x 2 map of 0
+// over 1 under a 1 x 4 colour map gives its rows 0, 0.25, 0.75 and 1 (clamped at the edges).
+TEST(ObjDissolve, ADissolveOfAnotherSizeIsResampled) {
+  TempDir dir;
+  dir.write("c.ppm", "P3\n1 4\n255\n9 9 9\n9 9 9\n9 9 9\n9 9 9\n");
+  dir.write("d.pgm", "P2\n1 2\n255\n0\n255\n");
+  const LoadedMesh l = quad_with(dir, "newmtl m\nmap_Kd c.ppm\nmap_d d.pgm\n");
+  const float want[4] = {0.0f, 0.25f, 0.75f, 1.0f};
+  for (int y = 0; y < 4; ++y) EXPECT_NEAR(texel(l, 0, y, 3), want[y], 1e-6f) << y;
+}
+
+// map_d placed otherwise than map_Kd: one image cannot lie two ways, so the dissolve follows the
+// colour map, with a warning; a missing dissolve file is an error naming it.
+TEST(ObjDissolve, ADissolvePlacedApartIsNamedAndAMissingOneRefused) {
+  TempDir dir;
+  dir.write("c.ppm", "P3\n1 1\n255\n9 9 9\n");
+  dir.write("d.pgm", "P2\n1 1\n255\n7\n");
+  const LoadedMesh l = quad_with(dir, "newmtl m\nmap_Kd -s 2 2 c.ppm\nmap_d d.pgm\n");
+  ASSERT_EQ(l.warnings.size(), 1u) << ::testing::PrintToString(l.warnings);
+  EXPECT_EQ(l.warnings[0], "material `m` places `map_d d.pgm` otherwise than its `map_Kd` (-s, -o, -clamp): the "
+                           "dissolve is read where the colour map lies");
+  EXPECT_EQ(l.set(0).color_map.placement.m[0], 2.0f);
+  dir.write("q.mtl", "newmtl m\nmap_d gone.png\n");
+  EXPECT_THROW(load_mesh_file(dir.path() / "q.obj"), InputError);
+  try {
+    load_mesh_file(dir.path() / "q.obj");
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("gone.png"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace pelt::io

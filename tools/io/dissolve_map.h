@@ -1,0 +1,23 @@
+// An MTL material's `map_d` (its dissolve, a scalar map) drawn as the alpha of its colour map:
+// pelt's surfaces blend by their colour map's alpha (MeshMaps::alpha_mode), so the OBJ loader
+// hands the renderer one image, map_Kd's colour with map_d's dissolve, as three.js's and
+// Blender's importers draw the pair.
+#pragma once
+
+#include <filesystem>
+
+#include "tools/io/budget.h"
+#include "tools/io/image.h"
+
+namespace pelt::io {
+
+// `color`'s texels (null: white, at the dissolve map's size) with their alpha replaced by
+// `dissolve`'s channel `channel`: 'r', 'g', 'b', 'm' (the alpha), 'l' (Rec. 709 luminance), or 0
+// (not given: the alpha where the file has one, since an exporter's map_d is often the colour
+// map's own RGBA file, else the luminance of a grey or colour file). The dissolve is data, read
+// linear; where the sizes differ it is read bilinearly (clamped at the edges) at each colour
+// texel's centre. Throws InputError naming the file that cannot be read, as read_image_rgba does.
+ImageRGBA dissolved_color_map(const std::filesystem::path* color, const std::filesystem::path& dissolve, char channel,
+                              const Budget& budget);
+
+}  // namespace pelt::io

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "tools/io/image_io.h"
+#include "tools/io/input_error.h"
 
 namespace pelt::io {
 namespace {
@@ -36,11 +39,27 @@ float dissolve_bilinear(const ImageRGBA& img, float u, float v, char c) {
 }  // namespace
 
 ImageRGBA dissolved_color_map(const std::filesystem::path* color, const std::filesystem::path& dissolve, char channel,
-                              const Budget& budget) {
-  if (channel == 0) {
-    const int channels = read_image_header(dissolve).channels;
-    channel = channels == 2 || channels >= 4 ? 'm' : 'l';
-  }
+                              const Budget& budget, std::vector<std::string>& warnings) {
+  const ImageHeader dh = read_image_header(dissolve);
+  const bool has_alpha = dh.channels == 2 || dh.channels >= 4;
+  if (channel == 0) channel = has_alpha ? 'm' : 'l';
+  if (channel == 'm' && !has_alpha)
+    warnings.push_back("`map_d -imfchan m` reads the alpha of " + dissolve.filename().string() +
+                       ", which has none (its alpha reads 1): the faces are drawn opaque");
+  // Both images are decoded here, as the mesh loads, before the render's memory estimate: a large
+  // dissolve map shrunk to a small colour map would otherwise pass a budget its decoding exceeds.
+  const auto decoded = [](const ImageHeader& h) {
+    return sat_mul(uint64_t(h.width) * uint64_t(h.height), 4 * sizeof(float) + uint64_t(std::max(h.channels, 1)) *
+                                                                                    uint64_t(h.bytes_per_channel));
+  };
+  const uint64_t peak = sat_add(sat_add(decoded(dh), color ? decoded(read_image_header(*color)) : 0),
+                                kProcessBaselineBytes);
+  if (peak > budget.max_memory_bytes)
+    throw InputError(dissolve.string(), "",
+                     "reading it as a dissolve map" +
+                         (color ? " beside its colour map " + color->filename().string() : std::string()) +
+                         " holds about " + describe_bytes(peak) + " (both decoded as floats, and the pelt process "
+                         "itself), " + over_budget(describe_bytes(budget.max_memory_bytes), kMaxMemoryFlag));
   const ImageRGBA d = read_image_rgba(dissolve, ColorEncoding::linear, budget);
   ImageRGBA out;
   if (color) {

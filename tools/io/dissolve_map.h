@@ -5,6 +5,8 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "tools/io/budget.h"
 #include "tools/io/image.h"
@@ -16,8 +18,10 @@ namespace pelt::io {
 // (not given: the alpha where the file has one, since an exporter's map_d is often the colour
 // map's own RGBA file, else the luminance of a grey or colour file). The dissolve is data, read
 // linear; where the sizes differ it is read bilinearly (clamped at the edges) at each colour
-// texel's centre. Throws InputError naming the file that cannot be read, as read_image_rgba does.
+// texel's centre. Throws InputError naming the file that cannot be read, as read_image_rgba does,
+// or the dissolve map when decoding both would exceed budget.max_memory_bytes. A channel 'm' of a
+// file without alpha is named in `warnings`.
 ImageRGBA dissolved_color_map(const std::filesystem::path* color, const std::filesystem::path& dissolve, char channel,
-                              const Budget& budget);
+                              const Budget& budget, std::vector<std::string>& warnings);
 
 }  // namespace pelt::io

@@ -569,7 +569,8 @@ void take_material_maps(LoadedMesh& out, const std::vector<tinyobj::material_t>&
           dissolved[{colored ? set.color_map.path.string() : std::string(), dissolve.string(), placements.alpha_channel}];
       if (!pixels)
         pixels = std::make_shared<const ImageRGBA>(
-            dissolved_color_map(colored ? &set.color_map.path : nullptr, dissolve, placements.alpha_channel, budget));
+            dissolved_color_map(colored ? &set.color_map.path : nullptr, dissolve, placements.alpha_channel, budget,
+                                out.warnings));
       if (colored && !(placements.alpha == placements.color))
         out.warnings.push_back("material `" + shown_name(mat.name) + "` places `map_d " + mat.alpha_texname +
                                "` otherwise than its `map_Kd` (-s, -o, -clamp): the dissolve is read where the colour "

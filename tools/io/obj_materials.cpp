@@ -161,6 +161,12 @@ std::string mend_mtl(const std::string& text, const std::filesystem::path& libra
         throw InputError(library.string(), at,
                          "`" + std::string(word) + "` is not a finite number" +
                              (word.find(',') != std::string_view::npos ? " (a decimal point, not a comma)" : ""));
+      // The specification's range: tinyobjloader would take `d 2` as opaque and `d -0.5` as
+      // invisible, without a word.
+      if (value < 0.0 || value > 1.0)
+        throw InputError(library.string(), at,
+                         "`" + std::string(word) + "` is outside [0, 1] (" +
+                             (w[0] == "d" ? "1 for opaque, 0 for invisible" : "0 for opaque, 1 for invisible") + ")");
       if (!key.empty()) (w[0] == "d" ? extras[key].d : extras[key].tr) = true;
       out.append(w[0]).append(" ").append(word).push_back('\n');
       continue;

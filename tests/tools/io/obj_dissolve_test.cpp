@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/tools/io/temp_dir.h"
+#include "tools/io/budget.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/io/mesh_loader.h"
@@ -22,6 +23,18 @@ const std::string kQuadObj =
 LoadedMesh quad_with(const TempDir& dir, const std::string& mtl) {
   dir.write("q.mtl", mtl);
   return load_mesh_file(dir.write("q.obj", kQuadObj));
+}
+
+// A one-texel grey colour map c.ppm and a dissolve of 7/255, d.pgm, under material m's statements.
+LoadedMesh one_texel_maps(const TempDir& dir, const std::string& statements) {
+  dir.write("c.ppm", "P3\n1 1\n255\n9 9 9\n");
+  dir.write("d.pgm", "P2\n1 1\n255\n7\n");
+  return quad_with(dir, "newmtl m\n" + statements);
+}
+
+void expect_only_warning(const LoadedMesh& l, const std::string& warning) {
+  ASSERT_EQ(l.warnings.size(), 1u) << ::testing::PrintToString(l.warnings);
+  EXPECT_EQ(l.warnings[0], warning);
 }
 
 // Texel (x, y)'s channel c of the set's combined map.
@@ -80,6 +93,32 @@ TEST(ObjDissolve, TheChannelIsTheAlphaOrTheOneNamed) {
   }
 }
 
+// `-imfchan m` of a file without alpha reads 1 (opaque): said so. A dissolve map is decoded as the
+// mesh loads, before the render's memory estimate: a large one beside a small colour map is refused
+// there under a small --max-memory, naming it and the flag (a hunt found a 8192 x 8192 map_d
+// shrunk to a 64 x 64 map_Kd passing a 300 MiB budget, at 1.4 GB).
+TEST(ObjDissolve, AMissingAlphaIsNamedAndTheDecodingIsBudgeted) {
+  TempDir dir;
+  const LoadedMesh l = one_texel_maps(dir, "map_Kd c.ppm\nmap_d -imfchan m d.pgm\n");
+  expect_only_warning(l, "`map_d -imfchan m` reads the alpha of d.pgm, which has none (its alpha reads 1): the faces "
+                         "are drawn opaque");
+  EXPECT_EQ(texel(l, 0, 0, 3), 1.0f);
+  dir.write("big.pgm", "P5\n2048 2048\n255\n" + std::string(size_t(2048) * 2048, '\x80'));
+  dir.write("q.mtl", "newmtl m\nmap_Kd c.ppm\nmap_d big.pgm\n");
+  Budget small;
+  small.max_memory_bytes = uint64_t{150} << 20;  // the process's 136 MiB and 64 MiB of floats do not fit
+  try {
+    load_mesh_file(dir.path() / "q.obj", small);
+    ADD_FAILURE() << "a 2048 x 2048 dissolve map fit 150 MiB";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, (dir.path() / "big.pgm").string());
+    EXPECT_NE(e.reason.find("reading it as a dissolve map beside its colour map c.ppm holds about"), std::string::npos)
+        << e.what();
+    EXPECT_NE(e.reason.find("(raise it with --max-memory)"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(load_mesh_file(dir.path() / "q.obj"));
+}
+
 // A dissolve of another size is read bilinearly at the colour texels' centres: a 1 x 2 map of 0
 // over 1 under a 1 x 4 colour map gives its rows 0, 0.25, 0.75 and 1 (clamped at the edges).
 TEST(ObjDissolve, ADissolveOfAnotherSizeIsResampled) {
@@ -95,12 +134,9 @@ TEST(ObjDissolve, ADissolveOfAnotherSizeIsResampled) {
 // colour map, with a warning; a missing dissolve file is an error naming it.
 TEST(ObjDissolve, ADissolvePlacedApartIsNamedAndAMissingOneRefused) {
   TempDir dir;
-  dir.write("c.ppm", "P3\n1 1\n255\n9 9 9\n");
-  dir.write("d.pgm", "P2\n1 1\n255\n7\n");
-  const LoadedMesh l = quad_with(dir, "newmtl m\nmap_Kd -s 2 2 c.ppm\nmap_d d.pgm\n");
-  ASSERT_EQ(l.warnings.size(), 1u) << ::testing::PrintToString(l.warnings);
-  EXPECT_EQ(l.warnings[0], "material `m` places `map_d d.pgm` otherwise than its `map_Kd` (-s, -o, -clamp): the "
-                           "dissolve is read where the colour map lies");
+  const LoadedMesh l = one_texel_maps(dir, "map_Kd -s 2 2 c.ppm\nmap_d d.pgm\n");
+  expect_only_warning(l, "material `m` places `map_d d.pgm` otherwise than its `map_Kd` (-s, -o, -clamp): the "
+                         "dissolve is read where the colour map lies");
   EXPECT_EQ(l.set(0).color_map.placement.m[0], 2.0f);
   dir.write("q.mtl", "newmtl m\nmap_d gone.png\n");
   EXPECT_THROW(load_mesh_file(dir.path() / "q.obj"), InputError);

@@ -315,6 +315,9 @@ TEST(ObjExports, TransparencyValuesAreChecked) {
   refused("newmtl m\nKd 1 1 1\nTr half\n", "line 3 `Tr`", "`half` is not a finite number");
   refused("newmtl m\nd\n", "line 2 `d`", "has no value (a number, 1 for opaque)");
   refused("newmtl m\nd -halo nan\n", "line 2 `d`", "`nan` is not a finite number");
+  // Outside the specification's [0, 1] (tinyobjloader would draw `d 2` opaque and `d -0.5` unseen).
+  refused("newmtl m\nd 2\n", "line 2 `d`", "`2` is outside [0, 1] (1 for opaque, 0 for invisible)");
+  refused("newmtl m\nTr -0.5\n", "line 2 `Tr`", "`-0.5` is outside [0, 1] (0 for opaque, 1 for invisible)");
 
   // A comment right after the value, as tinyobjloader reads it; a value near 0 is named.
   dir.write("c.mtl", "newmtl m\nd 0.005#nearly gone\n");

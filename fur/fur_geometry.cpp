@@ -639,8 +639,9 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
   // the triangles on either side share an edge for the rasterizer, which packs their lanes into
   // shared blocks and takes one level of detail across them, as on the mesh welded; named by two,
   // the fur was drawn as if cut along them.
-  // With a colour map, copies split at a uv seam of the mesh stay apart even where the strand
-  // uvs agree (the box mapping's): joined, a triangle would read the map across the whole atlas.
+  // With a map read at the mesh uvs (a colour map, a cut-out's), copies split at a uv seam of the
+  // mesh stay apart even where the strand uvs agree (the box mapping's): joined, a triangle would
+  // read the map across the whole atlas.
   const bool by_mesh_uv = !out.mesh_uvs.empty();
   const std::vector<uint32_t> same_shell = first_with_equal_bits<5>(N, [&](uint32_t i) {
     const glm::vec2 m = by_mesh_uv ? out.mesh_uvs[i] : glm::vec2(0.0f);
@@ -669,7 +670,7 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
     }
 
   out.edges = mesh_edges(base, same_as);
-  // The fins read the colour map at their ends' mesh uvs too: an edge names the first copy of
+  // The fins read the map at their ends' mesh uvs too: an edge names the first copy of
   // each end, which may lie on another island of the map (a seam's other side) and would spread
   // the map across the atlas over the fin. Its face0's own copies grow the same strand (the
   // same pose, light and fin), so the fin takes those.

@@ -39,9 +39,9 @@ inline constexpr double kMaxFurReach = 1e18;
 // 0.087 h off the surface, and still reads as fur lying flat.
 inline constexpr double kMinFurElevation = 5.0 * std::numbers::pi / 180.0;
 
-// An undirected mesh edge, a < b, with the (up to) two base triangles that share it. With a
-// colour map (FurParams::use_color_map) a and b are instead face0's own copies of those
-// vertices (the same strands), in either order.
+// An undirected mesh edge, a < b, with the (up to) two base triangles that share it. With a map
+// read at the mesh uvs (FurGeometry::mesh_uvs: FurParams::use_color_map, a cut-out's map) a and b
+// are instead face0's own copies of those vertices (the same strands), in either order.
 // face1 = kNoFace on a boundary edge. On a non-manifold edge (3+ triangles) the first
 // two triangles in index order are kept; the fin is still drawn once.
 struct FurEdge {

@@ -235,7 +235,8 @@ void sample_reference(const Texture& tex, const SamplerState& state, const float
 
 // Wrap::Mirror's fold of `n` texture coordinates into [0, 1]: |c| modulo 2, reflected about 1,
 // every step exact in float (so NaN and infinities give NaN). By a Highway kernel (sample() folds
-// a mirrored axis with it), bit for bit fold_mirror_reference, which folds one.
+// a mirrored axis with it), bit for bit fold_mirror_reference, which folds one. `in` and `out`
+// must not overlap.
 void fold_mirror(const float* in, float* out, size_t n);
 float fold_mirror_reference(float c);
 

@@ -795,9 +795,10 @@ void FoldMirrorImpl(const float* HWY_RESTRICT in, float* HWY_RESTRICT out, size_
   size_t i = 0;
   for (; i + N <= n; i += N) hn::StoreU(fold(hn::LoadU(df, in + i)), df, out + i);
   if (i == n) return;
-  // The last lanes through a vector of their own (this Highway has no LoadN): sample() folds whole
-  // blocks, so only a direct call of fold_mirror comes here.
-  HWY_ALIGN float tail[64] = {};
+  // The last lanes through a vector of their own (this Highway has no LoadN, and its MaskedLoad
+  // reads a whole vector on SSE4): sample() folds whole blocks, so only a direct call of
+  // fold_mirror comes here.
+  HWY_ALIGN float tail[HWY_LANES(float)] = {};
   std::copy(in + i, in + n, tail);
   hn::Store(fold(hn::Load(df, tail)), df, tail);
   std::copy(tail, tail + (n - i), out + i);

@@ -9,4 +9,8 @@ namespace pelt::io {
 // materials are opaque.
 enum class AlphaMode { opaque, mask, blend };
 
+// MASK's test where a shader makes it (a translucent skin's part, the fur over a cut-out): kept
+// where the alpha times the factor reaches the cutoff; a NaN alpha is cut.
+inline bool mask_keeps(float alpha, float factor, float cutoff) { return factor * alpha >= cutoff; }
+
 }  // namespace pelt::io

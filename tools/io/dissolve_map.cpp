@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,7 +40,7 @@ float dissolve_bilinear(const ImageRGBA& img, float u, float v, char c) {
 }  // namespace
 
 ImageRGBA dissolved_color_map(const std::filesystem::path* color, const std::filesystem::path& dissolve, char channel,
-                              const Budget& budget, std::vector<std::string>& warnings) {
+                              const Budget& budget, std::vector<std::string>& warnings, uint64_t& held) {
   const ImageHeader dh = read_image_header(dissolve);
   const bool has_alpha = dh.channels == 2 || dh.channels >= 4;
   if (channel == 0) channel = has_alpha ? 'm' : 'l';
@@ -48,35 +49,46 @@ ImageRGBA dissolved_color_map(const std::filesystem::path* color, const std::fil
                        ", which has none (its alpha reads 1): the faces are drawn opaque");
   // Both images are decoded here, as the mesh loads, before the render's memory estimate: a large
   // dissolve map shrunk to a small colour map would otherwise pass a budget its decoding exceeds.
-  const auto decoded = [](const ImageHeader& h) {
-    return sat_mul(uint64_t(h.width) * uint64_t(h.height), 4 * sizeof(float) + uint64_t(std::max(h.channels, 1)) *
-                                                                                    uint64_t(h.bytes_per_channel));
+  // The pairs read before this one are still held (`held`), and without a colour map the white
+  // image is made while the dissolve map is alive.
+  const auto texels = [](const ImageHeader& h) { return uint64_t(h.width) * uint64_t(h.height); };
+  const auto decoded = [&](const ImageHeader& h) {
+    return sat_mul(texels(h), 4 * sizeof(float) + uint64_t(std::max(h.channels, 1)) * uint64_t(h.bytes_per_channel));
   };
-  const uint64_t peak = sat_add(sat_add(decoded(dh), color ? decoded(read_image_header(*color)) : 0),
-                                kProcessBaselineBytes);
+  const std::optional<ImageHeader> ch = color ? std::optional(read_image_header(*color)) : std::nullopt;
+  const uint64_t made = sat_mul(texels(ch ? *ch : dh), 4 * sizeof(float));
+  const uint64_t peak =
+      sat_add(sat_add(sat_add(held, decoded(dh)), ch ? decoded(*ch) : made), kProcessBaselineBytes);
   if (peak > budget.max_memory_bytes)
     throw InputError(dissolve.string(), "",
                      "reading it as a dissolve map" +
                          (color ? " beside its colour map " + color->filename().string() : std::string()) +
-                         " holds about " + describe_bytes(peak) + " (both decoded as floats, and the pelt process "
-                         "itself), " + over_budget(describe_bytes(budget.max_memory_bytes), kMaxMemoryFlag));
+                         " holds about " + describe_bytes(peak) + " (both decoded as floats, the maps of the " +
+                         "file's materials read before it, and the pelt process itself), " +
+                         over_budget(describe_bytes(budget.max_memory_bytes), kMaxMemoryFlag));
   const ImageRGBA d = read_image_rgba(dissolve, ColorEncoding::linear, budget);
   ImageRGBA out;
   if (color) {
-    out = read_image_rgba(*color, ColorEncoding::srgb_unless_linear, budget, 3);
+    out = read_image_rgba(*color, ColorEncoding::srgb_unless_linear, budget);
   } else {
     out.width = d.width;
     out.height = d.height;
     out.rgba.assign(size_t(d.width) * size_t(d.height) * 4, 1.0f);
   }
+  // The dissolve multiplies the colour map's own alpha (three.js's alphaMap), but for the common
+  // export that names one RGBA file as both: its alpha once, not squared.
+  std::error_code same_error;
+  const bool one_file = color && std::filesystem::equivalent(*color, dissolve, same_error);
   const bool same_size = out.width == d.width && out.height == d.height;
   for (int y = 0; y < out.height; ++y)
     for (int x = 0; x < out.width; ++x) {
       const float a = same_size ? dissolve_at(d, x, y, channel)
                                 : dissolve_bilinear(d, (float(x) + 0.5f) / float(out.width),
                                                     (float(y) + 0.5f) / float(out.height), channel);
-      out.rgba[(size_t(y) * size_t(out.width) + size_t(x)) * 4 + 3] = a;
+      float& alpha = out.rgba[(size_t(y) * size_t(out.width) + size_t(x)) * 4 + 3];
+      alpha = one_file ? a : alpha * a;
     }
+  held = sat_add(held, made);
   return out;
 }
 

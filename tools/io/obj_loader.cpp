@@ -541,6 +541,7 @@ void take_material_maps(LoadedMesh& out, const std::vector<tinyobj::material_t>&
   std::vector<MeshMaps> sets_of(materials.size() + 1);  // by material id; the last: no material
   // Each colour and dissolve pair read once: (map_Kd's file or none, map_d's, map_d's channel).
   std::map<std::tuple<std::string, std::string, char>, std::shared_ptr<const ImageRGBA>> dissolved;
+  uint64_t dissolved_bytes = 0;  // what those images hold, for the next pair's budget
   sets_of.back().material = kNoMaterial;
   for (size_t id = 0; id < materials.size(); ++id) {
     if (!material_used[id]) continue;
@@ -561,8 +562,8 @@ void take_material_maps(LoadedMesh& out, const std::vector<tinyobj::material_t>&
       set.color_map.placement = placements.color;
     }
     if (!mat.alpha_texname.empty()) {
-      // `map_d` (a dissolve map) blends the faces by it, as its colour map's alpha (three.js's and
-      // Blender's importers blend by it too): one image of both, read here, each pair once.
+      // `map_d` (a dissolve map) blends the faces by it, times its colour map's alpha (three.js's
+      // importer blends by it too): one image of both, read here, each pair once.
       const std::filesystem::path dissolve = find_named_file(mat.alpha_texname, library_dir, dir);
       const bool colored = set.color_map.present();
       std::shared_ptr<const ImageRGBA>& pixels =
@@ -570,7 +571,7 @@ void take_material_maps(LoadedMesh& out, const std::vector<tinyobj::material_t>&
       if (!pixels)
         pixels = std::make_shared<const ImageRGBA>(
             dissolved_color_map(colored ? &set.color_map.path : nullptr, dissolve, placements.alpha_channel, budget,
-                                out.warnings));
+                                out.warnings, dissolved_bytes));
       if (colored && !(placements.alpha == placements.color))
         out.warnings.push_back("material `" + shown_name(mat.name) + "` places `map_d " + mat.alpha_texname +
                                "` otherwise than its `map_Kd` (-s, -o, -clamp): the dissolve is read where the colour "

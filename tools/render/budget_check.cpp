@@ -153,7 +153,11 @@ MemoryPart map_part(const io::Scene& scene, size_t i, const char* key, const std
   } else {
     width = src->pixels->width;
     height = src->pixels->height;
-    p.what = "embedded " + noun;
+    // Pixels a loader read from files (an OBJ's map_Kd and map_d as one image) are named by them.
+    const auto name = [&](size_t k) { return named.files[k].filename().string(); };
+    p.what = named.files.empty()       ? "embedded " + noun
+             : named.files.size() == 1 ? noun + " from map_d " + name(0)
+                                       : noun + " " + name(0) + " with its map_d " + name(1);
   }
   p.what += ", " + std::to_string(width) + " x " + std::to_string(height) + " texels" + what_extra;
   p.field = object_field(i) + (src->named_by_mesh ? ".mesh" : ".material." + std::string(key));
@@ -204,6 +208,9 @@ void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, in
     g = sat_add(g, sat_mul(c.shell_vertices, (fins ? 2 : 1) * FurMapUv::kCount * sizeof(float)));
     g = sat_add(g, sat_mul(c.base_vertices, sizeof(glm::vec2)));
   }
+  // Each such map's list per base face and per fin quad, when the mesh's parts differ in it.
+  const uint64_t face_lists = uint64_t(fp.use_color_map) + uint64_t(cut_by_map && drawn);
+  g = sat_add(g, sat_mul(face_lists, sat_mul(sat_add(c.base_faces, c.fin_faces / 2), sizeof(uint32_t))));
   if (!scene.objects[i].fur_length_map.empty()) g = sat_add(g, sat_mul(c.base_vertices, sizeof(float)));
   g = sat_add(g, sat_mul(c.base_faces, kFurBytesPerBaseFace));
   g = sat_add(g, sat_mul(sat_add(c.shell_faces, c.fin_faces), kFurBytesPerTriangle));

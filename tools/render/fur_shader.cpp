@@ -6,6 +6,7 @@
 
 #include "raster/config.h"
 #include "shading/fur_vertex_lit.h"
+#include "tools/io/alpha_mode.h"
 #include "tools/render/texture_sampling.h"
 #include "tools/render/varyings.h"
 
@@ -125,13 +126,13 @@ void FurShader::apply_cuts(const raster::FragmentBatch& b, float* alpha) const {
   const float* a = cut[0];
   if (!s_.face_cut_map) {
     const float f = s_.cut_maps[0].factor, cutoff = s_.cut_maps[0].cutoff;
-    for (size_t i = 0; i < n; ++i) alpha[i] = f * a[i] >= cutoff ? alpha[i] : 0.0f;
+    for (size_t i = 0; i < n; ++i) alpha[i] = io::mask_keeps(a[i], f, cutoff) ? alpha[i] : 0.0f;
     return;
   }
   for (size_t i = 0; i < n; ++i) {
     const uint32_t m = s.lane_map[i];
     if (m == kNoFurCut) continue;
-    alpha[i] = s_.cut_maps[m].factor * a[i] >= s_.cut_maps[m].cutoff ? alpha[i] : 0.0f;
+    alpha[i] = io::mask_keeps(a[i], s_.cut_maps[m].factor, s_.cut_maps[m].cutoff) ? alpha[i] : 0.0f;
   }
 }
 

@@ -121,7 +121,7 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
     // Without a colour map the alpha is the factor alone.
     const float* const map = desc_.color_map ? s.alpha : nullptr;
     if (desc_.alpha_mode == io::AlphaMode::mask && desc_.translucent())
-      for (size_t i = 0; i < n; ++i) b.out[3][i] = f * (map ? map[i] : 1.0f) >= cut ? b.out[3][i] : 0.0f;
+      for (size_t i = 0; i < n; ++i) b.out[3][i] = io::mask_keeps(map ? map[i] : 1.0f, f, cut) ? b.out[3][i] : 0.0f;
     else
       for (size_t i = 0; i < n; ++i) b.out[3][i] *= f * (map ? map[i] : 1.0f);
   }

@@ -119,6 +119,43 @@ TEST(ObjDissolve, AMissingAlphaIsNamedAndTheDecodingIsBudgeted) {
   EXPECT_NO_THROW(load_mesh_file(dir.path() / "q.obj"));
 }
 
+// The dissolve multiplies the colour map's own alpha (three.js's alphaMap), but one RGBA file named
+// as both gives its alpha once, not squared (a review found the colour map's holes dropped).
+TEST(ObjDissolve, TheDissolveMultipliesTheColourMapsAlphaOnce) {
+  TempDir dir;
+  const uint8_t rgba[2 * 4] = {9, 9, 9, 255, 9, 9, 9, 102};
+  write_image_atomic(dir.path() / "c.png", 2, 1, 4, PixelType::u8, rgba);
+  dir.write("d.pgm", "P2\n2 1\n255\n255 51\n");
+  const LoadedMesh two = quad_with(dir, "newmtl m\nmap_Kd c.png\nmap_d d.pgm\n");
+  EXPECT_EQ(texel(two, 0, 0, 3), 1.0f);
+  EXPECT_NEAR(texel(two, 1, 0, 3), 0.4f * 0.2f, 1e-6f);
+  const LoadedMesh one = quad_with(dir, "newmtl m\nmap_Kd c.png\nmap_d ./c.png\n");
+  EXPECT_NEAR(texel(one, 1, 0, 3), 0.4f, 1e-6f);
+}
+
+// The pairs of a file's materials are held together as the mesh loads: each is checked beside those
+// read before it (a review found ten pairs each within the budget holding more than it together).
+TEST(ObjDissolve, ThePairsOfAFileAreBudgetedTogether) {
+  TempDir dir;
+  for (const char* name : {"a.pgm", "b.pgm"})
+    dir.write(name, "P5\n1024 1024\n255\n" + std::string(size_t(1024) * 1024, '\x40'));
+  dir.write("q.mtl", "newmtl m1\nmap_d a.pgm\nnewmtl m2\nmap_d b.pgm\n");
+  const auto obj = dir.write("q.obj", "mtllib q.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                                      "usemtl m1\nf 1/1 2/2 3/3\nusemtl m2\nf 1/1 3/3 2/2\n");
+  // Each pair alone: the process (136 MiB), the dissolve map decoded (17 MiB) and its white image
+  // (16 MiB) fit 180 MiB; the second beside the first's 16 MiB does not.
+  Budget budget;
+  budget.max_memory_bytes = uint64_t{180} << 20;
+  try {
+    load_mesh_file(obj, budget);
+    ADD_FAILURE() << "two pairs fit 180 MiB";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, (dir.path() / "b.pgm").string()) << e.what();
+  }
+  budget.max_memory_bytes = uint64_t{200} << 20;
+  EXPECT_EQ(load_mesh_file(obj, budget).maps.size(), 2u);
+}
+
 // A dissolve of another size is read bilinearly at the colour texels' centres: a 1 x 2 map of 0
 // over 1 under a 1 x 4 colour map gives its rows 0, 0.25, 0.75 and 1 (clamped at the edges).
 TEST(ObjDissolve, ADissolveOfAnotherSizeIsResampled) {

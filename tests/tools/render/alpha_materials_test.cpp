@@ -13,6 +13,7 @@
 #include "tests/tools/render/render_test_scenes.h"
 #include "tests/tools/render/two_quads_gltf.h"
 #include "tools/io/image_io.h"
+#include "tools/render/budget_check.h"
 
 namespace pelt::render::test {
 namespace {
@@ -160,6 +161,11 @@ TEST(AlphaMaterials, ObjDissolveMapBlendsOverWhatLiesBehind) {
   const std::vector<std::filesystem::path> inputs = SceneRenderer(s, RenderSettings{}).input_files();
   for (const char* f : {"g.ppm", "a.pgm"})
     EXPECT_NE(std::find(inputs.begin(), inputs.end(), dir.path() / f), inputs.end()) << f;
+  // The memory estimate names the image by its files (it had said "embedded colour map").
+  const MemoryEstimate e = estimate_memory(s, io::load_scene_meshes(s), 0, 0, 1, 1);
+  EXPECT_TRUE(std::any_of(e.parts.begin(), e.parts.end(), [](const MemoryPart& p) {
+    return p.what.rfind("colour map g.ppm with its map_d a.pgm, 1 x 1 texels", 0) == 0;
+  }));
 }
 
 // On a translucent skin (Opacity below 1, every part blended) MASK still cuts: the front quad's

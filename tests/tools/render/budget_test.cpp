@@ -289,6 +289,19 @@ TEST(MemoryEstimate, BoundsWhatTheRendererHolds) {
   EXPECT_GE(e.renderer_total(), drawn.memory_estimate());
 }
 
+// The counts a fur geometry part's text gives: "..., N vertices, M shell and fin triangles".
+struct FurPartCounts {
+  uint64_t vertices = 0, triangles = 0;
+};
+FurPartCounts fur_part_counts(const std::string& what) {
+  const auto number_before = [&](const char* word) {
+    const size_t at = what.find(word);
+    if (at == std::string::npos) throw std::logic_error("no `" + std::string(word) + "` in " + what);
+    return std::stoull(what.substr(what.rfind(' ', at - 1) + 1));
+  };
+  return {number_before(" vertices"), number_before(" shell and fin triangles")};
+}
+
 // A colour map adds the mesh uv to every fur vertex's shell and fin varyings and keeps the mesh uvs per
 // base vertex; a length map keeps a scale per base vertex and is read whole while the fur is built.
 // The estimate counts both (it was about 5 % low for furry objects with fins before), and still
@@ -309,12 +322,12 @@ TEST(MemoryEstimate, TheFurMapsAreCounted) {
   ASSERT_EQ(b.parts.size(), a.parts.size() + 1);
   const size_t geo = 2;  // mesh, colour map, fur geometry
   ASSERT_EQ(a.parts[geo].field, "objects[0].fur.shells");
-  // The vertex count as the estimate makes it (its own "N vertices", 16 layers of the base's).
-  const std::string& what = a.parts[geo].what;
-  const size_t at = what.find(" vertices");
-  ASSERT_NE(at, std::string::npos) << what;
-  const uint64_t vertices = std::stoull(what.substr(what.rfind(' ', at - 1) + 1)), base = vertices / 16;
-  EXPECT_EQ(b.parts[geo].bytes - a.parts[geo].bytes, vertices * 2 * 2 * sizeof(float) + base * (8 + 4));
+  // The counts as the estimate makes them (16 layers of the base's vertices and faces); the map's
+  // list per base face and per fin quad besides.
+  const FurPartCounts n = fur_part_counts(a.parts[geo].what);
+  const uint64_t base = n.vertices / 16, faces = meshes[0].loaded.mesh.triangle_count(), fins = n.triangles - 16 * faces;
+  EXPECT_EQ(b.parts[geo].bytes - a.parts[geo].bytes,
+            n.vertices * 2 * 2 * sizeof(float) + base * (8 + 4) + (faces + fins / 2) * 4);
   bool length_map_part = false;
   for (const MemoryPart& p : b.parts) length_map_part |= p.field == "objects[0].fur.length_map";
   EXPECT_TRUE(length_map_part);
@@ -348,11 +361,10 @@ TEST(MemoryEstimate, AFurCutOutsMeshUvsAreCounted) {
       if (p.kind == "fur geometry") return p;
     throw std::logic_error("no fur geometry part");
   };
-  const std::string& what = fur_geometry(a).what;
-  const size_t at = what.find(" vertices");
-  ASSERT_NE(at, std::string::npos) << what;
-  const uint64_t vertices = std::stoull(what.substr(what.rfind(' ', at - 1) + 1)), base = vertices / 8;
-  EXPECT_EQ(fur_geometry(b).bytes - fur_geometry(a).bytes, vertices * 2 * 2 * sizeof(float) + base * 8);
+  const FurPartCounts n = fur_part_counts(fur_geometry(a).what);
+  const uint64_t base = n.vertices / 8, fins = n.triangles - 8 * 4;  // two quads: 4 base faces
+  EXPECT_EQ(fur_geometry(b).bytes - fur_geometry(a).bytes,
+            n.vertices * 2 * 2 * sizeof(float) + base * 8 + (4 + fins / 2) * 4);
   EXPECT_EQ(fur_geometry(c).bytes, fur_geometry(a).bytes);
   // The map comes with its alpha copied for the fur (cut_alpha_texture), 2 bytes a texel and levels.
   const auto colour_map = [](const MemoryEstimate& e) -> const MemoryPart& {

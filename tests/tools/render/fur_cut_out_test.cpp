@@ -2,6 +2,7 @@
 // is kept: a strand rooted in a hole is not drawn, shells and fins alike (FurCutMap). Until
 // 2026-11-28 the fur grew over the holes, floating over nothing.
 #include <gtest/gtest.h>
+#include <glm/vec3.hpp>
 
 #include <cstdint>
 #include <string>
@@ -59,19 +60,22 @@ Lit lit(const FrameImage& img) {
   return l;
 }
 
-// The back quad gone and the front's left half cut: nothing is drawn over the left half (the
-// surface, its shells and the fins of its diagonal edge cut alike), while the right half keeps
-// its surface and fur. Per-vertex and per-pixel lighting, one and two threads.
+// The front quad's left half cut, the back quad gone (a cut per part) or cut alike (one material:
+// one cut-out for the whole mesh): nothing is drawn over the left half (the surface, its shells
+// and the fins of its diagonal edge cut alike), while the right half keeps its surface and fur.
+// Per-vertex and per-pixel lighting, one and two threads.
 TEST(FurCutOut, NoStrandGrowsInAHole) {
   SceneDir dir;
   write_front(dir, false);
-  const io::Scene s = furry_quads(dir, kBackGone);
-  for (const FurLighting lighting : {FurLighting::vertex, FurLighting::pixel}) {
-    const FrameImage one = render_at(s, {}, 1, lighting), two = render_at(s, {}, 2, lighting);
-    const Lit l = lit(two);
-    EXPECT_EQ(l.left, 0) << int(lighting);
-    EXPECT_EQ(l.right, 15 * 36) << int(lighting);
-    EXPECT_TRUE(same_pixels(one, two)) << int(lighting);
+  for (const bool per_part : {true, false}) {
+    const io::Scene s = furry_quads(dir, per_part ? kBackGone : R"({"name":"back",)" + kFrontMask.substr(1));
+    for (const FurLighting lighting : {FurLighting::vertex, FurLighting::pixel}) {
+      const FrameImage one = render_at(s, {}, 1, lighting), two = render_at(s, {}, 2, lighting);
+      const Lit l = lit(two);
+      EXPECT_EQ(l.left, 0) << per_part << " " << int(lighting);
+      EXPECT_EQ(l.right, 15 * 36) << per_part << " " << int(lighting);
+      EXPECT_TRUE(same_pixels(one, two)) << per_part << " " << int(lighting);
+    }
   }
 }
 
@@ -93,15 +97,32 @@ TEST(FurCutOut, TheFurIsDrawnWhereNothingIsCut) {
   EXPECT_GT(redder, 100);
 }
 
-// One cut for the whole mesh (both quads in one material, one part, so the fur takes one cut-out
-// and no per-face list), every texel cut: the frame is black, fur and all.
+// Every face cut away, by one cut-out for the whole mesh (both quads in one material: one part,
+// no per-face list) or by one per part (the back by its factor, the front by its map): the frame
+// is black from the front and from an oblique view where the fins of the quads' edges stand in
+// sight (cut by their edge's face's part), under every sort (the layer and none orders index the
+// fins per layer) and both lightings.
 TEST(FurCutOut, AMeshCutAwayWholeGrowsNoFur) {
   SceneDir dir;
   write_front(dir, true);
-  const io::Scene s = furry_quads(dir, R"({"name":"back",)" + kFrontMask.substr(1));
-  ASSERT_EQ(SceneRenderer(s, RenderSettings{}).maps_drawn(0).size(), 1u);  // one part
-  const FrameImage img = render_at(s, {});
-  for (size_t p = 0; p + 3 < img.color.size(); p += 4) ASSERT_TRUE(black(&img.color[p])) << p / 4;
+  for (const bool per_part : {false, true}) {
+    io::Scene s = furry_quads(dir, per_part ? kBackGone : R"({"name":"back",)" + kFrontMask.substr(1));
+    ASSERT_EQ(SceneRenderer(s, RenderSettings{}).maps_drawn(0).size(), per_part ? 2u : 1u);
+    for (const glm::vec3 eye : {glm::vec3(0.0f, 0.0f, 4.0f), glm::vec3(3.0f, 1.2f, 2.4f)}) {
+      s.camera.eye = eye;
+      for (const io::SortQuality sort : {io::SortQuality::tile, io::SortQuality::layer, io::SortQuality::none,
+                                         io::SortQuality::surface, io::SortQuality::exact})
+        for (const FurLighting lighting : {FurLighting::vertex, FurLighting::pixel}) {
+          io::Quality q;
+          q.sort = sort;
+          const FrameImage img = render_at(s, q, 2, lighting);
+          int lit = 0;
+          for (size_t p = 0; p + 3 < img.color.size(); p += 4) lit += !black(&img.color[p]);
+          EXPECT_EQ(lit, 0) << "per part " << per_part << ", eye x " << eye.x << ", sort " << int(sort)
+                            << ", lighting " << int(lighting);
+        }
+    }
+  }
 }
 
 // A mesh some of whose faces have no uvs lays its strands by the box mapping, the uvs set aside;

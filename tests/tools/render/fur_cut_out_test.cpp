@@ -125,6 +125,27 @@ TEST(FurCutOut, AMeshCutAwayWholeGrowsNoFur) {
   }
 }
 
+// A MASK whose map's alphas all reach the cutoff (exporters mark opaque textures MASK) cuts nothing:
+// the fur reads no map for it, so the renderer holds what it holds for the mesh OPAQUE (no alpha
+// copy, no mesh uvs per fur vertex) and draws the same bytes.
+TEST(FurCutOut, AMaskThatCutsNothingCostsTheFurNothing) {
+  SceneDir dir;
+  std::vector<uint8_t> px;
+  for (int k = 0; k < 16; ++k) px.insert(px.end(), {0, 255, 0, uint8_t(200 + k)});
+  io::write_image_atomic(dir.path() / "front.png", 4, 4, 4, io::PixelType::u8, px.data());
+  const std::string map = R"("pbrMetallicRoughness":{"baseColorTexture":{"index":0}})";
+  const auto scene = [&](const std::string& name, const std::string& front) {
+    dir.write(name, two_quads_gltf(front));
+    return front_view_scene(dir, name, R"({"type": "lambert"})",
+                            R"(, "fur": {"shells": 6, "texture_size": 32, "density": 30, "fins": "all"})");
+  };
+  const io::Scene mask = scene("mask.gltf", R"({"alphaMode":"MASK",)" + map + "}");
+  const io::Scene opaque = scene("opaque.gltf", "{" + map + "}");
+  EXPECT_EQ(SceneRenderer(mask, RenderSettings{}).memory_estimate(),
+            SceneRenderer(opaque, RenderSettings{}).memory_estimate());
+  EXPECT_TRUE(same_pixels(render_at(mask, {}), render_at(opaque, {})));
+}
+
 // A mesh some of whose faces have no uvs lays its strands by the box mapping, the uvs set aside;
 // the cut-out is still read at them.
 TEST(FurCutOut, FacesWithoutUvsBesideDoNotLoseTheCut) {

@@ -43,17 +43,6 @@ raster::Texture cut_alpha_texture(const raster::Texture& map, const raster::Para
   return out;
 }
 
-std::pair<float, float> alpha_range(const raster::Texture& map) {
-  uint32_t least = 255, most = 0;
-  for (int y = 0; y < map.height(); ++y)
-    for (int x = 0; x < map.width(); ++x) {
-      const uint32_t a = map.texel(0, x, y) >> 24;
-      least = std::min(least, a);
-      most = std::max(most, a);
-    }
-  return {float(least) / 255.0f, float(most) / 255.0f};
-}
-
 void FurShader::set_view(const std::vector<shading::Light>& lights, const glm::vec3& eye) {
   lights_ = lights;
   eye_[0] = eye.x;

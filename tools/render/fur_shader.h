@@ -5,7 +5,6 @@
 #pragma once
 
 #include <stdexcept>
-#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -46,11 +45,6 @@ inline constexpr uint32_t kNoFurCut = 0xFFFFFFFFu;
 // average L plainly, as the map's own levels average its alpha): the cut-outs sample the strands'
 // La8 path instead of the map's sRGB RGBA8 one, which decodes three colour channels for nothing.
 raster::Texture cut_alpha_texture(const raster::Texture& map, const raster::ParallelFor& parallel = {});
-
-// The least and the most alpha of `map`'s level 0, in [0, 1]. Every filtered sample lies between
-// them (each level's texels are rounded averages of level 0's), so a cut-out that they place on
-// one side of its cutoff cuts everything or nothing, and needs no map.
-std::pair<float, float> alpha_range(const raster::Texture& map);
 
 struct FurShaderSetup {
   bool fins = false;                         // fin draw (else shells)

@@ -26,6 +26,23 @@ thread_local Scratch tls_scratch;
 
 }  // namespace
 
+MaskCuts mask_cuts(const MaterialDesc& d) {
+  float least = 1.0f, most = 1.0f, margin = 0.0f;
+  if (d.color_map) {
+    uint32_t lo = 255, hi = 0;
+    for (int y = 0; y < d.color_map->height(); ++y)
+      for (int x = 0; x < d.color_map->width(); ++x) {
+        const uint32_t a = d.color_map->texel(0, x, y) >> 24;
+        lo = std::min(lo, a);
+        hi = std::max(hi, a);
+      }
+    least = float(lo) / 255.0f, most = float(hi) / 255.0f, margin = 1e-3f;
+  }
+  if (io::mask_keeps(std::max(0.0f, least - margin), d.alpha_factor, d.alpha_cutoff)) return MaskCuts::nothing;
+  if (!io::mask_keeps(std::min(1.0f, most + margin), d.alpha_factor, d.alpha_cutoff)) return MaskCuts::everything;
+  return MaskCuts::some;
+}
+
 MaterialShader::MaterialShader(const MaterialDesc& desc, std::vector<shading::Light> lights,
                                glm::vec3 eye, SkinLayer layer)
     : desc_(desc), lights_(std::move(lights)), eye_{eye.x, eye.y, eye.z}, layer_(layer) {}
@@ -43,7 +60,7 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
   using V = SurfaceVaryings;
   // Skin takes its colours from SkinParams: its albedo is the colour map alone.
   const glm::vec3 base = desc_.kind == MaterialKind::skin ? glm::vec3(1.0f) : desc_.color;
-  const bool draws_alpha = desc_.alpha_mode != io::AlphaMode::opaque;
+  const bool draws_alpha = desc_.alpha_mode != io::AlphaMode::opaque && !desc_.cuts_nothing;
   if (desc_.color_map) {
     float* const texel[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
     sample_placed(*desc_.color_map, desc_.color_placement, desc_.filter, b.varying[V::kUv], b.varying[V::kUv + 1], n,

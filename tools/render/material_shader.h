@@ -44,11 +44,21 @@ struct MaterialDesc {
   io::AlphaMode alpha_mode = io::AlphaMode::opaque;
   float alpha_cutoff = 0.5f;
   float alpha_factor = 1.0f;
+  // A MASK that cuts nothing (mask_cuts): drawn as opaque, its alpha neither read nor tested.
+  bool cuts_nothing = false;
   bool double_precision = false;  // shading and sampling by the double references
 
   // A skin of Opacity below 1: drawn blended (AlphaOver, no depth write).
   bool translucent() const { return kind == MaterialKind::skin && skin.Opacity < 1.0f; }
 };
+
+// What a MASK part's test does over its whole colour map: a map whose alphas all lie on one side of
+// the cutoff cuts everything or nothing (exporters mark opaque textures MASK), and then neither its
+// surface nor its fur need read it. Every filtered sample lies between the least and the most alpha
+// of level 0 (each level's texels are rounded averages of level 0's), less a margin for the
+// samples' rounding. Without a map the alpha is the factor alone: everything or nothing.
+enum class MaskCuts { nothing, everything, some };
+MaskCuts mask_cuts(const MaterialDesc& desc);
 
 class MaterialShader final : public raster::Shader {
  public:

@@ -486,6 +486,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       part.desc.alpha_mode = set.alpha_mode;
       part.desc.alpha_cutoff = set.alpha_cutoff;
       part.desc.alpha_factor = set.alpha_factor;
+      part.desc.cuts_nothing = set.alpha_mode == io::AlphaMode::mask && mask_cuts(part.desc) == MaskCuts::nothing;
       any_map |= part.desc.color_map || part.desc.normal_map;
       any_normal_map |= part.desc.normal_map != nullptr;
       any_color_map |= part.desc.color_map != nullptr;
@@ -594,18 +595,14 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       for (size_t p = 0; p < parts.count(); ++p) {
         const MaterialDesc& d = obj->parts[p].desc;
         if (d.alpha_mode != io::AlphaMode::mask || !fo.textures) continue;  // fur not drawn: nothing to cut
-        // A map whose alphas all lie on one side of the cutoff cuts everything or nothing (exporters
-        // mark opaque textures MASK): no map is read for it, and one that cuts nothing is no cut-out
-        // (a furry mesh's tiles took 1.5x the time sampling such a map). The margin covers the
-        // filtered samples' rounding (a sample stays within [0, 1]); without a map the alpha is 1
-        // exactly, and the test below decides alone.
-        const float margin = d.color_map ? 1e-3f : 0.0f;
-        const auto [least, most] = d.color_map ? alpha_range(*d.color_map) : std::pair{1.0f, 1.0f};
-        if (io::mask_keeps(std::max(0.0f, least - margin), d.alpha_factor, d.alpha_cutoff)) continue;
+        // A cut-out that cuts everything or nothing reads no map (a furry mesh's tiles took 1.5x the
+        // time sampling a map that cut nothing), and one that cuts nothing is none.
+        const MaskCuts cuts = mask_cuts(d);
+        if (cuts == MaskCuts::nothing) continue;
         FurCutMap cut{{nullptr, d.color_placement}, d.alpha_factor, d.alpha_cutoff};
-        if (!io::mask_keeps(std::min(1.0f, most + margin), d.alpha_factor, d.alpha_cutoff)) {
-          cut.factor = 0.0f;  // everything: the cutoff is above 0 here, which a factor of 0 never reaches
-        } else {  // a map's alphas on both sides (without a map, least == most)
+        if (cuts == MaskCuts::everything) {
+          cut.factor = 0.0f;  // the cutoff is above 0 here, which a factor of 0 never reaches
+        } else {  // some: a map's alphas on both sides of the cutoff
           const raster::Texture*& copy = cut_alpha[d.color_map];
           if (!copy) {
             StageTimer t(setup_stats_, "textures");
@@ -765,7 +762,8 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
       if (p.desc.translucent() || p.desc.alpha_mode == io::AlphaMode::blend) {
         d.state.blend = raster::BlendMode::AlphaOver;
         d.state.depth_write = false;
-      } else if (p.desc.alpha_mode == io::AlphaMode::mask) {
+      } else if (p.desc.alpha_mode == io::AlphaMode::mask && !p.desc.cuts_nothing) {
+        // (One that cuts nothing is drawn opaque: an alpha-tested draw is shaded twice.)
         d.state.alpha_test = true;
         d.state.alpha_cutoff = p.desc.alpha_cutoff;
       }

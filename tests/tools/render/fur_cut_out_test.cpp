@@ -127,7 +127,8 @@ TEST(FurCutOut, AMeshCutAwayWholeGrowsNoFur) {
 
 // A MASK whose map's alphas all reach the cutoff (exporters mark opaque textures MASK) cuts nothing:
 // the fur reads no map for it, so the renderer holds what it holds for the mesh OPAQUE (no alpha
-// copy, no mesh uvs per fur vertex) and draws the same bytes.
+// copy, no mesh uvs per fur vertex) and draws the same bytes, and the surface is drawn opaque,
+// each pixel shaded once (an alpha-tested draw shades its pixels twice).
 TEST(FurCutOut, AMaskThatCutsNothingCostsTheFurNothing) {
   SceneDir dir;
   std::vector<uint8_t> px;
@@ -144,6 +145,14 @@ TEST(FurCutOut, AMaskThatCutsNothingCostsTheFurNothing) {
   EXPECT_EQ(SceneRenderer(mask, RenderSettings{}).memory_estimate(),
             SceneRenderer(opaque, RenderSettings{}).memory_estimate());
   EXPECT_TRUE(same_pixels(render_at(mask, {}), render_at(opaque, {})));
+  const auto shaded = [](const io::Scene& s) {
+    SceneRenderer r(s, RenderSettings{});
+    FrameImage img;
+    FrameStats st;
+    r.render(0, img, st);
+    return st.raster.lanes_shaded;
+  };
+  EXPECT_EQ(shaded(mask), shaded(opaque));
 }
 
 // A mesh some of whose faces have no uvs lays its strands by the box mapping, the uvs set aside;

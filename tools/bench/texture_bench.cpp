@@ -89,7 +89,7 @@ std::vector<uint16_t> fur_like_masks(uint32_t seed) {
 
 // `masked`: with fur_like_masks, counting the wanted lanes as the items.
 void BM_Sample(benchmark::State& state, int64_t target, Filter filter, int size, Kind kind,
-               float texels_per_pixel, bool masked) {
+               float texels_per_pixel, bool masked, Wrap wrap) {
   hwy::SetSupportedTargetsForTest(target);
   const Texture& tex = texture(size, kind);
   std::vector<float> u, v;
@@ -100,7 +100,7 @@ void BM_Sample(benchmark::State& state, int64_t target, Filter filter, int size,
   auto o0 = hwy::AllocateAligned<float>(kLanes), o1 = hwy::AllocateAligned<float>(kLanes),
        o2 = hwy::AllocateAligned<float>(kLanes), o3 = hwy::AllocateAligned<float>(kLanes);
   float* const out[4] = {o0.get(), o1.get(), o2.get(), o3.get()};
-  const SamplerState s{filter, Wrap::Repeat, Wrap::Repeat, 0.0f};
+  const SamplerState s{filter, wrap, wrap, 0.0f};
   for (auto _ : state) {
     sample(tex, s, u.data(), v.data(), kLanes, out, masked ? masks.data() : nullptr);
     benchmark::DoNotOptimize(o3[kLanes - 1]);
@@ -109,6 +109,27 @@ void BM_Sample(benchmark::State& state, int64_t target, Filter filter, int size,
   state.SetItemsProcessed(int64_t(state.iterations()) * items);
   state.counters["texture_KiB"] = double(tex.bytes()) / 1024.0;
   if (masked) state.counters["wanted_lanes_%"] = 100.0 * double(items) / double(kLanes);
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+// Wrap::Mirror's fold of the coordinates of coords(256, 4) (both axes' worth: u, then v), by the
+// kernel sample() calls or by its scalar reference, lane by lane (what sample() ran until
+// 2026-11-28).
+void BM_FoldMirror(benchmark::State& state, int64_t target, bool reference) {
+  hwy::SetSupportedTargetsForTest(target);
+  std::vector<float> u, v, out(kLanes);
+  coords(256, 4.0f, u, v);
+  for (auto _ : state) {
+    for (const std::vector<float>* c : {&u, &v}) {
+      if (reference)
+        for (size_t i = 0; i < kLanes; ++i) out[i] = fold_mirror_reference((*c)[i]);
+      else
+        fold_mirror(c->data(), out.data(), kLanes);
+      benchmark::DoNotOptimize(out[kLanes - 1]);
+      benchmark::ClobberMemory();
+    }
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(2 * kLanes));
   hwy::SetSupportedTargetsForTest(0);
 }
 
@@ -148,15 +169,25 @@ void register_all() {
           const char* suffix = kind == Kind::srgb ? "_srgb" : kind == Kind::la8 ? "_la8" : "_rgba8";
           const std::string name = std::string("Sample/") + hwy::TargetName(target) + "/" + filter_name(f) +
                                    "/" + std::to_string(size) + suffix + "/texels_per_pixel:" + std::to_string(int(tpp));
-          benchmark::RegisterBenchmark(name.c_str(), BM_Sample, target, f, size, kind, tpp, false);
+          benchmark::RegisterBenchmark(name.c_str(), BM_Sample, target, f, size, kind, tpp, false, Wrap::Repeat);
         }
   for (int64_t target : hwy::SupportedAndGeneratedTargets())
     for (Filter f : {Filter::Bilinear, Filter::Trilinear})
       for (Kind kind : {Kind::rgba8, Kind::la8}) {
         const std::string name = std::string("SampleMasked/") + hwy::TargetName(target) + "/" + filter_name(f) +
                                  (kind == Kind::la8 ? "/256_la8" : "/256_rgba8") + "/texels_per_pixel:4";
-        benchmark::RegisterBenchmark(name.c_str(), BM_Sample, target, f, 256, kind, 4.0f, true);
+        benchmark::RegisterBenchmark(name.c_str(), BM_Sample, target, f, 256, kind, 4.0f, true, Wrap::Repeat);
       }
+  // A mirrored map (glTF's 33648), folded before the clamp's path: against Sample/.../trilinear/256_srgb.
+  for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    const std::string name =
+        std::string("SampleMirror/") + hwy::TargetName(target) + "/trilinear/256_srgb/texels_per_pixel:4";
+    benchmark::RegisterBenchmark(name.c_str(), BM_Sample, target, Filter::Trilinear, 256, Kind::srgb, 4.0f, false,
+                                 Wrap::Mirror);
+    benchmark::RegisterBenchmark((std::string("FoldMirror/") + hwy::TargetName(target)).c_str(), BM_FoldMirror, target,
+                                 false);
+  }
+  benchmark::RegisterBenchmark("FoldMirror/reference", BM_FoldMirror, int64_t{0}, true);
   for (int64_t target : hwy::SupportedAndGeneratedTargets())
     benchmark::RegisterBenchmark((std::string("BlockLods/") + hwy::TargetName(target)).c_str(), BM_BlockLods, target);
 }

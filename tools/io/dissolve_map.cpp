@@ -1,7 +1,6 @@
 #include "tools/io/dissolve_map.h"
 
 #include <algorithm>
-#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,9 +11,8 @@
 namespace pelt::io {
 namespace {
 
-// Channel `c` of texel (x, y) of `img` as a dissolve.
-float dissolve_at(const ImageRGBA& img, int x, int y, char c) {
-  const float* p = img.pixel(x, y);
+// Channel `c` of a texel as a dissolve.
+float dissolve_of(const float* p, char c) {
   switch (c) {
     case 'r': return p[0];
     case 'g': return p[1];
@@ -22,19 +20,6 @@ float dissolve_at(const ImageRGBA& img, int x, int y, char c) {
     case 'm': return p[3];
     default: return 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
   }
-}
-
-// `img`'s channel c, bilinear at (u, v) in [0, 1] (texel centres at (i + 0.5) / size), clamped.
-float dissolve_bilinear(const ImageRGBA& img, float u, float v, char c) {
-  const float x = u * float(img.width) - 0.5f, y = v * float(img.height) - 0.5f;
-  const float fx = std::floor(x), fy = std::floor(y);
-  const float tx = x - fx, ty = y - fy;
-  const auto at = [&](float xi, float yi) {
-    return dissolve_at(img, std::clamp(int(xi), 0, img.width - 1), std::clamp(int(yi), 0, img.height - 1), c);
-  };
-  const float top = at(fx, fy) * (1.0f - tx) + at(fx + 1.0f, fy) * tx;
-  const float bottom = at(fx, fy + 1.0f) * (1.0f - tx) + at(fx + 1.0f, fy + 1.0f) * tx;
-  return top * (1.0f - ty) + bottom * ty;
 }
 
 }  // namespace
@@ -82,9 +67,10 @@ ImageRGBA dissolved_color_map(const std::filesystem::path* color, const std::fil
   const bool same_size = out.width == d.width && out.height == d.height;
   for (int y = 0; y < out.height; ++y)
     for (int x = 0; x < out.width; ++x) {
-      const float a = same_size ? dissolve_at(d, x, y, channel)
-                                : dissolve_bilinear(d, (float(x) + 0.5f) / float(out.width),
-                                                    (float(y) + 0.5f) / float(out.height), channel);
+      const auto of = [channel](const float* texel) { return dissolve_of(texel, channel); };
+      const float a = same_size ? of(d.pixel(x, y))
+                                : float(bilinear_at(d, (double(x) + 0.5) / double(out.width),
+                                                    (double(y) + 0.5) / double(out.height), false, of));
       float& alpha = out.rgba[(size_t(y) * size_t(out.width) + size_t(x)) * 4 + 3];
       alpha = one_file ? a : alpha * a;
     }

@@ -89,10 +89,10 @@ std::filesystem::path find_named_file(const std::string& name, const std::filesy
 bool read_record(std::istream& in, std::string& record, size_t& lines, bool first, bool& mended);
 
 // MTL text as tinyobjloader should read it: statements read by read_record, material names' blanks
-// kept (kNameBlank), and each map statement pelt draws (map_Kd, norm, bump, map_Bump) reduced to
-// its file name, after its options are read at their arities, and each `d` and `Tr` to its value
-// (`d -halo f` to f, a comment dropped). The placement map_Kd's and norm's -s, -o and -clamp
-// give, and which of `d` and `Tr` a material gives, go to `extras`, by material name as
+// kept (kNameBlank), and each map statement pelt reads (map_Kd, norm, map_d, bump, map_Bump) reduced
+// to its file name, after its options are read at their arities, and each `d` and `Tr` to its value
+// (`d -halo f` to f, a comment dropped). The placement map_Kd's, norm's and map_d's -s, -o and
+// -clamp give, map_d's -imfchan, and which of `d` and `Tr` a material gives, go to `extras`, by material name as
 // tinyobjloader reads it (the first material of a name, as tinyobjloader's `usemtl` finds it).
 // What pelt cannot honour (a turbulent map, -t, a halo) and a map statement naming no file are
 // added to `warnings`, naming `library`'s file name; a value that is not a finite number, or a

@@ -172,8 +172,8 @@ MemoryPart map_part(const io::Scene& scene, size_t i, const char* key, const std
   return p;
 }
 
-// `cut_by_map`: a part of the mesh is cut out by its colour map's alpha (alphaMode MASK), which the
-// fur reads at the mesh uvs as a colour map.
+// `cut_by_map`: the drawn fur is cut out by a part's colour map's alpha (alphaMode MASK), which it
+// reads at the mesh uvs as a colour map.
 void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, int threads, bool drawn,
                    bool cut_by_map, std::vector<MemoryPart>& parts, std::vector<MemoryPart>& frame_parts) {
   const fur::FurParams& fp = *scene.objects[i].fur;
@@ -204,12 +204,12 @@ void add_fur_parts(const io::Scene& scene, const io::SceneMesh& sm, size_t i, in
   if (fins) g = sat_add(g, sat_mul(c.shell_vertices, kFurBytesPerFinVertex));
   // A colour map's or a cut-out's mesh uv: two more varyings per fur vertex in the shell and fin
   // arrays, and the mesh uvs per base vertex; a length map's scale per base vertex.
-  if (fp.use_color_map || (cut_by_map && drawn)) {
+  if (fp.use_color_map || cut_by_map) {
     g = sat_add(g, sat_mul(c.shell_vertices, (fins ? 2 : 1) * FurMapUv::kCount * sizeof(float)));
     g = sat_add(g, sat_mul(c.base_vertices, sizeof(glm::vec2)));
   }
   // Each such map's list per base face and per fin quad, when the mesh's parts differ in it.
-  const uint64_t face_lists = uint64_t(fp.use_color_map) + uint64_t(cut_by_map && drawn);
+  const uint64_t face_lists = uint64_t(fp.use_color_map) + uint64_t(cut_by_map);
   g = sat_add(g, sat_mul(face_lists, sat_mul(sat_add(c.base_faces, c.fin_faces / 2), sizeof(uint32_t))));
   if (!scene.objects[i].fur_length_map.empty()) g = sat_add(g, sat_mul(c.base_vertices, sizeof(float)));
   g = sat_add(g, sat_mul(c.base_faces, kFurBytesPerBaseFace));
@@ -472,13 +472,7 @@ MemoryEstimate estimate_memory(const io::Scene& scene, const std::vector<io::Sce
                            sat_add(raster_bytes(draw_vertices, m.triangle_count()),
                                    sat_mul(kObjectBytes, uint64_t(parts.count()))),
                            std::string(kSetupsKind), int(i)});
-    if (so.fur) {
-      const bool cut_by_map = std::any_of(parts.first_set.begin(), parts.first_set.end(), [&](uint32_t k) {
-        const io::MeshMaps& set = loaded.set(k);
-        return set.alpha_mode == io::AlphaMode::mask && map_source(so.material.color_map, set.color_map).has_value();
-      });
-      add_fur_parts(scene, meshes[i], i, threads, fur_drawn, cut_by_map, e.parts, frame_parts);
-    }
+    if (so.fur) add_fur_parts(scene, meshes[i], i, threads, fur_drawn, !cut_images.empty(), e.parts, frame_parts);
     if (!so.fur_length_map.empty()) {  // read as floats and sampled once, then freed
       const std::string field = object_field(i) + ".fur.length_map";
       const io::ImageHeader h = asked_by("in " + field + " of " + scene.file.string(),

@@ -43,27 +43,14 @@ std::vector<float> read_length_map(const std::filesystem::path& image, const Mes
     }
   }
   // Bilinear on the file's own values, in double (the raster's textures hold 8 bits a channel, which
-  // would turn a value below 1/510 into bare skin and flatten 16-bit and float maps): texel centres
-  // at half-integers, repeat wrapping, v = 0 the top row, as the sampler reads colour maps.
-  auto texel = [&](long long x, long long y) {
-    const long long W = (long long)w, H = (long long)h;
-    x = ((x % W) + W) % W;
-    y = ((y % H) + H) % H;
-    return double(img.rgba[4 * (size_t(y) * w + size_t(x))]);
-  };
+  // would turn a value below 1/510 into bare skin and flatten 16-bit and float maps), repeating, as
+  // the sampler reads colour maps; a non-finite uv reads the first texel (the sampler keeps such
+  // coordinates inside the texture).
   std::vector<float> scale(n);
   for (size_t i = 0; i < n; ++i) {
-    const glm::vec2 uv = mesh.uvs[i];
-    // A non-finite uv reads the first texel (the sampler keeps such coordinates inside the texture).
-    const double x = std::isfinite(uv.x) ? double(uv.x) * double(w) - 0.5 : 0.0;
-    const double y = std::isfinite(uv.y) ? double(uv.y) * double(h) - 0.5 : 0.0;
-    const double fx = std::floor(x), fy = std::floor(y);
-    // Beyond 2^52 texels a coordinate has no fraction left; the wrap below stays exact.
-    const long long x0 = (long long)std::fmod(fx, double(w)), y0 = (long long)std::fmod(fy, double(h));
-    const double tx = x - fx, ty = y - fy;
-    const double top = texel(x0, y0) * (1.0 - tx) + texel(x0 + 1, y0) * tx;
-    const double bottom = texel(x0, y0 + 1) * (1.0 - tx) + texel(x0 + 1, y0 + 1) * tx;
-    scale[i] = float(std::fmin(1.0, std::fmax(0.0, top * (1.0 - ty) + bottom * ty)));
+    const double value =
+        io::bilinear_at(img, mesh.uvs[i].x, mesh.uvs[i].y, true, [](const float* texel) { return texel[0]; });
+    scale[i] = float(std::fmin(1.0, std::fmax(0.0, value)));
   }
   return scale;
 }

@@ -60,7 +60,9 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
   using V = SurfaceVaryings;
   // Skin takes its colours from SkinParams: its albedo is the colour map alone.
   const glm::vec3 base = desc_.kind == MaterialKind::skin ? glm::vec3(1.0f) : desc_.color;
-  const bool draws_alpha = desc_.alpha_mode != io::AlphaMode::opaque && !desc_.cuts_nothing;
+  const bool draws_alpha =
+      desc_.alpha_mode == io::AlphaMode::blend ||
+      (desc_.alpha_mode == io::AlphaMode::mask && desc_.mask_cuts != MaskCuts::nothing);
   if (desc_.color_map) {
     float* const texel[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
     sample_placed(*desc_.color_map, desc_.color_placement, desc_.filter, b.varying[V::kUv], b.varying[V::kUv + 1], n,

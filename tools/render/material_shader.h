@@ -22,6 +22,9 @@ enum class MaterialKind { unlit, lambert, blinn, skin };
 // multi-layer rendering (the per-layer AOVs).
 enum class SkinLayer { all, sebum, epidermis, dermis };
 
+// What a MASK part's test does over its whole colour map (mask_cuts, below).
+enum class MaskCuts { nothing, everything, some };
+
 struct MaterialDesc {
   MaterialKind kind = MaterialKind::lambert;
   glm::vec3 color{0.8f};              // albedo of the basic materials
@@ -44,8 +47,9 @@ struct MaterialDesc {
   io::AlphaMode alpha_mode = io::AlphaMode::opaque;
   float alpha_cutoff = 0.5f;
   float alpha_factor = 1.0f;
-  // A MASK that cuts nothing (mask_cuts): drawn as opaque, its alpha neither read nor tested.
-  bool cuts_nothing = false;
+  // Under mask, mask_cuts of this desc, worked out once its map is loaded: a MASK that cuts
+  // nothing is drawn as opaque, its alpha neither read nor tested (the fur's cut-outs read it too).
+  MaskCuts mask_cuts = MaskCuts::some;
   bool double_precision = false;  // shading and sampling by the double references
 
   // A skin of Opacity below 1: drawn blended (AlphaOver, no depth write).
@@ -56,8 +60,8 @@ struct MaterialDesc {
 // the cutoff cuts everything or nothing (exporters mark opaque textures MASK), and then neither its
 // surface nor its fur need read it. Every filtered sample lies between the least and the most alpha
 // of level 0 (each level's texels are rounded averages of level 0's), less a margin for the
-// samples' rounding. Without a map the alpha is the factor alone: everything or nothing.
-enum class MaskCuts { nothing, everything, some };
+// samples' rounding. Without a map the alpha is the factor alone: everything or nothing. Reads
+// every texel of level 0: for set-up (MaterialDesc::mask_cuts).
 MaskCuts mask_cuts(const MaterialDesc& desc);
 
 class MaterialShader final : public raster::Shader {

@@ -486,7 +486,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       part.desc.alpha_mode = set.alpha_mode;
       part.desc.alpha_cutoff = set.alpha_cutoff;
       part.desc.alpha_factor = set.alpha_factor;
-      part.desc.cuts_nothing = set.alpha_mode == io::AlphaMode::mask && mask_cuts(part.desc) == MaskCuts::nothing;
+      if (set.alpha_mode == io::AlphaMode::mask) part.desc.mask_cuts = mask_cuts(part.desc);
       any_map |= part.desc.color_map || part.desc.normal_map;
       any_normal_map |= part.desc.normal_map != nullptr;
       any_color_map |= part.desc.color_map != nullptr;
@@ -597,10 +597,9 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
         if (d.alpha_mode != io::AlphaMode::mask || !fo.textures) continue;  // fur not drawn: nothing to cut
         // A cut-out that cuts everything or nothing reads no map (a furry mesh's tiles took 1.5x the
         // time sampling a map that cut nothing), and one that cuts nothing is none.
-        const MaskCuts cuts = mask_cuts(d);
-        if (cuts == MaskCuts::nothing) continue;
+        if (d.mask_cuts == MaskCuts::nothing) continue;
         FurCutMap cut{{nullptr, d.color_placement}, d.alpha_factor, d.alpha_cutoff};
-        if (cuts == MaskCuts::everything) {
+        if (d.mask_cuts == MaskCuts::everything) {
           cut.factor = 0.0f;  // the cutoff is above 0 here, which a factor of 0 never reaches
         } else {  // some: a map's alphas on both sides of the cutoff
           const raster::Texture*& copy = cut_alpha[d.color_map];
@@ -762,7 +761,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
       if (p.desc.translucent() || p.desc.alpha_mode == io::AlphaMode::blend) {
         d.state.blend = raster::BlendMode::AlphaOver;
         d.state.depth_write = false;
-      } else if (p.desc.alpha_mode == io::AlphaMode::mask && !p.desc.cuts_nothing) {
+      } else if (p.desc.alpha_mode == io::AlphaMode::mask && p.desc.mask_cuts != MaskCuts::nothing) {
         // (One that cuts nothing is drawn opaque: an alpha-tested draw is shaded twice.)
         d.state.alpha_test = true;
         d.state.alpha_cutoff = p.desc.alpha_cutoff;

@@ -740,6 +740,10 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
   draws.clear();
   for (const auto& o : objects_)
     for (const SurfacePart& p : o->parts) {
+      // A MASK part whose test fails on every texel of its map leaves no fragment: not drawn
+      // (its fur is cut away whole too, see the fur's cut-outs), where it was set up and shaded
+      // for every pixel it covers only to be discarded.
+      if (p.desc.alpha_mode == io::AlphaMode::mask && p.desc.mask_cuts == MaskCuts::everything) continue;
       p.shader->set_view(lights_, camera.eye);
       const bool whole = o->parts.size() == 1;  // the object's own arrays
       const Mesh& m = whole ? o->mesh : p.mesh;

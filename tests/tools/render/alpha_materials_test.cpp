@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tests/tools/render/render_test_scenes.h"
@@ -83,6 +84,29 @@ TEST(AlphaMaterials, TheCutoffAndTheFactorDecide) {
   EXPECT_EQ(green(R"({"alphaMode":"MASK","alphaCutoff":0.3,"pbrMetallicRoughness":{"baseColorTexture":{"index":0},
                       "baseColorFactor":[1,1,1,0.5]}})"),
             0);
+}
+
+// A MASK part that every texel of its map fails (alpha 0.4 at the default cutoff 0.5) is not drawn:
+// its triangles are not submitted, where they were set up and shaded for every pixel they cover
+// only to be discarded; the frame is the back quad's alone, as when the cut keeps nothing of the
+// front quad's pixels. A part the test keeps somewhere (cutoff 0.3) is still drawn.
+TEST(AlphaMaterials, APartCutAwayWholeIsNotDrawn) {
+  SceneDir dir;
+  write_front(dir, [](int, int) { return uint8_t(102); });  // 0.4
+  const auto drawn = [&](const std::string& material) {
+    SceneRenderer r(quads_scene(dir, material), RenderSettings{});
+    FrameImage img;
+    FrameStats st;
+    r.render(0, img, st);
+    return std::pair{st.raster.triangles_submitted, count(img)};
+  };
+  const auto [gone_triangles, gone] = drawn(R"({"alphaMode":"MASK",)" + kTextured + "}");
+  const auto [kept_triangles, kept] = drawn(R"({"alphaMode":"MASK","alphaCutoff":0.3,)" + kTextured + "}");
+  EXPECT_EQ(gone_triangles, 2u);  // the back quad's
+  EXPECT_EQ(kept_triangles, 4u);
+  EXPECT_EQ(gone.green, 0);
+  EXPECT_EQ(gone.white, kept.white + kept.green);  // the back quad shows wherever the front one was
+  EXPECT_EQ(gone.other, 0);
 }
 
 // The id AOV sees through the holes: the back quad's triangles (ids 1, 2) where the front's are

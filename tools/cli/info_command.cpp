@@ -112,8 +112,11 @@ int run_info(const InfoOptions& o) {
       std::string alpha;  // the mesh file's material's alpha, as drawn
       char factor[48];
       std::snprintf(factor, sizeof factor, "%g", double(m.alpha_factor));
-      const std::string of = m.color ? "the colour map's alpha" + (m.alpha_factor != 1.0f ? " x " + std::string(factor) : "")
-                                     : "the factor's alpha " + std::string(factor);
+      const std::string times = m.alpha_factor != 1.0f ? " x " + std::string(factor) : "";
+      const std::string of = !m.color             ? "the factor's alpha " + std::string(factor)
+                             : m.alpha_map.empty() ? "the colour map's alpha" + times
+                             : m.alpha_map_alone   ? "map_d " + m.alpha_map + times
+                                                   : "the colour map's alpha with its map_d " + m.alpha_map + times;
       if (m.alpha_mode == io::AlphaMode::mask) {
         char cut[48];
         std::snprintf(cut, sizeof cut, "%g", double(m.alpha_cutoff));

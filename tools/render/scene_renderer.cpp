@@ -37,6 +37,10 @@ struct SurfacePart {
   std::vector<float> varyings;
   std::vector<uint32_t> triangle_ids;
   io::MapPlacement file_color_placement, file_normal_placement;  // as the mesh file gives them (pelt info)
+  // An OBJ's map_d file, whose dissolve the colour map's alpha carries, and whether it came
+  // without a map_Kd (the colour map white) (pelt info).
+  std::string alpha_map;
+  bool alpha_map_alone = false;
 };
 
 struct SceneRenderer::Object {
@@ -480,6 +484,13 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       part.desc.color_map = load_map(kColorMap, so.material.color_map, set.color_map, set.material, keeps_alpha(set),
                                      part.file_color_placement);
       part.desc.color_placement = ours(part.file_color_placement);
+      // Only an OBJ's map_d makes a loader read a colour map's pixels itself: its map_Kd (if any)
+      // and its map_d, the map_d last (io::TextureRef::files).
+      if (part.desc.color_map && map_source(so.material.color_map, set.color_map)->named_by_mesh &&
+          !set.color_map.files.empty()) {
+        part.alpha_map = set.color_map.files.back().filename().string();
+        part.alpha_map_alone = set.color_map.files.size() == 1;
+      }
       part.desc.normal_map =
           load_map(kNormalMap, so.material.normal_map, set.normal_map, set.material, false, part.file_normal_placement);
       part.desc.normal_placement = ours(part.file_normal_placement);
@@ -692,6 +703,8 @@ std::vector<SceneRenderer::MapsDrawn> SceneRenderer::maps_drawn(size_t object) c
     m.alpha_mode = p.desc.alpha_mode;
     m.alpha_cutoff = p.desc.alpha_cutoff;
     m.alpha_factor = p.desc.alpha_factor;
+    m.alpha_map = p.alpha_map;
+    m.alpha_map_alone = p.alpha_map_alone;
   }
   return out;
 }

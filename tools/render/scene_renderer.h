@@ -119,6 +119,10 @@ class SceneRenderer {
     io::MapPlacement color_placement, normal_placement;
     io::AlphaMode alpha_mode = io::AlphaMode::opaque;  // the mesh file's material's, with its cutoff and factor
     float alpha_cutoff = 0.5f, alpha_factor = 1.0f;
+    // An OBJ's map_d (its file name), whose dissolve the colour map's alpha carries (io/dissolve_map.h);
+    // alone: the material has no map_Kd, so the colour map is white with map_d's dissolve as alpha.
+    std::string alpha_map;
+    bool alpha_map_alone = false;
   };
   std::vector<MapsDrawn> maps_drawn(size_t object) const;
   // Floats per fur vertex that the last frame's fur draws of object i interpolate (0 without

@@ -508,6 +508,30 @@ TEST_F(RenderCommand, InfoNamesTheMapsAndWhereTheMeshFilePlacesThem) {
   EXPECT_EQ(r.out.find("maps:", third), std::string::npos) << r.out;
 }
 
+// An OBJ's map_d is named where `pelt info` says what blends the faces: beside map_Kd, the colour
+// map's alpha carries both; alone, map_d's dissolve is the alpha of a white colour map. With MTL
+// `d`, its factor. Until 2026-11-28 info named only "the colour map's alpha".
+TEST_F(RenderCommand, InfoNamesAnObjDissolveMap) {
+  const uint8_t px[3] = {200, 100, 50};
+  io::write_image_atomic(dir.path() / "c.png", 1, 1, 3, io::PixelType::u8, px);
+  io::write_image_atomic(dir.path() / "d.png", 1, 1, 1, io::PixelType::u8, px);
+  dir.write("m.mtl", "newmtl pair\nmap_Kd c.png\nmap_d d.png\nnewmtl alone\nd 0.5\nmap_d d.png\n");
+  dir.write("q.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl pair\nf 1/1 2/2 3/3\n"
+                     "usemtl alone\nf 1/1 3/3 2/2\n");
+  const fs::path scene = dir.write("d.json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
+      "objects": [{"mesh": "q.obj", "material": {"type": "lambert"}}]})");
+  const Result r = run_pelt({"info", scene.string()}, dir.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("         `pair`, 1 triangle: colour (the mesh file's: as the uvs say); blended by the colour "
+                       "map's alpha with its map_d d.png\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("         `alone`, 1 triangle: colour (the mesh file's: as the uvs say); blended by map_d "
+                       "d.png x 0.5\n"),
+            std::string::npos)
+      << r.out;
+}
+
 // A mesh file whose materials name several maps: `pelt info` lists each set, by its first
 // material, with its triangles and maps; faces of no material and of a material without maps
 // draw alike.

@@ -1,9 +1,11 @@
 // `pelt render SCENE.json -o OUT`: renders one frame, a range of frames (an image per
 // frame through a `#` pattern, or one animated GIF), or a farm shard of a range.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <iterator>
 #include <memory>
 #include <optional>
@@ -34,6 +36,20 @@
 
 namespace pelt::cli {
 namespace {
+
+// Whether a render may need OpenImageIO's module: frames written as anything but PNG (EXR,
+// TIFF, the GIF), or a scene that names files that may be images (the scene's maps, a mesh
+// file's). A PNG render of built-in meshes never loads it (libpng writes PNG,
+// tools/io/png_writer.h): loading its libraries took 0.4 s, more than the set-up and a frame.
+bool may_need_image_module(const io::Scene& scene, const std::string& output) {
+  std::string ext = std::filesystem::path(output).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext != ".png") return true;
+  return std::any_of(scene.objects.begin(), scene.objects.end(), [](const io::SceneObject& o) {
+    return !o.mesh_path.empty() || !o.material.color_map.empty() || !o.material.normal_map.empty() ||
+           !o.fur_length_map.empty();
+  });
+}
 
 struct RenderOptions {
   std::string scene;
@@ -275,14 +291,16 @@ int run_render(const RenderOptions& o) {
     return 0;
   }
 
-  // OpenImageIO's module loads on a thread of its own while the scene is set up and the first
-  // frame renders, rather than before everything (tools/io/image_backend.h); the render's
+  // OpenImageIO's module, where the render may need it, loads on a thread of its own while the
+  // scene is set up and the first frame renders, rather than before everything
+  // (tools/io/image_backend.h; a mesh file whose maps turn out to be none loads nothing); the render's
   // worker threads start first, as no thread can start during the load (raster/parallel.h).
   // A signal during the set-up, which writes nothing and has no frame to finish, ends pelt at
   // once, saying so (a farm's log of a job pre-empted there had no line at all).
   std::optional<render::InterruptGuard> during_setup(std::in_place, render::InterruptGuard::Stop::now);
   raster::start_worker_threads(rs.threads);
-  io::preload_image_backend();
+  const io::PreloadJoin join_preload;  // declared before the load starts: joined on every way out
+  if (may_need_image_module(scene, o.output)) io::preload_image_backend();
   const auto setup_start = std::chrono::steady_clock::now();
   const std::unique_ptr<render::SceneRenderer> owned = make_renderer(rs);
   render::SceneRenderer& renderer = *owned;

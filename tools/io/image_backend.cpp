@@ -101,6 +101,14 @@ void preload_image_backend() {
   s.preload = std::async(std::launch::async, [&s] { load(s); });
 }
 
+void wait_for_image_backend_preload() {
+  State& s = state();
+  std::unique_lock lock(s.mutex);
+  if (!s.preload.valid()) return;
+  lock.unlock();  // the loading thread takes the lock
+  s.preload.wait();
+}
+
 bool image_backend_loaded() {
   State& s = state();
   const std::lock_guard lock(s.mutex);

@@ -5,7 +5,8 @@
 // FFmpeg, ...), and linking it into pelt made every run pay for loading them, 0.3-0.8 s
 // here, whether or not it touched an image: `pelt --version`, `pelt bench`, a scene error,
 // and each of the test suite's processes. The module keeps that cost to the commands that
-// read or write images, and `pelt render` loads it while it renders (preload below).
+// read images or write them as anything but PNG (libpng writes PNG itself, png_writer.h), and
+// `pelt render` loads it while it renders (preload below).
 //
 // The split: the module only drives OpenImageIO and reports its errors as text; the checks,
 // the sRGB encoding, the temporaries and the wording of errors (InputError) stay in pelt_io.
@@ -28,7 +29,6 @@ struct ImageWriteRequest {
   int width = 0, height = 0, channels = 0;
   StoredType type = StoredType::u8;  // of both the pixels and the file's channels
   bool exr_grey_names = false;       // name 1 and 2 channels "Y" and "Y", "A"
-  int png_compression = -1;          // PNG: zlib level 0..9 with the Up filter; -1: not a PNG
   const void* pixels = nullptr;      // interleaved, rows top to bottom
 };
 
@@ -89,7 +89,7 @@ class ImageBackend {
                                    RgbComparison& out) const = 0;
 };
 
-inline constexpr int kImageBackendAbi = 2;
+inline constexpr int kImageBackendAbi = 3;
 // The module's one exported symbol: the backend, or nullptr when `abi` is not its own.
 inline constexpr const char* kImageBackendSymbol = "pelt_image_backend";
 using ImageBackendEntry = ImageBackend* (*)(int abi);
@@ -105,6 +105,18 @@ const ImageBackend& image_backend_for(const std::string& file);
 // Starts loading the module on a thread of its own and returns; image_backend() then
 // waits for it. For a command that will write images once it has done other work.
 void preload_image_backend();
+
+// Waits until a preload started above has finished (nothing to do without one). A process must
+// not end while the module's libraries load: their constructors register destructors with
+// exit's list as exit walks it (a PNG render of an OBJ, which needs no image, corrupted the heap
+// at exit about one run in five). PreloadJoin calls it on every way out of a command.
+void wait_for_image_backend_preload();
+struct PreloadJoin {
+  PreloadJoin() = default;
+  PreloadJoin(const PreloadJoin&) = delete;
+  PreloadJoin& operator=(const PreloadJoin&) = delete;
+  ~PreloadJoin() { wait_for_image_backend_preload(); }
+};
 
 // True once the module is loaded (for tests and stats; never loads it).
 bool image_backend_loaded();

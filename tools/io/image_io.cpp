@@ -13,6 +13,7 @@
 #include "tools/io/input_error.h"
 #include "tools/io/output_file.h"
 #include "tools/io/pixels.h"
+#include "tools/io/png_writer.h"
 #include "tools/io/srgb.h"
 
 namespace pelt::io {
@@ -91,6 +92,15 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
                                    "(32-bit unsigned needs one channel and .tif; .exr needs float)");
   }
 
+  if (kind == FileKind::png) {  // u8 here: libpng itself, without OpenImageIO's module (png_writer.h)
+    AtomicOutput out(path);
+    if (const std::string error = write_png8(out.write_path(), width, height, channels,
+                                             static_cast<const uint8_t*>(data), options.png_compression);
+        !error.empty())
+      throw InputError(file, "", out.named(error));
+    out.commit("", "the finished image");
+    return;
+  }
   const ImageBackend& backend = image_backend_for(file);
   ImageWriteRequest request;
   request.target = file;
@@ -99,7 +109,6 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
   request.channels = channels;
   request.type = file_type;
   request.exr_grey_names = kind == FileKind::exr;
-  if (kind == FileKind::png) request.png_compression = options.png_compression;
   request.pixels = data;
   AtomicOutput out(path);
   request.temp = out.write_path();

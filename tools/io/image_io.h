@@ -1,6 +1,7 @@
-// Image files through OpenImageIO (in a module loaded on first use, image_backend.h):
-// atomic writes of rendered images and AOVs, and colour-map reads. Failing to load the
-// module is an InputError naming the file, like any other failure here.
+// Image files through OpenImageIO (in a module loaded on first use, image_backend.h), PNG
+// output through libpng (png_writer.h): atomic writes of rendered images and AOVs, and
+// colour-map reads. Failing to load the module is an InputError naming the file, like any
+// other failure here.
 #pragma once
 
 #include <cstddef>

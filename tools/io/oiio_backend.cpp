@@ -109,12 +109,6 @@ class OiioBackend final : public ImageBackend {
     }
     if (type == OIIO::TypeDesc::UINT8) spec.attribute("oiio:ColorSpace", "sRGB");
     else if (type == OIIO::TypeDesc::FLOAT) spec.attribute("oiio:ColorSpace", "Linear");
-    if (r.png_compression >= 0) {
-      spec.attribute("png:compressionLevel", r.png_compression);
-      // libpng's Up filter (PNG_FILTER_UP) on every row, instead of its adaptive choice among
-      // all five: as small or smaller on rendered frames, and no slower to choose.
-      spec.attribute("png:filter", 0x20);
-    }
     // OIIO's EXR and TIFF writers stamp the wall-clock time (DateTime) into the header unless
     // the spec names one; an empty one writes none. A frame's bytes then depend on its pixels
     // alone, so renders compare with cmp across runs and thread counts.

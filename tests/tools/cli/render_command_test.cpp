@@ -870,18 +870,22 @@ TEST_F(RenderCommand, OutputsNeverOverwriteInputsOrEachOther) {
 }
 
 // OpenImageIO is a module loaded on first use (tools/io/image_backend.h): a pelt without it
-// still starts, and fails the first write like any bad output, naming the paths it tried.
+// still starts, and fails the first write that needs it like any bad output, naming the paths it
+// tried. A PNG of a scene of built-in meshes needs none (libpng writes it, io/png_writer.h).
 TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
   const std::string missing = (dir.path() / "nowhere" / "libpelt_oiio.so").string();
   ::setenv("PELT_IMAGE_MODULE", missing.c_str(), 1);
-  const Result r = pelt({"-o", (dir.path() / "out/f.png").string(), "--frame", "0", "-q"});
+  const Result r = pelt({"-o", (dir.path() / "out/f.exr").string(), "--frame", "0", "-q"});
   const Result gif = pelt({"-o", (dir.path() / "out/a.gif").string(), "-q"});
+  const Result png = pelt({"-o", (dir.path() / "png/f.png").string(), "--frame", "0", "-q"});
   ::unsetenv("PELT_IMAGE_MODULE");
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find(missing), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("f.png"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("f.exr"), std::string::npos) << r.err;
   EXPECT_EQ(gif.code, 2) << gif.err;
   EXPECT_TRUE(!fs::exists(dir.path() / "out") || files("out").empty());
+  EXPECT_EQ(png.code, 0) << png.err;
+  EXPECT_TRUE(fs::exists(dir.path() / "png/f.png"));
 }
 
 TEST_F(RenderCommand, StatsListEveryRenderedFrame) {

@@ -51,8 +51,11 @@ TEST(ImageBackend, LoadsOnlyWhenAnImageIsTouched) {
     if (image_backend_loaded()) return "the module is loaded at start-up";
     TempDir dir;
     const std::vector<float> px(4 * 3 * 4, 0.5f);
+    // A PNG is written by libpng itself (png_writer.h): the module stays unloaded.
     write_image_atomic(dir.path() / "a.png", 4, 3, 4, PixelType::f32, px.data());
-    if (!image_backend_loaded()) return "writing a PNG did not load the module";
+    if (image_backend_loaded() || mapped("libOpenImageIO")) return "writing a PNG loaded the module";
+    write_image_atomic(dir.path() / "a.exr", 4, 3, 4, PixelType::f32, px.data());
+    if (!image_backend_loaded()) return "writing an EXR did not load the module";
     if (!mapped("libpelt_oiio.so") || !mapped("libOpenImageIO")) return "the module or OpenImageIO is not mapped";
     const ImageHeader h = read_image_header(dir.path() / "a.png");
     if (h.width != 4 || h.height != 3 || h.channels != 4 || h.bytes_per_channel != 1) return "header read back wrong";
@@ -65,7 +68,7 @@ TEST(ImageBackend, AModuleThatCannotBeLoadedIsAnInputErrorAndLeavesNoFile) {
     TempDir dir;
     const std::string missing = (dir.path() / "nowhere" / "libpelt_oiio.so").string();
     ::setenv("PELT_IMAGE_MODULE", missing.c_str(), 1);
-    const std::filesystem::path out = dir.path() / "a.png";
+    const std::filesystem::path out = dir.path() / "a.exr";  // a PNG needs no module (png_writer.h)
     const std::vector<float> px(2 * 2 * 4, 0.5f);
     try {
       write_image_atomic(out, 2, 2, 4, PixelType::f32, px.data());

@@ -37,17 +37,18 @@
 namespace pelt::cli {
 namespace {
 
-// Whether a render may need OpenImageIO's module: frames written as anything but PNG (EXR,
-// TIFF, the GIF), or a scene that names files that may be images (the scene's maps, a mesh
-// file's). A PNG render of built-in meshes never loads it (libpng writes PNG,
-// tools/io/png_writer.h): loading its libraries took 0.4 s, more than the set-up and a frame.
-bool may_need_image_module(const io::Scene& scene, const std::string& output) {
+// Whether a render will need OpenImageIO's module, so that it is worth loading ahead: frames
+// written as anything but PNG (EXR, TIFF, the GIF), or maps the scene names. A PNG render
+// without them never loads it (libpng writes PNG, tools/io/png_writer.h): loading its libraries
+// took 0.4 s, more than the set-up and a frame of a small scene. Maps a mesh file names load it
+// when the set-up reaches them: a file may name none (bunny.obj), and ahead of its maps the load
+// would overlap only the mesh's parsing.
+bool will_need_image_module(const io::Scene& scene, const std::string& output) {
   std::string ext = std::filesystem::path(output).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (ext != ".png") return true;
   return std::any_of(scene.objects.begin(), scene.objects.end(), [](const io::SceneObject& o) {
-    return !o.mesh_path.empty() || !o.material.color_map.empty() || !o.material.normal_map.empty() ||
-           !o.fur_length_map.empty();
+    return !o.material.color_map.empty() || !o.material.normal_map.empty() || !o.fur_length_map.empty();
   });
 }
 
@@ -250,7 +251,9 @@ int run_render(const RenderOptions& o) {
   };
   const auto write_stats = [&] {
     if (o.stats.empty()) return;
-    std::string text = "{\n  \"simd\": \"" + simd_in_use() + "\",\n  \"frames\": [";
+    io::wait_for_image_backend_preload();  // so that the flag below is the run's
+    std::string text = "{\n  \"simd\": \"" + simd_in_use() + "\",\n  \"image_module\": " +
+                       (io::image_backend_loaded() ? "true" : "false") + ",\n  \"frames\": [";
     for (size_t i = 0; i < stats_frames.size(); ++i) text.append(i ? ",\n" : "\n").append(stats_frames[i]);
     text.append(stats_frames.empty() ? "]\n}\n" : "\n  ]\n}\n");
     io::write_text_atomic(o.stats, text, "--stats");
@@ -291,16 +294,16 @@ int run_render(const RenderOptions& o) {
     return 0;
   }
 
-  // OpenImageIO's module, where the render may need it, loads on a thread of its own while the
+  // OpenImageIO's module, where the render will need it, loads on a thread of its own while the
   // scene is set up and the first frame renders, rather than before everything
-  // (tools/io/image_backend.h; a mesh file whose maps turn out to be none loads nothing); the render's
+  // (tools/io/image_backend.h); the render's
   // worker threads start first, as no thread can start during the load (raster/parallel.h).
   // A signal during the set-up, which writes nothing and has no frame to finish, ends pelt at
   // once, saying so (a farm's log of a job pre-empted there had no line at all).
   std::optional<render::InterruptGuard> during_setup(std::in_place, render::InterruptGuard::Stop::now);
   raster::start_worker_threads(rs.threads);
   const io::PreloadJoin join_preload;  // declared before the load starts: joined on every way out
-  if (may_need_image_module(scene, o.output)) io::preload_image_backend();
+  if (will_need_image_module(scene, o.output)) io::preload_image_backend();
   const auto setup_start = std::chrono::steady_clock::now();
   const std::unique_ptr<render::SceneRenderer> owned = make_renderer(rs);
   render::SceneRenderer& renderer = *owned;

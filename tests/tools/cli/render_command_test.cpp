@@ -870,15 +870,30 @@ TEST_F(RenderCommand, OutputsNeverOverwriteInputsOrEachOther) {
 }
 
 // OpenImageIO is a module loaded on first use (tools/io/image_backend.h): a pelt without it
-// still starts, and fails the first write that needs it like any bad output, naming the paths it
-// tried. A PNG of a scene of built-in meshes needs none (libpng writes it, io/png_writer.h).
+// still starts, and fails the first read or write that needs it like any bad output, naming the
+// paths it tried. A PNG of a scene without maps needs none (libpng writes it, io/png_writer.h).
 TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
   const std::string missing = (dir.path() / "nowhere" / "libpelt_oiio.so").string();
   ::setenv("PELT_IMAGE_MODULE", missing.c_str(), 1);
   const Result r = pelt({"-o", (dir.path() / "out/f.exr").string(), "--frame", "0", "-q"});
   const Result gif = pelt({"-o", (dir.path() / "out/a.gif").string(), "-q"});
   const Result png = pelt({"-o", (dir.path() / "png/f.png").string(), "--frame", "0", "-q"});
+  // Nor does a mesh file that names no map; one whose map is read needs the module for it.
+  dir.write("q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n");
+  dir.write("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n");
+  dir.write("m.mtl", "newmtl m\nmap_Kd png/f.png\n");
+  const auto mesh_render = [&](const std::string& mesh) {
+    const fs::path s = dir.write(mesh + ".json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
+        "objects": [{"mesh": ")" + mesh + R"(", "material": {"type": "lambert"}}]})");
+    return run_pelt({"render", s.string(), "-o", (dir.path() / "mesh" / (mesh + ".png")).string(), "-q"}, dir.path());
+  };
+  const Result plain = mesh_render("q.obj"), mapped = mesh_render("m.obj");
   ::unsetenv("PELT_IMAGE_MODULE");
+  EXPECT_EQ(plain.code, 0) << plain.err;
+  EXPECT_EQ(mapped.code, 2) << mapped.err;
+  EXPECT_NE(mapped.err.find(missing), std::string::npos) << mapped.err;
+  EXPECT_NE(mapped.err.find("f.png"), std::string::npos) << mapped.err;
+  EXPECT_EQ(files("mesh"), std::vector<std::string>{"q.obj.png"});
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find(missing), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("f.exr"), std::string::npos) << r.err;
@@ -886,6 +901,30 @@ TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
   EXPECT_TRUE(!fs::exists(dir.path() / "out") || files("out").empty());
   EXPECT_EQ(png.code, 0) << png.err;
   EXPECT_TRUE(fs::exists(dir.path() / "png/f.png"));
+}
+
+// OpenImageIO's module loads (0.4 s) only where the render needs it, and --stats says whether it
+// did: not for a PNG of built-in meshes (libpng writes it) nor of a mesh file naming no map, but
+// for an EXR, and for a mesh file's map (loaded when the set-up reaches it).
+TEST_F(RenderCommand, StatsSayWhetherTheImageModuleWasLoaded) {
+  dir.write("q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n");
+  dir.write("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n");
+  dir.write("m.mtl", "newmtl m\nmap_Kd map.png\n");
+  const uint8_t px[3] = {200, 100, 50};
+  io::write_image_atomic(dir.path() / "map.png", 1, 1, 3, io::PixelType::u8, px);
+  const auto loaded = [&](const std::string& mesh, const std::string& out) {
+    const fs::path s = dir.write("s.json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
+        "objects": [{"mesh": ")" + mesh + R"(", "material": {"type": "lambert"}}]})");
+    const fs::path stats = dir.path() / "stats.json";
+    const Result r = run_pelt({"render", s.string(), "-o", (dir.path() / out).string(), "-q", "--stats", stats.string()},
+                              dir.path());
+    EXPECT_EQ(r.code, 0) << r.err;
+    return nlohmann::json::parse(read_text(stats)).at("image_module").get<bool>();
+  };
+  EXPECT_FALSE(loaded("sphere:8", "a.png"));
+  EXPECT_FALSE(loaded("q.obj", "b.png"));
+  EXPECT_TRUE(loaded("sphere:8", "c.exr"));
+  EXPECT_TRUE(loaded("m.obj", "d.png"));
 }
 
 TEST_F(RenderCommand, StatsListEveryRenderedFrame) {

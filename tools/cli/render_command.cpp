@@ -27,6 +27,7 @@
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/io/output_file.h"
+#include "tools/io/png_reader.h"
 #include "tools/io/scene.h"
 #include "tools/render/frame_sequence.h"
 #include "tools/render/interrupt.h"
@@ -38,17 +39,18 @@ namespace pelt::cli {
 namespace {
 
 // Whether a render will need OpenImageIO's module, so that it is worth loading ahead: frames
-// written as anything but PNG (EXR, TIFF, the GIF), or maps the scene names. A PNG render
-// without them never loads it (libpng writes PNG, tools/io/png_writer.h): loading its libraries
-// took 0.4 s, more than the set-up and a frame of a small scene. Maps a mesh file names load it
-// when the set-up reaches them: a file may name none (bunny.obj), and ahead of its maps the load
-// would overlap only the mesh's parsing.
+// written as anything but PNG (EXR, TIFF, the GIF), or maps the scene names that are not PNG
+// files. libpng writes and reads PNG itself (tools/io/png_writer.h, png_reader.h): loading the
+// module's libraries took 0.4 s, more than the set-up and a frame of a small scene. Maps a mesh
+// file names load it when the set-up reaches them: a file may name none (bunny.obj) or only PNGs,
+// and ahead of its maps the load would overlap only the mesh's parsing.
 bool will_need_image_module(const io::Scene& scene, const std::string& output) {
   std::string ext = std::filesystem::path(output).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (ext != ".png") return true;
-  return std::any_of(scene.objects.begin(), scene.objects.end(), [](const io::SceneObject& o) {
-    return !o.material.color_map.empty() || !o.material.normal_map.empty() || !o.fur_length_map.empty();
+  const auto other = [](const std::filesystem::path& map) { return !map.empty() && !io::has_png_signature(map); };
+  return std::any_of(scene.objects.begin(), scene.objects.end(), [&](const io::SceneObject& o) {
+    return other(o.material.color_map) || other(o.material.normal_map) || other(o.fur_length_map);
   });
 }
 

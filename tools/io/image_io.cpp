@@ -13,6 +13,7 @@
 #include "tools/io/input_error.h"
 #include "tools/io/output_file.h"
 #include "tools/io/pixels.h"
+#include "tools/io/png_reader.h"
 #include "tools/io/png_writer.h"
 #include "tools/io/srgb.h"
 
@@ -129,7 +130,8 @@ std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path) {
   if (const std::string reason = unreadable_file_reason(path); !reason.empty())
     throw InputError(file, "", reason == kFileNotFound ? "image file not found" : reason + ", not an image file");
   std::string error;
-  auto in = image_backend_for(file).open(file, error);
+  // A PNG through libpng itself (png_reader.h), without OpenImageIO's module.
+  auto in = has_png_signature(path) ? open_png(file, error) : image_backend_for(file).open(file, error);
   if (!in) throw InputError(file, "", "cannot read the image: " + error);
   const ImageFileInfo& info = in->info();
   if (info.width <= 0 || info.height <= 0 || info.channels <= 0) throw InputError(file, "", "the image is empty");

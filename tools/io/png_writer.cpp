@@ -7,28 +7,16 @@
 #include <cstdio>
 #include <cstring>
 
+#include "tools/io/png_errors.h"
+
 namespace pelt::io {
 namespace {
-
-// libpng reports an error by calling this, which must not return: the message is kept and
-// control goes back to the setjmp in encode().
-struct Failure {
-  char message[256] = {};
-};
-
-[[noreturn]] void on_error(png_structp png, png_const_charp message) {
-  auto* f = static_cast<Failure*>(png_get_error_ptr(png));
-  std::snprintf(f->message, sizeof f->message, "%s", message ? message : "libpng error");
-  png_longjmp(png, 1);
-}
-
-void on_warning(png_structp, png_const_charp) {}  // libpng would print its own line on stderr
 
 // The libpng calls alone, with no C++ object between setjmp and a longjmp that could skip its
 // destructor. Returns false with `failure` filled.
 bool encode(std::FILE* out, int width, int height, int channels, const uint8_t* pixels, int compression,
-            Failure& failure) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &failure, on_error, on_warning);
+            PngFailure& failure) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &failure, png_failed, png_warned);
   if (!png) {
     std::snprintf(failure.message, sizeof failure.message, "libpng could not start a PNG");
     return false;
@@ -67,7 +55,7 @@ std::string write_png8(const std::string& file, int width, int height, int chann
     return "cannot write this PNG (size, channels or compression out of range)";
   std::FILE* out = std::fopen(file.c_str(), "wb");
   if (!out) return "cannot create the image file: " + std::string(std::strerror(errno));
-  Failure failure;
+  PngFailure failure;
   const bool encoded = encode(out, width, height, channels, pixels, compression, failure);
   // A short write shows at the latest here, where the buffered bytes reach the file.
   int error = 0;

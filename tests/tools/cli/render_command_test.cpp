@@ -873,27 +873,34 @@ TEST_F(RenderCommand, OutputsNeverOverwriteInputsOrEachOther) {
 // still starts, and fails the first read or write that needs it like any bad output, naming the
 // paths it tried. A PNG of a scene without maps needs none (libpng writes it, io/png_writer.h).
 TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
+  const uint8_t texel[3] = {200, 100, 50};
+  io::write_image_atomic(dir.path() / "map.tif", 1, 1, 3, io::PixelType::u8, texel);  // before the module goes
   const std::string missing = (dir.path() / "nowhere" / "libpelt_oiio.so").string();
   ::setenv("PELT_IMAGE_MODULE", missing.c_str(), 1);
   const Result r = pelt({"-o", (dir.path() / "out/f.exr").string(), "--frame", "0", "-q"});
   const Result gif = pelt({"-o", (dir.path() / "out/a.gif").string(), "-q"});
   const Result png = pelt({"-o", (dir.path() / "png/f.png").string(), "--frame", "0", "-q"});
-  // Nor does a mesh file that names no map; one whose map is read needs the module for it.
+  // Nor does a mesh file that names no map, or a PNG map (libpng reads it, io/png_reader.h); a
+  // TIFF map needs the module.
   dir.write("q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n");
-  dir.write("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n");
-  dir.write("m.mtl", "newmtl m\nmap_Kd png/f.png\n");
+  const std::string mapped_obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n";
+  dir.write("p.obj", "mtllib p.mtl\n" + mapped_obj);
+  dir.write("p.mtl", "newmtl m\nmap_Kd png/f.png\n");
+  dir.write("m.obj", "mtllib m.mtl\n" + mapped_obj);
+  dir.write("m.mtl", "newmtl m\nmap_Kd map.tif\n");
   const auto mesh_render = [&](const std::string& mesh) {
     const fs::path s = dir.write(mesh + ".json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
         "objects": [{"mesh": ")" + mesh + R"(", "material": {"type": "lambert"}}]})");
     return run_pelt({"render", s.string(), "-o", (dir.path() / "mesh" / (mesh + ".png")).string(), "-q"}, dir.path());
   };
-  const Result plain = mesh_render("q.obj"), mapped = mesh_render("m.obj");
+  const Result plain = mesh_render("q.obj"), png_map = mesh_render("p.obj"), mapped = mesh_render("m.obj");
   ::unsetenv("PELT_IMAGE_MODULE");
   EXPECT_EQ(plain.code, 0) << plain.err;
+  EXPECT_EQ(png_map.code, 0) << png_map.err;
   EXPECT_EQ(mapped.code, 2) << mapped.err;
   EXPECT_NE(mapped.err.find(missing), std::string::npos) << mapped.err;
-  EXPECT_NE(mapped.err.find("f.png"), std::string::npos) << mapped.err;
-  EXPECT_EQ(files("mesh"), std::vector<std::string>{"q.obj.png"});
+  EXPECT_NE(mapped.err.find("map.tif"), std::string::npos) << mapped.err;
+  EXPECT_EQ(files("mesh"), (std::vector<std::string>{"p.obj.png", "q.obj.png"}));
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find(missing), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("f.exr"), std::string::npos) << r.err;
@@ -904,17 +911,23 @@ TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
 }
 
 // OpenImageIO's module loads (0.4 s) only where the render needs it, and --stats says whether it
-// did: not for a PNG of built-in meshes (libpng writes it) nor of a mesh file naming no map, but
-// for an EXR, and for a mesh file's map (loaded when the set-up reaches it).
+// did: not for a PNG of built-in meshes (libpng writes it), of a mesh file naming no map or a PNG
+// map (libpng reads it), but for an EXR, and for a TIFF map (a mesh file's loads it when the
+// set-up reaches it, the scene's ahead).
 TEST_F(RenderCommand, StatsSayWhetherTheImageModuleWasLoaded) {
   dir.write("q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n");
-  dir.write("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n");
-  dir.write("m.mtl", "newmtl m\nmap_Kd map.png\n");
+  const std::string mapped_obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n";
+  dir.write("p.obj", "mtllib p.mtl\n" + mapped_obj);
+  dir.write("p.mtl", "newmtl m\nmap_Kd map.png\n");
+  dir.write("m.obj", "mtllib m.mtl\n" + mapped_obj);
+  dir.write("m.mtl", "newmtl m\nmap_Kd map.tif\n");
   const uint8_t px[3] = {200, 100, 50};
   io::write_image_atomic(dir.path() / "map.png", 1, 1, 3, io::PixelType::u8, px);
-  const auto loaded = [&](const std::string& mesh, const std::string& out) {
+  io::write_image_atomic(dir.path() / "map.tif", 1, 1, 3, io::PixelType::u8, px);
+  const auto loaded = [&](const std::string& mesh, const std::string& out, const std::string& map = "") {
+    const std::string material = map.empty() ? "" : R"(, "color_map": ")" + map + "\"";
     const fs::path s = dir.write("s.json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
-        "objects": [{"mesh": ")" + mesh + R"(", "material": {"type": "lambert"}}]})");
+        "objects": [{"mesh": ")" + mesh + R"(", "material": {"type": "lambert")" + material + "}}]}");
     const fs::path stats = dir.path() / "stats.json";
     const Result r = run_pelt({"render", s.string(), "-o", (dir.path() / out).string(), "-q", "--stats", stats.string()},
                               dir.path());
@@ -923,8 +936,11 @@ TEST_F(RenderCommand, StatsSayWhetherTheImageModuleWasLoaded) {
   };
   EXPECT_FALSE(loaded("sphere:8", "a.png"));
   EXPECT_FALSE(loaded("q.obj", "b.png"));
-  EXPECT_TRUE(loaded("sphere:8", "c.exr"));
-  EXPECT_TRUE(loaded("m.obj", "d.png"));
+  EXPECT_FALSE(loaded("p.obj", "c.png"));
+  EXPECT_TRUE(loaded("sphere:8", "d.exr"));
+  EXPECT_TRUE(loaded("m.obj", "e.png"));
+  EXPECT_FALSE(loaded("q.obj", "f.png", "map.png"));  // the scene's own maps: PNG, or not
+  EXPECT_TRUE(loaded("q.obj", "g.png", "map.tif"));
 }
 
 TEST_F(RenderCommand, StatsListEveryRenderedFrame) {

@@ -236,10 +236,16 @@ std::string temp_suffix() {
 
 std::filesystem::path temp_beside(const std::filesystem::path& path) {
   // Appended piece by piece: `"." + string` trips GCC 12's -Wrestrict false positive.
+  std::string tail = ".tmp-";
+  tail += temp_suffix();
   std::string name = ".";
   name += path.filename().string();
-  name += ".tmp-";
-  name += temp_suffix();
+  // A name is at most 255 bytes (NAME_MAX): the target's own part is cut so that a legal output
+  // name of up to 255 keeps a legal temporary (a hunt found names of 229-255 refused, "File name
+  // too long"); the suffix alone keeps it unique.
+  constexpr size_t kNameMax = 255;
+  if (name.size() + tail.size() > kNameMax) name.resize(kNameMax - tail.size());
+  name += tail;
   return folder_of(path) / name;
 }
 

@@ -12,6 +12,14 @@
 namespace pelt::io {
 namespace {
 
+// libpng's own writer reports a short write as "Write Error"; this one gives the system's reason
+// (a full disk: "No space left on device").
+void write_bytes(png_structp png, png_bytep data, size_t length) {
+  if (std::fwrite(data, 1, length, static_cast<std::FILE*>(png_get_io_ptr(png))) != length)
+    png_error(png, std::strerror(errno));
+}
+void flush_nothing(png_structp) {}  // the caller flushes once the file is whole
+
 // The libpng calls alone, with no C++ object between setjmp and a longjmp that could skip its
 // destructor. Returns false with `failure` filled.
 bool encode(std::FILE* out, int width, int height, int channels, const uint8_t* pixels, int compression,
@@ -29,7 +37,7 @@ bool encode(std::FILE* out, int width, int height, int channels, const uint8_t* 
   }
   static constexpr int kColorType[4] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
                                         PNG_COLOR_TYPE_RGB_ALPHA};
-  png_init_io(png, out);
+  png_set_write_fn(png, out, write_bytes, flush_nothing);
   png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8, kColorType[channels - 1], PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   // sRGB, and for readers that do not know the chunk its gAMA and cHRM, as OpenImageIO wrote it

@@ -50,7 +50,14 @@ InterruptGuard::InterruptGuard(Stop stop) {
   sigemptyset(&sa.sa_mask);
   for (int sig : kSignals) sigaddset(&sa.sa_mask, sig);  // one handler at a time
   sa.sa_flags = SA_RESTART;
-  for (size_t i = 0; i < std::size(kSignals); ++i) sigaction(kSignals[i], &sa, &g_previous[i]);
+  for (size_t i = 0; i < std::size(kSignals); ++i) {
+    sigaction(kSignals[i], nullptr, &g_previous[i]);
+    // A signal the process was started ignoring stays ignored, as Unix programs keep it: a shell
+    // starts a background job (`pelt render ... &` in a script) with SIGINT ignored, and a hunt
+    // found such a job stopped by a SIGINT meant for its shell once pelt's handler was in.
+    const bool ignored = !(g_previous[i].sa_flags & SA_SIGINFO) && g_previous[i].sa_handler == SIG_IGN;
+    if (!ignored) sigaction(kSignals[i], &sa, nullptr);
+  }
 }
 
 InterruptGuard::~InterruptGuard() {

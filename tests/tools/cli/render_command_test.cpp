@@ -186,6 +186,34 @@ TEST_F(RenderCommand, ASignalDuringTheLastFrameIsReported) {
     EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "temporary left behind: " << e.path();
 }
 
+// A signal pelt was started ignoring stays ignored (a shell starts a background job with SIGINT
+// ignored): a SIGINT while the last frame renders changes nothing, and every frame is written.
+// SIGTERM, not ignored, still stops it (ASignalDuringTheLastFrameIsReported).
+TEST_F(RenderCommand, ASignalIgnoredAtStartStaysIgnored) {
+  const fs::path slow = dir.write("slow.json", R"({"pelt": 1, "image": {"width": 640, "height": 480},
+  "objects": [{"mesh": "box:2", "material": {"type": "lambert"}, "fur": {"shells": 4, "texture_size": 32, "length": 0.3}}],
+  "animation": {"frames": 2, "fps": 12}})");
+  const fs::path out = dir.path() / "ignored";
+  struct sigaction ignore {}, previous {};
+  ignore.sa_handler = SIG_IGN;
+  sigemptyset(&ignore.sa_mask);
+  ::sigaction(SIGINT, &ignore, &previous);  // inherited through fork and exec
+  Child c = start_pelt({"render", slow.string(), "-o", (out / "f_#.png").string(), "--spp", "16", "--sort", "exact",
+                        "--threads", "1"},
+                       dir.path());
+  ::sigaction(SIGINT, &previous, nullptr);
+  int status = 0;
+  pid_t ended = 0;
+  while (!fs::exists(out / "f_0.png") && (ended = ::waitpid(c.pid, &status, WNOHANG)) == 0)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_EQ(ended, 0) << "pelt ended before its first frame was written: " << read_text(c.err);
+  ::kill(c.pid, SIGINT);
+  const Result r = wait_child(c);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.find("interrupted"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(out / "f_1.png"));
+}
+
 // Whether process `pid` catches `sig` now (its SigCgt mask in /proc): its handler is installed.
 bool catches(pid_t pid, int sig) {
   std::ifstream status("/proc/" + std::to_string(pid) + "/status");

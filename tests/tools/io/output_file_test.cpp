@@ -114,6 +114,22 @@ TEST(OutputFile, TheTemporaryLiesBesideTheTarget) {
   EXPECT_EQ(temp_beside("out/x.json").filename().string().rfind(".x.json.tmp-", 0), 0u);
 }
 
+// A legal output name of up to 255 bytes keeps a legal temporary: the target's part of the
+// temporary's name is cut (a hunt found names of 229-255 bytes refused, "File name too long"), and
+// the write lands under the full name.
+TEST(OutputFile, ANameOf255BytesIsWritten) {
+  TempDir dir;
+  for (const size_t length : {size_t(224), size_t(240), size_t(255)}) {
+    const std::string name = std::string(length - 5, 'd') + ".json";
+    const fs::path temp = temp_beside(dir.path() / name);
+    EXPECT_LE(temp.filename().string().size(), 255u) << length;
+    EXPECT_EQ(temp.filename().string().rfind(".ddd", 0), 0u);
+    write_text_atomic(dir.path() / name, "{}", "--stats");
+    EXPECT_TRUE(fs::exists(dir.path() / name)) << length;
+  }
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 3);  // no temporary left
+}
+
 // Every temporary's name is its own: the pid, a random token of the process (pids repeat across pid
 // namespaces, where two renders of one folder removed each other's temporaries) and a count.
 TEST(OutputFile, NoTwoTemporariesShareAName) {

@@ -160,6 +160,15 @@ TEST_F(RenderCommand, StatsNeverReplaceAnInputOrAFrameOfTheRange) {
 // A signal during the last frame: that frame is finished, as any frame in flight is, and the exit
 // status still reports the signal (it was 0, so a script looping over renders ran on after a
 // Ctrl-C, and a farm saw a pre-empted job succeed).
+// Waits until `file` exists while `c` runs; false when `c` ended first.
+bool running_when_written(const Child& c, const fs::path& file) {
+  int status = 0;
+  pid_t ended = 0;
+  while (!fs::exists(file) && (ended = ::waitpid(c.pid, &status, WNOHANG)) == 0)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  return ended == 0;
+}
+
 TEST_F(RenderCommand, ASignalDuringTheLastFrameIsReported) {
   const fs::path slow = dir.write("slow.json", R"({"pelt": 1, "image": {"width": 640, "height": 480},
   "camera": {"eye": [2.5, 1.5, 3.5], "target": [0, 0, 0]},
@@ -172,11 +181,8 @@ TEST_F(RenderCommand, ASignalDuringTheLastFrameIsReported) {
   Child c = start_pelt({"render", slow.string(), "-o", (out / "f_#.png").string(), "--spp", "16", "--sort", "exact",
                         "--threads", "1"},
                        dir.path());
-  int status = 0;
-  pid_t ended = 0;
-  while (!fs::exists(out / "f_0.png") && (ended = ::waitpid(c.pid, &status, WNOHANG)) == 0)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  ASSERT_EQ(ended, 0) << "pelt ended before its first frame was written: " << read_text(c.err);
+  ASSERT_TRUE(running_when_written(c, out / "f_0.png")) << "pelt ended before its first frame was written: "
+                                                       << read_text(c.err);
   ::kill(c.pid, SIGINT);
   const Result r = wait_child(c);
   EXPECT_EQ(r.code, 130) << r.err;
@@ -202,11 +208,8 @@ TEST_F(RenderCommand, ASignalIgnoredAtStartStaysIgnored) {
                         "--threads", "1"},
                        dir.path());
   ::sigaction(SIGINT, &previous, nullptr);
-  int status = 0;
-  pid_t ended = 0;
-  while (!fs::exists(out / "f_0.png") && (ended = ::waitpid(c.pid, &status, WNOHANG)) == 0)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  ASSERT_EQ(ended, 0) << "pelt ended before its first frame was written: " << read_text(c.err);
+  ASSERT_TRUE(running_when_written(c, out / "f_0.png")) << "pelt ended before its first frame was written: "
+                                                       << read_text(c.err);
   ::kill(c.pid, SIGINT);
   const Result r = wait_child(c);
   EXPECT_EQ(r.code, 0) << r.err;

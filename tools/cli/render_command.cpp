@@ -1,7 +1,6 @@
 // `pelt render SCENE.json -o OUT`: renders one frame, a range of frames (an image per
 // frame through a `#` pattern, or one animated GIF), or a farm shard of a range.
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <exception>
@@ -27,7 +26,6 @@
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/io/output_file.h"
-#include "tools/io/png_reader.h"
 #include "tools/io/scene.h"
 #include "tools/render/frame_sequence.h"
 #include "tools/render/interrupt.h"
@@ -38,19 +36,16 @@
 namespace pelt::cli {
 namespace {
 
-// Whether a render will need OpenImageIO's module, so that it is worth loading ahead: frames
-// written as anything but PNG (EXR, TIFF, the GIF), or maps the scene names that are not PNG
-// files. libpng writes and reads PNG itself (tools/io/png_writer.h, png_reader.h): loading the
-// module's libraries took 0.4 s, more than the set-up and a frame of a small scene. Maps a mesh
+// Whether a render will need OpenImageIO's module, so that it is worth loading ahead: its frames'
+// file type, or maps the scene names (io::needs_image_module_to_write, _to_read; loading the
+// module's libraries took 0.4 s, more than the set-up and a frame of a small scene). Maps a mesh
 // file names load it when the set-up reaches them: a file may name none (bunny.obj) or only PNGs,
 // and ahead of its maps the load would overlap only the mesh's parsing.
 bool will_need_image_module(const io::Scene& scene, const std::string& output) {
-  std::string ext = std::filesystem::path(output).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  if (ext != ".png") return true;
-  const auto other = [](const std::filesystem::path& map) { return !map.empty() && !io::has_png_signature(map); };
+  if (io::needs_image_module_to_write(output)) return true;
+  const auto needs = [](const std::filesystem::path& map) { return !map.empty() && io::needs_image_module_to_read(map); };
   return std::any_of(scene.objects.begin(), scene.objects.end(), [&](const io::SceneObject& o) {
-    return other(o.material.color_map) || other(o.material.normal_map) || other(o.fur_length_map);
+    return needs(o.material.color_map) || needs(o.material.normal_map) || needs(o.fur_length_map);
   });
 }
 

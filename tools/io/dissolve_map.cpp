@@ -65,9 +65,9 @@ ImageRGBA dissolved_color_map(const std::filesystem::path* color, const std::fil
   std::error_code same_error;
   const bool one_file = color && std::filesystem::equivalent(*color, dissolve, same_error);
   const bool same_size = out.width == d.width && out.height == d.height;
+  const auto of = [channel](const float* texel) { return dissolve_of(texel, channel); };
   for (int y = 0; y < out.height; ++y)
     for (int x = 0; x < out.width; ++x) {
-      const auto of = [channel](const float* texel) { return dissolve_of(texel, channel); };
       const float a = same_size ? of(d.pixel(x, y))
                                 : float(bilinear_at(d, (double(x) + 0.5) / double(out.width),
                                                     (double(y) + 0.5) / double(out.height), false, of));

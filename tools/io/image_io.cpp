@@ -22,10 +22,15 @@ namespace {
 
 enum class FileKind { png, tiff, exr };
 
-FileKind kind_of(const std::filesystem::path& path) {
+std::string lower_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+FileKind kind_of(const std::filesystem::path& path) {
+  const std::string ext = lower_extension(path);
   if (ext == ".png") return FileKind::png;
   if (ext == ".tif" || ext == ".tiff") return FileKind::tiff;
   if (ext == ".exr") return FileKind::exr;
@@ -52,6 +57,10 @@ std::vector<float> premultiplied(const float* px, size_t pixels, int channels) {
 }
 
 }  // namespace
+
+bool needs_image_module_to_write(const std::filesystem::path& path) { return lower_extension(path) != ".png"; }
+
+bool needs_image_module_to_read(const std::filesystem::path& path) { return !has_png_signature(path); }
 
 void write_image_atomic(const std::filesystem::path& path, int width, int height, int channels,
                         PixelType type, const void* pixels, const ImageWriteOptions& options) {
@@ -93,7 +102,7 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
                                    "(32-bit unsigned needs one channel and .tif; .exr needs float)");
   }
 
-  if (kind == FileKind::png) {  // u8 here: libpng itself, without OpenImageIO's module (png_writer.h)
+  if (!needs_image_module_to_write(path)) {  // a PNG, u8 here: libpng itself (png_writer.h)
     AtomicOutput out(path);
     if (const std::string error = write_png8(out.write_path(), width, height, channels,
                                              static_cast<const uint8_t*>(data), options.png_compression);
@@ -130,8 +139,7 @@ std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path) {
   if (const std::string reason = unreadable_file_reason(path); !reason.empty())
     throw InputError(file, "", reason == kFileNotFound ? "image file not found" : reason + ", not an image file");
   std::string error;
-  // A PNG through libpng itself (png_reader.h), without OpenImageIO's module.
-  auto in = has_png_signature(path) ? open_png(file, error) : image_backend_for(file).open(file, error);
+  auto in = needs_image_module_to_read(path) ? image_backend_for(file).open(file, error) : open_png(file, error);
   if (!in) throw InputError(file, "", "cannot read the image: " + error);
   const ImageFileInfo& info = in->info();
   if (info.width <= 0 || info.height <= 0 || info.channels <= 0) throw InputError(file, "", "the image is empty");

@@ -48,6 +48,13 @@ struct ImageWriteOptions {
 void write_image_atomic(const std::filesystem::path& path, int width, int height, int channels,
                         PixelType type, const void* pixels, const ImageWriteOptions& options = {});
 
+// Whether writing `path` (by its extension; a GIF's too, gif_writer.h) or reading the image at
+// `path` (by its signature) loads OpenImageIO's module: PNG files are written and read by libpng
+// itself (png_writer.h, png_reader.h), every other type through the module. For a command that
+// loads the module ahead, on a thread of its own, only where it will need it.
+bool needs_image_module_to_write(const std::filesystem::path& path);
+bool needs_image_module_to_read(const std::filesystem::path& path);
+
 // Reads an image as linear float RGBA (grey is replicated, a missing alpha is 1), colour
 // as stored (straight alpha for PNG; nothing is multiplied by alpha).
 // 8 and 16-bit integer files are decoded with `encoding` (sRGB for colour maps); float

@@ -29,6 +29,10 @@ struct TextureRef {
   MapPlacement placement;  // in the file's own uv space (OBJ: v from the bottom)
 
   bool present() const { return !path.empty() || pixels != nullptr; }
+  // Of `files`: the OBJ map_d whose dissolve `pixels` carry as alpha (the last), and the map_Kd
+  // whose colour they hold beside it (the first, when there are two); null where there is none.
+  const std::filesystem::path* dissolve_file() const { return files.empty() ? nullptr : &files.back(); }
+  const std::filesystem::path* dissolved_color_file() const { return files.size() > 1 ? &files.front() : nullptr; }
 };
 
 // What a mesh came from: its uvs' and maps' conventions follow (OBJ counts v from the bottom of

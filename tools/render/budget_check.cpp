@@ -154,10 +154,10 @@ MemoryPart map_part(const io::Scene& scene, size_t i, const char* key, const std
     width = src->pixels->width;
     height = src->pixels->height;
     // Pixels a loader read from files (an OBJ's map_Kd and map_d as one image) are named by them.
-    const auto name = [&](size_t k) { return named.files[k].filename().string(); };
-    p.what = named.files.empty()       ? "embedded " + noun
-             : named.files.size() == 1 ? noun + " from map_d " + name(0)
-                                       : noun + " " + name(0) + " with its map_d " + name(1);
+    const std::filesystem::path *dissolve = named.dissolve_file(), *color = named.dissolved_color_file();
+    p.what = !dissolve ? "embedded " + noun
+             : !color  ? noun + " from map_d " + dissolve->filename().string()
+                       : noun + " " + color->filename().string() + " with its map_d " + dissolve->filename().string();
   }
   p.what += ", " + std::to_string(width) + " x " + std::to_string(height) + " texels" + what_extra;
   p.field = object_field(i) + (src->named_by_mesh ? ".mesh" : ".material." + std::string(key));

@@ -27,6 +27,7 @@ thread_local Scratch tls_scratch;
 }  // namespace
 
 MaskCuts mask_cuts(const MaterialDesc& d) {
+  if (d.alpha_mode != io::AlphaMode::mask) return MaskCuts::nothing;
   float least = 1.0f, most = 1.0f, margin = 0.0f;
   if (d.color_map) {
     uint32_t lo = 255, hi = 0;
@@ -60,9 +61,7 @@ void MaterialShader::shade(const raster::FragmentBatch& b) const {
   using V = SurfaceVaryings;
   // Skin takes its colours from SkinParams: its albedo is the colour map alone.
   const glm::vec3 base = desc_.kind == MaterialKind::skin ? glm::vec3(1.0f) : desc_.color;
-  const bool draws_alpha =
-      desc_.alpha_mode == io::AlphaMode::blend ||
-      (desc_.alpha_mode == io::AlphaMode::mask && desc_.mask_cuts != MaskCuts::nothing);
+  const bool draws_alpha = desc_.alpha_mode == io::AlphaMode::blend || desc_.mask_cuts != MaskCuts::nothing;
   if (desc_.color_map) {
     float* const texel[4] = {s.texel[0], s.texel[1], s.texel[2], s.texel[3]};
     sample_placed(*desc_.color_map, desc_.color_placement, desc_.filter, b.varying[V::kUv], b.varying[V::kUv + 1], n,

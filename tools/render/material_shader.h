@@ -47,9 +47,10 @@ struct MaterialDesc {
   io::AlphaMode alpha_mode = io::AlphaMode::opaque;
   float alpha_cutoff = 0.5f;
   float alpha_factor = 1.0f;
-  // Under mask, mask_cuts of this desc, worked out once its map is loaded: a MASK that cuts
-  // nothing is drawn as opaque, its alpha neither read nor tested (the fur's cut-outs read it too).
-  MaskCuts mask_cuts = MaskCuts::some;
+  // What the part's MASK test cuts (mask_cuts of this desc, worked out once its map is loaded;
+  // nothing under OPAQUE and BLEND, which have no test): a part cut nowhere is drawn opaque, its
+  // alpha neither read nor tested, one cut everywhere is not drawn (the fur's cut-outs read it too).
+  MaskCuts mask_cuts = MaskCuts::nothing;
   bool double_precision = false;  // shading and sampling by the double references
 
   // A skin of Opacity below 1: drawn blended (AlphaOver, no depth write).
@@ -60,8 +61,8 @@ struct MaterialDesc {
 // the cutoff cuts everything or nothing (exporters mark opaque textures MASK), and then neither its
 // surface nor its fur need read it. Every filtered sample lies between the least and the most alpha
 // of level 0 (each level's texels are rounded averages of level 0's), less a margin for the
-// samples' rounding. Without a map the alpha is the factor alone: everything or nothing. Reads
-// every texel of level 0: for set-up (MaterialDesc::mask_cuts).
+// samples' rounding. Without a map the alpha is the factor alone: everything or nothing. Nothing
+// without alphaMode MASK. Reads every texel of level 0: for set-up (MaterialDesc::mask_cuts).
 MaskCuts mask_cuts(const MaterialDesc& desc);
 
 class MaterialShader final : public raster::Shader {

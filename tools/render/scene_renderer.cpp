@@ -484,12 +484,10 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       part.desc.color_map = load_map(kColorMap, so.material.color_map, set.color_map, set.material, keeps_alpha(set),
                                      part.file_color_placement);
       part.desc.color_placement = ours(part.file_color_placement);
-      // Only an OBJ's map_d makes a loader read a colour map's pixels itself: its map_Kd (if any)
-      // and its map_d, the map_d last (io::TextureRef::files).
-      if (part.desc.color_map && map_source(so.material.color_map, set.color_map)->named_by_mesh &&
-          !set.color_map.files.empty()) {
-        part.alpha_map = set.color_map.files.back().filename().string();
-        part.alpha_map_alone = set.color_map.files.size() == 1;
+      if (const std::filesystem::path* dissolve = set.color_map.dissolve_file();
+          dissolve && part.desc.color_map && map_source(so.material.color_map, set.color_map)->named_by_mesh) {
+        part.alpha_map = dissolve->filename().string();
+        part.alpha_map_alone = set.color_map.dissolved_color_file() == nullptr;
       }
       part.desc.normal_map =
           load_map(kNormalMap, so.material.normal_map, set.normal_map, set.material, false, part.file_normal_placement);
@@ -497,7 +495,7 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       part.desc.alpha_mode = set.alpha_mode;
       part.desc.alpha_cutoff = set.alpha_cutoff;
       part.desc.alpha_factor = set.alpha_factor;
-      if (set.alpha_mode == io::AlphaMode::mask) part.desc.mask_cuts = mask_cuts(part.desc);
+      part.desc.mask_cuts = mask_cuts(part.desc);
       any_map |= part.desc.color_map || part.desc.normal_map;
       any_normal_map |= part.desc.normal_map != nullptr;
       any_color_map |= part.desc.color_map != nullptr;
@@ -605,10 +603,10 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
       std::map<const raster::Texture*, const raster::Texture*> cut_alpha;  // each map's alpha copied once
       for (size_t p = 0; p < parts.count(); ++p) {
         const MaterialDesc& d = obj->parts[p].desc;
-        if (d.alpha_mode != io::AlphaMode::mask || !fo.textures) continue;  // fur not drawn: nothing to cut
-        // A cut-out that cuts everything or nothing reads no map (a furry mesh's tiles took 1.5x the
-        // time sampling a map that cut nothing), and one that cuts nothing is none.
-        if (d.mask_cuts == MaskCuts::nothing) continue;
+        // A part cut nowhere (no MASK, or one whose map's alphas all pass) has no cut-out, and where
+        // the fur is not drawn there is nothing to cut. One that cuts everywhere reads no map (a
+        // furry mesh's tiles took 1.5x the time sampling a map that cut nothing).
+        if (d.mask_cuts == MaskCuts::nothing || !fo.textures) continue;
         FurCutMap cut{{nullptr, d.color_placement}, d.alpha_factor, d.alpha_cutoff};
         if (d.mask_cuts == MaskCuts::everything) {
           cut.factor = 0.0f;  // the cutoff is above 0 here, which a factor of 0 never reaches
@@ -756,7 +754,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
       // A MASK part whose test fails on every texel of its map leaves no fragment: not drawn
       // (its fur is cut away whole too, see the fur's cut-outs), where it was set up and shaded
       // for every pixel it covers only to be discarded.
-      if (p.desc.alpha_mode == io::AlphaMode::mask && p.desc.mask_cuts == MaskCuts::everything) continue;
+      if (p.desc.mask_cuts == MaskCuts::everything) continue;
       p.shader->set_view(lights_, camera.eye);
       const bool whole = o->parts.size() == 1;  // the object's own arrays
       const Mesh& m = whole ? o->mesh : p.mesh;
@@ -778,7 +776,7 @@ void SceneRenderer::render(int frame, FrameImage& out, FrameStats& stats, const 
       if (p.desc.translucent() || p.desc.alpha_mode == io::AlphaMode::blend) {
         d.state.blend = raster::BlendMode::AlphaOver;
         d.state.depth_write = false;
-      } else if (p.desc.alpha_mode == io::AlphaMode::mask && p.desc.mask_cuts != MaskCuts::nothing) {
+      } else if (p.desc.mask_cuts != MaskCuts::nothing) {
         // (One that cuts nothing is drawn opaque: an alpha-tested draw is shaded twice.)
         d.state.alpha_test = true;
         d.state.alpha_cutoff = p.desc.alpha_cutoff;

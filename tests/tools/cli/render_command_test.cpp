@@ -157,32 +157,32 @@ TEST_F(RenderCommand, StatsNeverReplaceAnInputOrAFrameOfTheRange) {
   EXPECT_EQ(apart.code, 0) << apart.err;
 }
 
-// A signal during the last frame: that frame is finished, as any frame in flight is, and the exit
-// status still reports the signal (it was 0, so a script looping over renders ran on after a
-// Ctrl-C, and a farm saw a pre-empted job succeed).
-// Waits until `file` exists while `c` runs; false when `c` ended first.
-bool running_when_written(const Child& c, const fs::path& file) {
-  int status = 0;
-  pid_t ended = 0;
-  while (!fs::exists(file) && (ended = ::waitpid(c.pid, &status, WNOHANG)) == 0)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  return ended == 0;
-}
-
-TEST_F(RenderCommand, ASignalDuringTheLastFrameIsReported) {
+// Starts a render of two slow frames to `out`/f_#.png and waits until frame 0's file is in place,
+// so that a signal sent then comes while frame 1, the last, renders (half a second or more). False
+// when pelt ended first.
+bool in_the_last_frame(TempDir& dir, const fs::path& out, Child& c) {
   const fs::path slow = dir.write("slow.json", R"({"pelt": 1, "image": {"width": 640, "height": 480},
   "camera": {"eye": [2.5, 1.5, 3.5], "target": [0, 0, 0]},
   "lights": [{"type": "directional", "direction": [0.3, 0.8, 0.5]}, {"type": "ambient", "intensity": 0.3}],
   "objects": [{"mesh": "box:2", "material": {"type": "lambert"}, "fur": {"shells": 4, "texture_size": 32, "length": 0.3}}],
   "animation": {"frames": 2, "fps": 12}})");
+  c = start_pelt({"render", slow.string(), "-o", (out / "f_#.png").string(), "--spp", "16", "--sort", "exact",
+                  "--threads", "1"},
+                 dir.path());
+  int status = 0;
+  pid_t ended = 0;
+  while (!fs::exists(out / "f_0.png") && (ended = ::waitpid(c.pid, &status, WNOHANG)) == 0)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  return ended == 0;
+}
+
+// A signal during the last frame: that frame is finished, as any frame in flight is, and the exit
+// status still reports the signal (it was 0, so a script looping over renders ran on after a
+// Ctrl-C, and a farm saw a pre-empted job succeed).
+TEST_F(RenderCommand, ASignalDuringTheLastFrameIsReported) {
   const fs::path out = dir.path() / "last";
-  // Frame 0 is written while frame 1, the last, renders (half a second or more): the signal
-  // comes once frame 0's file is in place.
-  Child c = start_pelt({"render", slow.string(), "-o", (out / "f_#.png").string(), "--spp", "16", "--sort", "exact",
-                        "--threads", "1"},
-                       dir.path());
-  ASSERT_TRUE(running_when_written(c, out / "f_0.png")) << "pelt ended before its first frame was written: "
-                                                       << read_text(c.err);
+  Child c;
+  ASSERT_TRUE(in_the_last_frame(dir, out, c)) << "pelt ended before its first frame was written: " << read_text(c.err);
   ::kill(c.pid, SIGINT);
   const Result r = wait_child(c);
   EXPECT_EQ(r.code, 130) << r.err;
@@ -194,22 +194,17 @@ TEST_F(RenderCommand, ASignalDuringTheLastFrameIsReported) {
 
 // A signal pelt was started ignoring stays ignored (a shell starts a background job with SIGINT
 // ignored): a SIGINT while the last frame renders changes nothing, and every frame is written.
-// SIGTERM, not ignored, still stops it (ASignalDuringTheLastFrameIsReported).
+// Not ignored, the same SIGINT stops it (ASignalDuringTheLastFrameIsReported).
 TEST_F(RenderCommand, ASignalIgnoredAtStartStaysIgnored) {
-  const fs::path slow = dir.write("slow.json", R"({"pelt": 1, "image": {"width": 640, "height": 480},
-  "objects": [{"mesh": "box:2", "material": {"type": "lambert"}, "fur": {"shells": 4, "texture_size": 32, "length": 0.3}}],
-  "animation": {"frames": 2, "fps": 12}})");
   const fs::path out = dir.path() / "ignored";
   struct sigaction ignore {}, previous {};
   ignore.sa_handler = SIG_IGN;
   sigemptyset(&ignore.sa_mask);
   ::sigaction(SIGINT, &ignore, &previous);  // inherited through fork and exec
-  Child c = start_pelt({"render", slow.string(), "-o", (out / "f_#.png").string(), "--spp", "16", "--sort", "exact",
-                        "--threads", "1"},
-                       dir.path());
+  Child c;
+  const bool running = in_the_last_frame(dir, out, c);
   ::sigaction(SIGINT, &previous, nullptr);
-  ASSERT_TRUE(running_when_written(c, out / "f_0.png")) << "pelt ended before its first frame was written: "
-                                                       << read_text(c.err);
+  ASSERT_TRUE(running) << "pelt ended before its first frame was written: " << read_text(c.err);
   ::kill(c.pid, SIGINT);
   const Result r = wait_child(c);
   EXPECT_EQ(r.code, 0) << r.err;
@@ -903,9 +898,22 @@ TEST_F(RenderCommand, OutputsNeverOverwriteInputsOrEachOther) {
 // OpenImageIO is a module loaded on first use (tools/io/image_backend.h): a pelt without it
 // still starts, and fails the first read or write that needs it like any bad output, naming the
 // paths it tried. A PNG of a scene without maps needs none (libpng writes it, io/png_writer.h).
+// Three OBJ triangles for the image module's tests: q.obj names no map, p.obj a PNG map (map.png),
+// m.obj a TIFF map (map.tif), both maps written here (the TIFF through the module).
+void write_map_meshes(TempDir& dir) {
+  dir.write("q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n");
+  const std::string mapped = "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n";
+  dir.write("p.obj", "mtllib p.mtl\n" + mapped);
+  dir.write("p.mtl", "newmtl m\nmap_Kd map.png\n");
+  dir.write("m.obj", "mtllib m.mtl\n" + mapped);
+  dir.write("m.mtl", "newmtl m\nmap_Kd map.tif\n");
+  const uint8_t px[3] = {200, 100, 50};
+  io::write_image_atomic(dir.path() / "map.png", 1, 1, 3, io::PixelType::u8, px);
+  io::write_image_atomic(dir.path() / "map.tif", 1, 1, 3, io::PixelType::u8, px);
+}
+
 TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
-  const uint8_t texel[3] = {200, 100, 50};
-  io::write_image_atomic(dir.path() / "map.tif", 1, 1, 3, io::PixelType::u8, texel);  // before the module goes
+  write_map_meshes(dir);  // before the module goes
   const std::string missing = (dir.path() / "nowhere" / "libpelt_oiio.so").string();
   ::setenv("PELT_IMAGE_MODULE", missing.c_str(), 1);
   const Result r = pelt({"-o", (dir.path() / "out/f.exr").string(), "--frame", "0", "-q"});
@@ -913,12 +921,6 @@ TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
   const Result png = pelt({"-o", (dir.path() / "png/f.png").string(), "--frame", "0", "-q"});
   // Nor does a mesh file that names no map, or a PNG map (libpng reads it, io/png_reader.h); a
   // TIFF map needs the module.
-  dir.write("q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n");
-  const std::string mapped_obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n";
-  dir.write("p.obj", "mtllib p.mtl\n" + mapped_obj);
-  dir.write("p.mtl", "newmtl m\nmap_Kd png/f.png\n");
-  dir.write("m.obj", "mtllib m.mtl\n" + mapped_obj);
-  dir.write("m.mtl", "newmtl m\nmap_Kd map.tif\n");
   const auto mesh_render = [&](const std::string& mesh) {
     const fs::path s = dir.write(mesh + ".json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
         "objects": [{"mesh": ")" + mesh + R"(", "material": {"type": "lambert"}}]})");
@@ -946,15 +948,7 @@ TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
 // map (libpng reads it), but for an EXR, and for a TIFF map (a mesh file's loads it when the
 // set-up reaches it, the scene's ahead).
 TEST_F(RenderCommand, StatsSayWhetherTheImageModuleWasLoaded) {
-  dir.write("q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n");
-  const std::string mapped_obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n";
-  dir.write("p.obj", "mtllib p.mtl\n" + mapped_obj);
-  dir.write("p.mtl", "newmtl m\nmap_Kd map.png\n");
-  dir.write("m.obj", "mtllib m.mtl\n" + mapped_obj);
-  dir.write("m.mtl", "newmtl m\nmap_Kd map.tif\n");
-  const uint8_t px[3] = {200, 100, 50};
-  io::write_image_atomic(dir.path() / "map.png", 1, 1, 3, io::PixelType::u8, px);
-  io::write_image_atomic(dir.path() / "map.tif", 1, 1, 3, io::PixelType::u8, px);
+  write_map_meshes(dir);
   const auto loaded = [&](const std::string& mesh, const std::string& out, const std::string& map = "") {
     const std::string material = map.empty() ? "" : R"(, "color_map": ")" + map + "\"";
     const fs::path s = dir.write("s.json", R"({"pelt": 1, "image": {"width": 16, "height": 16},

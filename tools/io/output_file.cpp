@@ -37,6 +37,7 @@ constexpr size_t kTempPathBytes = 4096;
 struct TempSlot {
   std::atomic<bool> claimed{false};  // owned by a TempFile
   std::atomic<bool> live{false};     // `path` is complete and may be unlinked
+  std::atomic<int> fd{-1};           // the file's descriptor, once open: finds it if its folder moved
   char path[kTempPathBytes];
 };
 std::array<TempSlot, kTempSlots> g_temp_slots;
@@ -87,7 +88,45 @@ void free_temp_slot(int i) {
   if (i < 0) return;
   TempSlot& slot = g_temp_slots[size_t(i)];
   slot.live.store(false, std::memory_order_release);
+  slot.fd.store(-1, std::memory_order_release);
   slot.claimed.store(false, std::memory_order_release);
+}
+
+// Removes the temporary `path`, open as `fd`. Its folder moved away (or renamed) while it was
+// written, its path names nothing (or another file), and removing by path left it in the moved
+// folder; the kernel still knows where it lies (/proc/self/fd). A file found that way is unlinked
+// only if it is this one (device and inode) and still bears the temporary's own name: once
+// renamed into place it is the finished output, which a signal right after the rename must not
+// take back. Async-signal-safe (fstat, lstat, readlink, unlink; no allocation): the handler's.
+void remove_temp(const char* path, int fd) {
+  struct stat open_file {}, named {};
+  if (fd < 0 || ::fstat(fd, &open_file) != 0) {
+    ::unlink(path);
+    return;
+  }
+  const auto same = [&](const struct stat& st) {
+    return st.st_dev == open_file.st_dev && st.st_ino == open_file.st_ino;
+  };
+  if (::lstat(path, &named) == 0) {
+    if (same(named)) ::unlink(path);
+    if (same(named) || !S_ISREG(named.st_mode)) return;
+  }
+  char link[32] = "/proc/self/fd/";
+  char digits[12];
+  int n = 0;
+  for (unsigned v = unsigned(fd); n == 0 || v; v /= 10) digits[n++] = char('0' + v % 10);
+  size_t at = std::strlen(link);
+  while (n) link[at++] = digits[--n];
+  link[at] = 0;
+  char where[kTempPathBytes];
+  const ssize_t len = ::readlink(link, where, sizeof where - 1);
+  if (len <= 0) return;
+  where[len] = 0;
+  const char* own_name = std::strrchr(path, '/');
+  const char* found_name = std::strrchr(where, '/');
+  own_name = own_name ? own_name + 1 : path;
+  if (!found_name || std::strcmp(found_name + 1, own_name) != 0) return;
+  if (::lstat(where, &named) == 0 && same(named)) ::unlink(where);
 }
 
 }  // namespace
@@ -121,6 +160,7 @@ TempFile::TempFile(std::filesystem::path p) : path_(std::move(p)) {
     slot_ = claim_temp_slot(path_);
     fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
     if (fd_ < 0) creation_error_ = errno;
+    if (slot_ >= 0) g_temp_slots[size_t(slot_)].fd.store(fd_, std::memory_order_release);
   }
   // The writer opens the file again (write_path, or the plot script by name), which the mode
   // must allow: a umask without the owner's read and write (0222, 0277) would make the file
@@ -147,15 +187,23 @@ std::string TempFile::named(std::string message) const {
   return message;
 }
 
+bool TempFile::at_its_path() const {
+  struct stat open_file {}, named {};
+  return fd_ >= 0 && ::fstat(fd_, &open_file) == 0 && ::lstat(path_.c_str(), &named) == 0 &&
+         open_file.st_dev == named.st_dev && open_file.st_ino == named.st_ino;
+}
+
 int TempFile::sync() const { return fd_ >= 0 && ::fsync(fd_) != 0 ? errno : 0; }
 
 void TempFile::release() {
   released_ = true;
   if (fd_ >= 0 && (mode_ & 0600) != 0600) ::fchmod(fd_, mode_);
-  if (fd_ >= 0) ::close(fd_);
-  fd_ = -1;
+  // Unlisted before the descriptor closes: the handler never sees a listed descriptor that a
+  // later open may have reused.
   free_temp_slot(slot_);
   slot_ = -1;
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
 }
 
 void set_temp_writer_child(pid_t pid) { g_temp_writer_child.store(pid, std::memory_order_release); }
@@ -171,7 +219,7 @@ void remove_temp_files_in_signal_handler() {
     ::waitpid(child, nullptr, 0);
   }
   for (TempSlot& slot : g_temp_slots)
-    if (slot.live.load(std::memory_order_acquire)) ::unlink(slot.path);
+    if (slot.live.load(std::memory_order_acquire)) remove_temp(slot.path, slot.fd.load(std::memory_order_acquire));
   remove_created_folders();
 }
 
@@ -250,13 +298,13 @@ std::filesystem::path temp_beside(const std::filesystem::path& path) {
 }
 
 TempFile::~TempFile() {
-  if (fd_ >= 0) ::close(fd_);
   if (released_) return;
   // Removed before its slot is freed: a signal in between finds it still listed (unlinking a
-  // file already gone is harmless), where the other order let it escape the handler.
-  std::error_code ec;
-  std::filesystem::remove(path_, ec);
+  // file already gone is harmless), where the other order let it escape the handler. Its path
+  // names nothing once its folder has been moved: then it is removed where it lies now.
+  remove_temp(path_.c_str(), fd_);
   free_temp_slot(slot_);
+  if (fd_ >= 0) ::close(fd_);
 }
 
 bool writes_through(const std::filesystem::path& path) {
@@ -322,6 +370,9 @@ void AtomicOutput::commit(const std::string& field, const std::string& what) {
     throw InputError(target_string_, field, "cannot write " + what + " to the disk: " + std::strerror(error));
   std::error_code ec;
   std::filesystem::rename(tmp_->path(), target_, ec);
+  if (ec == std::errc::no_such_file_or_directory && !tmp_->at_its_path())
+    throw InputError(target_string_, field,
+                     "cannot move " + what + " into place: its folder was moved or removed while it was written");
   if (ec) throw InputError(target_string_, field, "cannot move " + what + " into place: " + ec.message());
   tmp_->release();
   sync_folder_of(target_);

@@ -61,6 +61,8 @@ class TempFile {
   std::string named(std::string message) const;
   // Flushes the file's data to the disk (fsync); 0 or its errno.
   int sync() const;
+  // Whether path() still names this file (its folder may have been moved or removed since).
+  bool at_its_path() const;
   // 0 when the constructor created the file, else its errno.
   int creation_error() const { return creation_error_; }
   // The file stays (it has been renamed into place) with the mode the umask gave it; its

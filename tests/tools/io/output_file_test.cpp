@@ -155,6 +155,48 @@ TEST(OutputFile, ATemporaryExistsFromItsConstructionUntilItsDestruction) {
   EXPECT_TRUE(fs::exists(p));
 }
 
+// A folder moved away while its output is written (a user tidying a shot's folder during a
+// sequence): the temporary's path names nothing, and both the rename and the removal by that
+// path failed, leaving the temporary in the moved folder. It is now removed where it lies, and
+// the error says what happened.
+TEST(OutputFile, AFolderMovedDuringTheWriteKeepsNoTemporary) {
+  TempDir dir;
+  fs::create_directory(dir.path() / "shot");
+  {
+    const TempFile tmp(dir.path() / "shot" / ".x.tmp");
+    fs::rename(dir.path() / "shot", dir.path() / "moved");
+    EXPECT_TRUE(fs::exists(dir.path() / "moved" / ".x.tmp"));
+    EXPECT_FALSE(tmp.at_its_path());
+  }
+  EXPECT_EQ(entries(dir.path()), std::vector<std::string>{"moved"});
+
+  fs::create_directory(dir.path() / "shot");
+  const fs::path target = dir.path() / "shot" / "frame.json";
+  const InputError e = error_of([&] {
+    AtomicOutput out(target);
+    std::ofstream(out.write_path()) << "{}\n";
+    fs::rename(dir.path() / "shot", dir.path() / "again");
+    out.commit("-o", "the frame");
+  });
+  EXPECT_EQ(e.file, target.string());
+  EXPECT_NE(e.reason.find("its folder was moved or removed while it was written"), std::string::npos) << e.what();
+  EXPECT_EQ(entries(dir.path()), (std::vector<std::string>{"again", "moved"}));
+}
+
+// Where the temporary's name was taken by another file after its folder moved, that file stays:
+// the file removed is the temporary itself, found by its descriptor.
+TEST(OutputFile, OnlyTheTemporaryItselfIsRemovedWhereItLies) {
+  TempDir dir;
+  fs::create_directory(dir.path() / "shot");
+  {
+    const TempFile tmp(dir.path() / "shot" / ".x.tmp");
+    fs::rename(dir.path() / "shot", dir.path() / "moved");
+    fs::create_directory(dir.path() / "shot");
+    dir.write("shot/.x.tmp", "someone else's");
+  }
+  EXPECT_EQ(entries(dir.path()), (std::vector<std::string>{"moved", "shot", "shot/.x.tmp"}));
+}
+
 // The handler may unlink a temporary while a writer thread is about to open it: the writer opens
 // write_path(), which reaches the same file and never makes its name again (an open by name
 // would create the file anew, to stay behind after the handler's exit).
@@ -278,6 +320,32 @@ TEST(TempFileSignals, TheHandlerWaitsForATemporaryBeingCreated) {
   });
   EXPECT_EQ(status, 0) << "1: the temporary was created after the handler's clean-up";
   EXPECT_FALSE(fs::exists(late));
+}
+
+// A temporary already renamed into place is the finished output: a signal between the rename
+// and release() (the handler removes what is still listed) must not take it back through the
+// descriptor that finds it under its new name.
+TEST(OutputFile, ATemporaryRenamedIntoPlaceIsNotRemovedUnderItsNewName) {
+  TempDir dir;
+  {
+    const TempFile tmp(dir.path() / ".frame.png.tmp");
+    fs::rename(dir.path() / ".frame.png.tmp", dir.path() / "frame.png");
+  }
+  EXPECT_EQ(entries(dir.path()), std::vector<std::string>{"frame.png"});
+}
+
+// The handler finds a temporary whose folder was moved where it lies now.
+TEST(TempFileSignals, TheHandlerRemovesATemporaryWhoseFolderMoved) {
+  TempDir dir;
+  fs::create_directory(dir.path() / "shot");
+  const int status = in_child([&] {
+    new TempFile(dir.path() / "shot" / ".x.tmp");  // lives until the exit
+    fs::rename(dir.path() / "shot", dir.path() / "moved");
+    remove_temp_files_in_signal_handler();
+    ::_exit(fs::exists(dir.path() / "moved" / ".x.tmp") ? 1 : 0);
+  });
+  EXPECT_EQ(status, 0) << "1: the temporary stayed in the moved folder";
+  EXPECT_EQ(entries(dir.path()), std::vector<std::string>{"moved"});
 }
 
 // Once the handler has begun, no temporary is created: the writer waits for the exit.

@@ -17,7 +17,7 @@
 #include "tests/raster/render_helpers.h"
 
 namespace pelt::raster::test {
-namespace {
+namespace alpha_test_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 // The alphas a fragment may get: both sides of the cutoff 0.5 and the cutoff itself, out of
 // range, and NaN.
@@ -229,5 +229,5 @@ TEST(AlphaTest, ACutoffOutsideTheUnitRangeIsRefused) {
   EXPECT_THROW(render(soup.draws, 32, 32, 1), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace alpha_test_test
 }  // namespace pelt::raster::test

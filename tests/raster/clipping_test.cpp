@@ -14,7 +14,7 @@
 #include "tests/raster/test_shaders.h"
 
 namespace pelt::raster::test {
-namespace {
+namespace clipping_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 struct Soup {
   std::vector<glm::vec3> pos;
@@ -186,5 +186,5 @@ TEST(Clipping, ANearOrFarPlaneCutKeepsTheProjectionsDepth) {
   }
 }
 
-}  // namespace
+}  // namespace clipping_test
 }  // namespace pelt::raster::test

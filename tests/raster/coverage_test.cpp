@@ -13,7 +13,7 @@
 #include "tests/raster/test_shaders.h"
 
 namespace pelt::raster::test {
-namespace {
+namespace coverage_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 struct Soup {
   std::vector<glm::vec3> pos;
@@ -215,5 +215,5 @@ TEST(Coverage, EqualDepthsFollowTheDepthFunction) {
   }
 }
 
-}  // namespace
+}  // namespace coverage_test
 }  // namespace pelt::raster::test

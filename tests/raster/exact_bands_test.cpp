@@ -17,7 +17,7 @@
 #include "tests/raster/test_shaders.h"
 
 namespace pelt::raster::test {
-namespace {
+namespace exact_bands_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 constexpr int kWidth = 200, kHeight = 150;  // partial tiles at the right and bottom
 
@@ -219,5 +219,5 @@ TEST(ExactBands, APileIsCompositedBackToFront) {
   for (size_t i = 0; i < img.color.size(); ++i) ASSERT_NEAR(img.color[i], in_order.color[i], 1e-6f) << i;
 }
 
-}  // namespace
+}  // namespace exact_bands_test
 }  // namespace pelt::raster::test

@@ -19,7 +19,7 @@
 #include "tests/raster/test_shaders.h"
 
 namespace pelt::raster::test {
-namespace {
+namespace overdraw_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 constexpr int kW = 150, kH = 110;  // partial tiles on both axes
 
@@ -264,5 +264,5 @@ TEST(Overdraw, BlendedColourMatchesAPerPixelCompositorOnEveryTarget) {
   }
 }
 
-}  // namespace
+}  // namespace overdraw_test
 }  // namespace pelt::raster::test

@@ -16,7 +16,7 @@
 #include "tests/raster/render_helpers.h"
 
 namespace pelt::raster {
-namespace {
+namespace setup_batch_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 struct Tri {
   SnappedVertex v[3];
@@ -147,5 +147,5 @@ TEST(SetupBatch, HardTrianglesMatchTheScalarSetUp) {
   expect_same({}, vp, CullMode::None, "empty batch");
 }
 
-}  // namespace
+}  // namespace setup_batch_test
 }  // namespace pelt::raster

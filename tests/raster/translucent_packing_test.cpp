@@ -16,7 +16,7 @@
 #include "tests/raster/test_shaders.h"
 
 namespace pelt::raster::test {
-namespace {
+namespace translucent_packing_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 constexpr int kSize = 160;
 constexpr int kCells = 5;
@@ -357,5 +357,5 @@ TEST(TranslucentPacking, QuadWithANonFinitePartnerSortsByItsOwnDepth) {
   });
 }
 
-}  // namespace
+}  // namespace translucent_packing_test
 }  // namespace pelt::raster::test

@@ -8,7 +8,7 @@
 #include "shading/skin_reference.h"
 
 namespace pelt::shading::diffusion {
-namespace {
+namespace diffusion_reference_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -91,5 +91,5 @@ TEST(DiffusionReference, ValidateNamesTheField) {
   EXPECT_FALSE(validate(Medium{0.1, 1.0, 1.4}).has_value());
 }
 
-}  // namespace
+}  // namespace diffusion_reference_test
 }  // namespace pelt::shading::diffusion

@@ -22,7 +22,7 @@
 #include "tests/shading/random_inputs.h"
 
 namespace pelt::shading {
-namespace {
+namespace fur_lighting_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 using testing::Buffer;
 using testing::close_enough;
@@ -554,5 +554,5 @@ TEST(FurLighting, ManyLights) {
   });
 }
 
-}  // namespace
+}  // namespace fur_lighting_test
 }  // namespace pelt::shading

@@ -15,7 +15,7 @@
 #include "tests/shading/batch_harness.h"
 
 namespace pelt::shading {
-namespace {
+namespace fur_vertex_lit_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 using testing::for_each_target;
 
@@ -189,5 +189,5 @@ TEST(FurVertexLit, NullPointersAreNamed) {
   EXPECT_THROW(shade_fur_vertex_lit(bh), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace fur_vertex_lit_test
 }  // namespace pelt::shading

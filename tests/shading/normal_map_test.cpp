@@ -20,7 +20,7 @@
 #include "tests/shading/random_inputs.h"
 
 namespace pelt::shading {
-namespace {
+namespace normal_map_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 using testing::Buffer;
 using testing::for_each_target;
@@ -376,5 +376,5 @@ TEST(NormalMapKernel, BadInputsNameTheField) {
   }
 }
 
-}  // namespace
+}  // namespace normal_map_test
 }  // namespace pelt::shading

@@ -18,7 +18,7 @@
 #include "tests/shading/skin_test_params.h"
 
 namespace pelt::shading {
-namespace {
+namespace skin_closed_forms_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 using ref::kPi;
 
@@ -349,5 +349,5 @@ TEST(SkinClosedForms, DipoleEpidermisIsReciprocalAndTransmitsBothWays) {
   }
 }
 
-}  // namespace
+}  // namespace skin_closed_forms_test
 }  // namespace pelt::shading

@@ -10,7 +10,7 @@
 #include "tests/shading/batch_harness.h"
 
 namespace pelt::shading {
-namespace {
+namespace skin_hard_cases_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 using testing::Inputs;
 using testing::Outputs;
@@ -375,5 +375,5 @@ TEST(BasicHardCases, DegenerateNormalsGrazingAndCoincidentLights) {
       r3, 16, [&](Outputs& o) { shade_blinn(bp, lights.data(), lights.size(), eye, in.soa(), o.soa()); }, 4);
 }
 
-}  // namespace
+}  // namespace skin_hard_cases_test
 }  // namespace pelt::shading

@@ -5,7 +5,7 @@
 #include "tests/shading/batch_harness.h"
 
 namespace pelt::shading {
-namespace {
+namespace skin_kernels_api_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 using testing::Inputs;
 using testing::Outputs;
@@ -111,5 +111,5 @@ TEST(ShadingApi, LambertWhiteFacingUnitLightIsOne) {
     for (int c = 0; c < 4; ++c) EXPECT_EQ(out.at(c, i), 1.0f);
 }
 
-}  // namespace
+}  // namespace skin_kernels_api_test
 }  // namespace pelt::shading

@@ -11,7 +11,7 @@
 #include "tests/shading/random_inputs.h"
 
 namespace pelt::shading {
-namespace {
+namespace skin_kernels_random_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 using testing::Inputs;
 using testing::Outputs;
@@ -200,5 +200,5 @@ TEST(BasicKernels, IntegerShininessMatchesReferenceOnRandomInputs) {
                              [&](Rng&) { return shininess[k++ % std::size(shininess)]; });
 }
 
-}  // namespace
+}  // namespace skin_kernels_random_test
 }  // namespace pelt::shading

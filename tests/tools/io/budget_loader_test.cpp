@@ -23,7 +23,7 @@
 #include "tools/io/scene.h"
 
 namespace pelt::io {
-namespace {
+namespace budget_loader_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 std::filesystem::path data_dir() {
   const char* root = std::getenv("PELT_SOURCE_DIR");
@@ -411,5 +411,5 @@ TEST(BudgetScene, LoadSceneMeshesPassesTheBudgetToEveryMesh) {
   }
 }
 
-}  // namespace
+}  // namespace budget_loader_test
 }  // namespace pelt::io

@@ -18,7 +18,7 @@
 #include "tools/io/input_error.h"
 
 namespace pelt::io {
-namespace {
+namespace mesh_loader_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 using testing::expect_load_error;
 
@@ -1130,5 +1130,5 @@ TEST(MeshLoader, ValidateMeshNamesTheElement) {
   EXPECT_THROW(validate_mesh(m, "m"), InputError);
 }
 
-}  // namespace
+}  // namespace mesh_loader_test
 }  // namespace pelt::io

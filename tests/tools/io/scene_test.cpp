@@ -12,7 +12,7 @@
 #include "tools/io/json_fields.h"
 
 namespace pelt::io {
-namespace {
+namespace scene_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 std::filesystem::path data_dir() {
   const char* root = std::getenv("PELT_SOURCE_DIR");
@@ -411,5 +411,5 @@ TEST(BakeTransform, MirrorKeepsOutwardWinding) {
     EXPECT_GT(glm::dot(m.normals[i], m.positions[i]), 0.0f);
 }
 
-}  // namespace
+}  // namespace scene_test
 }  // namespace pelt::io

@@ -17,7 +17,7 @@
 #include "tools/render/budget_check.h"
 
 namespace pelt::render::test {
-namespace {
+namespace alpha_materials_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 // front.png: 4 x 4 green texels whose alpha is `alpha` (x, y).
 template <class Alpha>
@@ -248,5 +248,5 @@ TEST(AlphaMaterials, OneAndTwoThreadsAgree) {
   }
 }
 
-}  // namespace
+}  // namespace alpha_materials_test
 }  // namespace pelt::render::test

@@ -12,7 +12,7 @@
 #include "tools/render/varyings.h"
 
 namespace pelt::render::test {
-namespace {
+namespace fur_color_map_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 // A furry box whose material reads `map` (a flat colour, written into `dir`), its fur with
 // `fur_extra`; sort exact and every fin, so that the whole fur pipeline runs.
@@ -332,5 +332,5 @@ TEST(FurColorMap, TheFieldTakesOnlyABoolean) {
               false);
 }
 
-}  // namespace
+}  // namespace fur_color_map_test
 }  // namespace pelt::render::test

@@ -14,7 +14,7 @@
 #include "tools/io/image_io.h"
 
 namespace pelt::render::test {
-namespace {
+namespace fur_cut_out_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 // front.png: 4 x 4 green texels, alpha 0 in the left half (u < 0.5) and 1 in the right, or 0
 // everywhere.
@@ -217,5 +217,5 @@ TEST(FurCutOut, TheCutoffDecidesForTheFurToo) {
   EXPECT_GT(red, 15 * 36 * 9 / 10);  // every strand kept: under half were with the cutoff read as exclusive
 }
 
-}  // namespace
+}  // namespace fur_cut_out_test
 }  // namespace pelt::render::test

@@ -13,7 +13,7 @@
 #include "tools/render/scene_renderer.h"
 
 namespace pelt::render::test {
-namespace {
+namespace fur_fin_spans_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 struct Frame {
   FrameImage image;
@@ -67,5 +67,5 @@ TEST(FurFinSpans, LayerOrderKeepsOneQuadPerPairOfLayers) {
   }
 }
 
-}  // namespace
+}  // namespace fur_fin_spans_test
 }  // namespace pelt::render::test

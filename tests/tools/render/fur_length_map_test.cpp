@@ -13,7 +13,7 @@
 #include "tools/render/length_map.h"
 
 namespace pelt::render::test {
-namespace {
+namespace fur_length_map_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 // A sphere (uvs: u round it, v from pole to pole), furry with gravity and wind, seen side on.
 std::string sphere_scene(const std::string& fur) {
@@ -166,5 +166,5 @@ TEST(FurLengthMap, BadMapsAreRefusedNamingTheFieldOrTheFile) {
   }
 }
 
-}  // namespace
+}  // namespace fur_length_map_test
 }  // namespace pelt::render::test

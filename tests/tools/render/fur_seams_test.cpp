@@ -10,7 +10,7 @@
 #include "tests/tools/render/render_test_scenes.h"
 
 namespace pelt::render::test {
-namespace {
+namespace fur_seams_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 // An OBJ of the sheet y = 0.4 x^2 + 0.3 x z over [-1, 1]^2 in 4 x 4 quads, bent across the seam
 // (x = 0) so that normals, or directions along it, computed from one side's triangles alone
@@ -103,5 +103,5 @@ TEST(FurSeams, ASplitSeamCombsLikeTheWeldedMesh) {
 // NormalSharing::per_position): the shells stay closed along the seam.
 TEST(FurSeams, ComputedNormalsDoNotOpenTheSeam) { expect_seam_invisible(false, ""); }
 
-}  // namespace
+}  // namespace fur_seams_test
 }  // namespace pelt::render::test

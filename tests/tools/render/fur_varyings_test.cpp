@@ -17,7 +17,7 @@
 #include "tools/render/scene_renderer.h"
 
 namespace pelt::render::test {
-namespace {
+namespace fur_varyings_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 struct Frame {
   FrameImage image;
@@ -133,5 +133,5 @@ TEST(FurVaryings, AShellShaderNeedsItsTint) {
   EXPECT_NO_THROW(FurShader{su});
 }
 
-}  // namespace
+}  // namespace fur_varyings_test
 }  // namespace pelt::render::test

@@ -17,7 +17,7 @@
 #include "tools/render/budget_check.h"
 
 namespace pelt::render::test {
-namespace {
+namespace normal_map_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 // A 4 x 4 map of one texel value.
 void write_map(const std::filesystem::path& path, uint8_t r, uint8_t g, uint8_t b) {
@@ -167,5 +167,5 @@ TEST(NormalMap, MeshWithoutUvsIsRefused) {
   }
 }
 
-}  // namespace
+}  // namespace normal_map_test
 }  // namespace pelt::render::test

@@ -14,7 +14,7 @@
 #include "tools/io/input_error.h"
 
 namespace pelt::render::test {
-namespace {
+namespace partial_uvs_test {  // named, not anonymous: the unity build compiles files together (tests/CMakeLists.txt)
 
 // Two quads facing +z: at the back (z = -0.5, larger, so it frames the other) one of material
 // `back`, in front one of material `front`. `back_uvs` / `front_uvs`: whether each quad's faces
@@ -170,5 +170,5 @@ TEST(PartialUvs, FurLaysItsStrandsByTheBoxMapping) {
             std::string::npos);
 }
 
-}  // namespace
+}  // namespace partial_uvs_test
 }  // namespace pelt::render::test

@@ -11,6 +11,7 @@
 
 #include "tools/io/image_backend.h"
 #include "tools/io/input_error.h"
+#include "tools/io/jpeg_reader.h"
 #include "tools/io/output_file.h"
 #include "tools/io/pixels.h"
 #include "tools/io/png_reader.h"
@@ -60,7 +61,21 @@ std::vector<float> premultiplied(const float* px, size_t pixels, int channels) {
 
 bool needs_image_module_to_write(const std::filesystem::path& path) { return lower_extension(path) != ".png"; }
 
-bool needs_image_module_to_read(const std::filesystem::path& path) { return !has_png_signature(path); }
+namespace {
+
+using OpenImage = std::unique_ptr<ImageReader> (*)(const std::string& file, std::string& error);
+
+// pelt's own reader of the image at `path`, by its signature: libpng's for a PNG, libjpeg's for
+// a JPEG; nullptr for every other file, which the module reads.
+OpenImage own_reader(const std::filesystem::path& path) {
+  if (has_png_signature(path)) return open_png;
+  if (has_jpeg_signature(path)) return open_jpeg;
+  return nullptr;
+}
+
+}  // namespace
+
+bool needs_image_module_to_read(const std::filesystem::path& path) { return own_reader(path) == nullptr; }
 
 void write_image_atomic(const std::filesystem::path& path, int width, int height, int channels,
                         PixelType type, const void* pixels, const ImageWriteOptions& options) {
@@ -139,7 +154,8 @@ std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path) {
   if (const std::string reason = unreadable_file_reason(path); !reason.empty())
     throw InputError(file, "", reason == kFileNotFound ? "image file not found" : reason + ", not an image file");
   std::string error;
-  auto in = needs_image_module_to_read(path) ? image_backend_for(file).open(file, error) : open_png(file, error);
+  const OpenImage own = own_reader(path);
+  auto in = own ? own(file, error) : image_backend_for(file).open(file, error);
   if (!in) throw InputError(file, "", "cannot read the image: " + error);
   const ImageFileInfo& info = in->info();
   if (info.width <= 0 || info.height <= 0 || info.channels <= 0) throw InputError(file, "", "the image is empty");

@@ -1,7 +1,7 @@
 // Image files through OpenImageIO (in a module loaded on first use, image_backend.h), PNG
-// output through libpng (png_writer.h): atomic writes of rendered images and AOVs, and
-// colour-map reads. Failing to load the module is an InputError naming the file, like any
-// other failure here.
+// files through libpng (png_writer.h, png_reader.h) and JPEG input through libjpeg
+// (jpeg_reader.h): atomic writes of rendered images and AOVs, and colour-map reads. Failing to
+// load the module is an InputError naming the file, like any other failure here.
 #pragma once
 
 #include <cstddef>
@@ -50,8 +50,9 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
 
 // Whether writing `path` (by its extension; a GIF's too, gif_writer.h) or reading the image at
 // `path` (by its signature) loads OpenImageIO's module: PNG files are written and read by libpng
-// itself (png_writer.h, png_reader.h), every other type through the module. For a command that
-// loads the module ahead, on a thread of its own, only where it will need it.
+// itself (png_writer.h, png_reader.h), JPEG files (FF D8 FF) read by libjpeg (jpeg_reader.h),
+// every other type through the module. For a command that loads the module ahead, on a thread
+// of its own, only where it will need it.
 bool needs_image_module_to_write(const std::filesystem::path& path);
 bool needs_image_module_to_read(const std::filesystem::path& path);
 

@@ -2,14 +2,13 @@
 
 #include <png.h>
 
-#include <cerrno>
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <vector>
 
+#include "tools/io/c_file.h"
 #include "tools/io/png_errors.h"
 
 namespace pelt::io {
@@ -19,17 +18,12 @@ class PngReader final : public ImageReader {
  public:
   ~PngReader() override {
     if (png_) png_destroy_read_struct(&png_, info_ptr_ ? &info_ptr_ : nullptr, nullptr);
-    if (file_) std::fclose(file_);
   }
 
   // The header, and the transforms that give OpenImageIO's channels and types. Every C++ object
   // of this frame exists before the setjmp, so a longjmp skips no destructor.
   bool open(const std::string& file, std::string& error) {
-    file_ = std::fopen(file.c_str(), "rb");
-    if (!file_) {
-      error = std::strerror(errno);
-      return false;
-    }
+    if (!file_.open(file, error)) return false;
     png_ = png_create_read_struct(PNG_LIBPNG_VER_STRING, &failure_, png_failed, png_warned);
     if (png_) info_ptr_ = png_create_info_struct(png_);
     if (!png_ || !info_ptr_) {
@@ -40,7 +34,7 @@ class PngReader final : public ImageReader {
       error = failure_.message;
       return false;
     }
-    png_init_io(png_, file_);
+    png_init_io(png_, file_.get());
     png_read_info(png_, info_ptr_);
     const int color_type = png_get_color_type(png_, info_ptr_);
     const int bit_depth = png_get_bit_depth(png_, info_ptr_);
@@ -83,7 +77,7 @@ class PngReader final : public ImageReader {
   }
 
  private:
-  std::FILE* file_ = nullptr;
+  CFile file_;  // closed after png_ is destroyed
   png_structp png_ = nullptr;
   png_infop info_ptr_ = nullptr;
   PngFailure failure_;

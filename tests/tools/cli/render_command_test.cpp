@@ -898,8 +898,9 @@ TEST_F(RenderCommand, OutputsNeverOverwriteInputsOrEachOther) {
 // OpenImageIO is a module loaded on first use (tools/io/image_backend.h): a pelt without it
 // still starts, and fails the first read or write that needs it like any bad output, naming the
 // paths it tried. A PNG of a scene without maps needs none (libpng writes it, io/png_writer.h).
-// Three OBJ triangles for the image module's tests: q.obj names no map, p.obj a PNG map (map.png),
-// m.obj a TIFF map (map.tif), both maps written here (the TIFF through the module).
+// Four OBJ triangles for the image module's tests: q.obj names no map, p.obj a PNG map (map.png),
+// j.obj a JPEG map (map.jpg, the default scene's colour map), m.obj a TIFF map (map.tif), the PNG
+// and the TIFF written here (the TIFF through the module).
 void write_map_meshes(TempDir& dir) {
   dir.write("q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n");
   const std::string mapped = "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n";
@@ -907,6 +908,9 @@ void write_map_meshes(TempDir& dir) {
   dir.write("p.mtl", "newmtl m\nmap_Kd map.png\n");
   dir.write("m.obj", "mtllib m.mtl\n" + mapped);
   dir.write("m.mtl", "newmtl m\nmap_Kd map.tif\n");
+  dir.write("j.obj", "mtllib j.mtl\n" + mapped);
+  dir.write("j.mtl", "newmtl m\nmap_Kd map.jpg\n");
+  fs::copy_file(source_dir() / "tools/data/LeePerrySmith/Map-COL.jpg", dir.path() / "map.jpg");
   const uint8_t px[3] = {200, 100, 50};
   io::write_image_atomic(dir.path() / "map.png", 1, 1, 3, io::PixelType::u8, px);
   io::write_image_atomic(dir.path() / "map.tif", 1, 1, 3, io::PixelType::u8, px);
@@ -919,21 +923,23 @@ TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
   const Result r = pelt({"-o", (dir.path() / "out/f.exr").string(), "--frame", "0", "-q"});
   const Result gif = pelt({"-o", (dir.path() / "out/a.gif").string(), "-q"});
   const Result png = pelt({"-o", (dir.path() / "png/f.png").string(), "--frame", "0", "-q"});
-  // Nor does a mesh file that names no map, or a PNG map (libpng reads it, io/png_reader.h); a
-  // TIFF map needs the module.
+  // Nor does a mesh file that names no map, a PNG map (libpng reads it, io/png_reader.h) or a JPEG
+  // map (libjpeg reads it, io/jpeg_reader.h); a TIFF map needs the module.
   const auto mesh_render = [&](const std::string& mesh) {
     const fs::path s = dir.write(mesh + ".json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
         "objects": [{"mesh": ")" + mesh + R"(", "material": {"type": "lambert"}}]})");
     return run_pelt({"render", s.string(), "-o", (dir.path() / "mesh" / (mesh + ".png")).string(), "-q"}, dir.path());
   };
-  const Result plain = mesh_render("q.obj"), png_map = mesh_render("p.obj"), mapped = mesh_render("m.obj");
+  const Result plain = mesh_render("q.obj"), png_map = mesh_render("p.obj"), jpeg_map = mesh_render("j.obj"),
+               mapped = mesh_render("m.obj");
   ::unsetenv("PELT_IMAGE_MODULE");
   EXPECT_EQ(plain.code, 0) << plain.err;
   EXPECT_EQ(png_map.code, 0) << png_map.err;
+  EXPECT_EQ(jpeg_map.code, 0) << jpeg_map.err;
   EXPECT_EQ(mapped.code, 2) << mapped.err;
   EXPECT_NE(mapped.err.find(missing), std::string::npos) << mapped.err;
   EXPECT_NE(mapped.err.find("map.tif"), std::string::npos) << mapped.err;
-  EXPECT_EQ(files("mesh"), (std::vector<std::string>{"p.obj.png", "q.obj.png"}));
+  EXPECT_EQ(files("mesh"), (std::vector<std::string>{"j.obj.png", "p.obj.png", "q.obj.png"}));
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find(missing), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("f.exr"), std::string::npos) << r.err;
@@ -944,9 +950,10 @@ TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
 }
 
 // OpenImageIO's module loads (0.4 s) only where the render needs it, and --stats says whether it
-// did: not for a PNG of built-in meshes (libpng writes it), of a mesh file naming no map or a PNG
-// map (libpng reads it), but for an EXR, and for a TIFF map (a mesh file's loads it when the
-// set-up reaches it, the scene's ahead).
+// did: not for a PNG of built-in meshes (libpng writes it), of a mesh file naming no map, a PNG
+// map (libpng reads it) or a JPEG map (libjpeg reads it), but for an EXR, and for a TIFF map (a
+// mesh file's loads it when the set-up reaches it, the scene's ahead). The shipped scenes load it
+// for none of their maps (scenes_test.cpp).
 TEST_F(RenderCommand, StatsSayWhetherTheImageModuleWasLoaded) {
   write_map_meshes(dir);
   const auto loaded = [&](const std::string& mesh, const std::string& out, const std::string& map = "") {
@@ -964,7 +971,9 @@ TEST_F(RenderCommand, StatsSayWhetherTheImageModuleWasLoaded) {
   EXPECT_FALSE(loaded("p.obj", "c.png"));
   EXPECT_TRUE(loaded("sphere:8", "d.exr"));
   EXPECT_TRUE(loaded("m.obj", "e.png"));
-  EXPECT_FALSE(loaded("q.obj", "f.png", "map.png"));  // the scene's own maps: PNG, or not
+  EXPECT_FALSE(loaded("j.obj", "h.png"));
+  EXPECT_FALSE(loaded("q.obj", "f.png", "map.png"));  // the scene's own maps: PNG or JPEG, or not
+  EXPECT_FALSE(loaded("q.obj", "i.png", "map.jpg"));
   EXPECT_TRUE(loaded("q.obj", "g.png", "map.tif"));
 }
 

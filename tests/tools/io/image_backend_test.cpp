@@ -1,6 +1,7 @@
-// The OpenImageIO module is loaded when an image is first touched, not at start-up, and a
-// module that cannot be loaded is a clear InputError. Each case runs in a fresh process
-// (a "threadsafe" death test re-executes this binary), since a process loads it only once.
+// The OpenImageIO module is loaded when an image other than a PNG or JPEG is first touched, not
+// at start-up, and a module that cannot be loaded is a clear InputError. Each case runs in a
+// fresh process (a "threadsafe" death test re-executes this binary), since a process loads it
+// only once.
 #include "tools/io/image_backend.h"
 
 #include <cstdlib>
@@ -54,6 +55,13 @@ TEST(ImageBackend, LoadsOnlyWhenAnImageIsTouched) {
     // A PNG is written by libpng itself (png_writer.h): the module stays unloaded.
     write_image_atomic(dir.path() / "a.png", 4, 3, 4, PixelType::f32, px.data());
     if (image_backend_loaded() || mapped("libOpenImageIO")) return "writing a PNG loaded the module";
+    // Nor does reading it back, or a JPEG (the default scene's colour map): libpng and libjpeg read
+    // them (png_reader.h, jpeg_reader.h).
+    const char* root = std::getenv("PELT_SOURCE_DIR");
+    const auto jpeg = std::filesystem::path(root ? root : ".") / "tools/data/LeePerrySmith/Map-COL.jpg";
+    if (read_image_rgba(dir.path() / "a.png").width != 4 || read_image_rgba(jpeg).width != 1024)
+      return "a PNG or JPEG read back wrong";
+    if (image_backend_loaded() || mapped("libOpenImageIO")) return "reading a PNG or JPEG loaded the module";
     write_image_atomic(dir.path() / "a.exr", 4, 3, 4, PixelType::f32, px.data());
     if (!image_backend_loaded()) return "writing an EXR did not load the module";
     if (!mapped("libpelt_oiio.so") || !mapped("libOpenImageIO")) return "the module or OpenImageIO is not mapped";

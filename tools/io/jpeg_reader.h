@@ -1,0 +1,38 @@
+// JPEG files read with libjpeg itself, not through OpenImageIO's module (image_backend.h), whose
+// ~260 libraries took 0.4 s to load for the default scene's two JPEG maps alone. It reads what
+// OpenImageIO's JPEG reader (2.4, on the same libjpeg) gave pelt, to the value
+// (tests/tools/io/jpeg_reader_test.cpp compares the two on every colour space, subsampling and
+// coding libjpeg writes): libjpeg's defaults (its accurate integer DCT, its smooth chroma
+// upsampling); grey as one channel "Y", YCbCr and RGB files as R, G, B; CMYK and YCCK files as
+// R, G, B, each colour channel times K / 255 rounded, the stored values taken as Adobe's inverted
+// CMYK; a file of two components as R, G (which image_io refuses, as before). No alpha, no EXIF
+// orientation applied and no ICC profile (OpenImageIO reported both and pelt used neither);
+// nothing is declared linear.
+//
+// A file is refused at libjpeg's first warning or error while its header and rows are decoded,
+// its message the reason: a file cut short or corrupt (which libjpeg would finish with grey),
+// one whose header libjpeg doubts, a 12-bit file (this libjpeg decodes 8-bit samples only), one
+// of more than four components (its scans find none past the fourth). OpenImageIO's open failed
+// on the last two; it read the others but left libjpeg's complaint as an error, and pelt refused
+// them. Like it, the reader stops at the last row (libjpeg has read up to the marker after the
+// last scan by then): what follows is never looked at.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "tools/io/image_backend.h"
+
+namespace pelt::io {
+
+// Whether `path` begins with a JPEG's start-of-image marker and the marker after it, FF D8 FF
+// (false when it cannot be read).
+bool has_jpeg_signature(const std::filesystem::path& path);
+
+// Opens `file` and reads its header; nullptr with `error` set (libjpeg's reason or the system's)
+// when it cannot. The reader's read() takes the file's own channel count and type (8-bit), and
+// decodes the file then.
+std::unique_ptr<ImageReader> open_jpeg(const std::string& file, std::string& error);
+
+}  // namespace pelt::io

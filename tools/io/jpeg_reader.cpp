@@ -120,8 +120,11 @@ class JpegReader final : public ImageReader {
       to += width * channels;
     }
     // A warning on the header or a row (the loop stops at the first). No jpeg_finish_decompress:
-    // OpenImageIO stopped at the last row too.
+    // OpenImageIO stopped at the last row too. Aborted instead, which reads nothing more: a
+    // progressive file's coefficients (6-8 bytes a texel) are freed before the caller converts
+    // the pixels, not when the reader goes.
     if (failure_.warning[0] != '\0') return failure_.warning;
+    jpeg_abort_decompress(&jpeg_);
     return {};
   }
 

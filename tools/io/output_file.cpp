@@ -97,7 +97,10 @@ void free_temp_slot(int i) {
 // folder; the kernel still knows where it lies (/proc/self/fd). A file found that way is unlinked
 // only if it is this one (device and inode) and still bears the temporary's own name: once
 // renamed into place it is the finished output, which a signal right after the rename must not
-// take back. Async-signal-safe (fstat, lstat, readlink, unlink; no allocation): the handler's.
+// take back. That check (the inode and the name together) is what keeps a stale descriptor
+// harmless: the handler on another thread may read a slot's descriptor just before release()
+// closes it and the number is reused. Async-signal-safe (fstat, lstat, readlink, unlink and
+// string functions; no allocation): the handler's.
 void remove_temp(const char* path, int fd) {
   struct stat open_file {}, named {};
   if (fd < 0 || ::fstat(fd, &open_file) != 0) {
@@ -107,9 +110,9 @@ void remove_temp(const char* path, int fd) {
   const auto same = [&](const struct stat& st) {
     return st.st_dev == open_file.st_dev && st.st_ino == open_file.st_ino;
   };
-  if (::lstat(path, &named) == 0) {
-    if (same(named)) ::unlink(path);
-    if (same(named) || !S_ISREG(named.st_mode)) return;
+  if (::lstat(path, &named) == 0 && same(named)) {
+    ::unlink(path);
+    return;
   }
   char link[32] = "/proc/self/fd/";
   char digits[12];
@@ -198,8 +201,8 @@ int TempFile::sync() const { return fd_ >= 0 && ::fsync(fd_) != 0 ? errno : 0; }
 void TempFile::release() {
   released_ = true;
   if (fd_ >= 0 && (mode_ & 0600) != 0600) ::fchmod(fd_, mode_);
-  // Unlisted before the descriptor closes: the handler never sees a listed descriptor that a
-  // later open may have reused.
+  // Unlisted before the descriptor closes, which narrows the window in which a handler on
+  // another thread holds a number a later open may reuse; remove_temp's checks close it.
   free_temp_slot(slot_);
   slot_ = -1;
   if (fd_ >= 0) ::close(fd_);

@@ -82,7 +82,8 @@ class TempFile {
 // Removes every live TempFile's file, after killing and reaping the child set by
 // set_temp_writer_child, which may be writing one, then the empty folders of
 // remove_created_folders; first it waits for every TempCreation in flight on other threads,
-// and bars new ones. Async-signal-safe (kill, waitpid, unlink, rmdir and poll only, no
+// and bars new ones; a file whose folder was moved is found by its descriptor. Async-signal-safe
+// (kill, waitpid, fstat, lstat, readlink, unlink, rmdir, poll and string functions only, no
 // allocation, no locks): for a handler about to end the process, which must not return after it.
 void remove_temp_files_in_signal_handler();
 // Removes the folders prepare_output made that are still empty, deepest first: for a run that

@@ -195,6 +195,18 @@ TEST(OutputFile, OnlyTheTemporaryItselfIsRemovedWhereItLies) {
     dir.write("shot/.x.tmp", "someone else's");
   }
   EXPECT_EQ(entries(dir.path()), (std::vector<std::string>{"moved", "shot", "shot/.x.tmp"}));
+
+  // Nor does a link (here a dangling one) that took the name keep the temporary.
+  fs::remove_all(dir.path() / "shot");
+  fs::remove_all(dir.path() / "moved");
+  fs::create_directory(dir.path() / "shot");
+  {
+    const TempFile tmp(dir.path() / "shot" / ".x.tmp");
+    fs::rename(dir.path() / "shot", dir.path() / "moved");
+    fs::create_directory(dir.path() / "shot");
+    fs::create_symlink(dir.path() / "nowhere", dir.path() / "shot" / ".x.tmp");
+  }
+  EXPECT_EQ(entries(dir.path()), (std::vector<std::string>{"moved", "shot", "shot/.x.tmp"}));
 }
 
 // The handler may unlink a temporary while a writer thread is about to open it: the writer opens

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <system_error>
@@ -68,8 +69,11 @@ using OpenImage = std::unique_ptr<ImageReader> (*)(const std::string& file, std:
 // pelt's own reader of the image at `path`, by its signature: libpng's for a PNG, libjpeg's for
 // a JPEG; nullptr for every other file, which the module reads.
 OpenImage own_reader(const std::filesystem::path& path) {
-  if (has_png_signature(path)) return open_png;
-  if (has_jpeg_signature(path)) return open_jpeg;
+  switch (encoded_kind(path)) {
+    case EncodedKind::png: return open_png;
+    case EncodedKind::jpeg: return open_jpeg;
+    case EncodedKind::other: break;
+  }
   return nullptr;
 }
 
@@ -192,17 +196,31 @@ ImageHeader read_image_header(const std::filesystem::path& path) {
   return ImageHeader{info.width, info.height, info.channels, bytes_of(info.type)};
 }
 
-std::optional<EncodedImageSize> encoded_image_size(const uint8_t* bytes, size_t size) {
-  if (!bytes) return std::nullopt;
+EncodedKind encoded_kind(const uint8_t* bytes, size_t size) {
   static constexpr uint8_t kPng[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
-  if (size >= 24 && std::equal(kPng, kPng + 8, bytes)) {
+  static_assert(sizeof kPng <= kEncodedKindBytes);
+  if (bytes && size >= sizeof kPng && std::equal(kPng, kPng + sizeof kPng, bytes)) return EncodedKind::png;
+  if (bytes && size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) return EncodedKind::jpeg;
+  return EncodedKind::other;
+}
+
+EncodedKind encoded_kind(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  uint8_t head[kEncodedKindBytes] = {};
+  in.read(reinterpret_cast<char*>(head), sizeof head);
+  return encoded_kind(head, size_t(in.gcount()));
+}
+
+std::optional<EncodedImageSize> encoded_image_size(const uint8_t* bytes, size_t size) {
+  const EncodedKind kind = encoded_kind(bytes, size);
+  if (kind == EncodedKind::png && size >= 24) {
     // The first chunk must be IHDR: length, type, then width and height.
     if (std::memcmp(bytes + 12, "IHDR", 4) != 0) return std::nullopt;
     const EncodedImageSize s{big_endian32(bytes + 16), big_endian32(bytes + 20)};
     if (s.width == 0 || s.height == 0) return std::nullopt;
     return s;
   }
-  if (size >= 4 && bytes[0] == 0xFF && bytes[1] == 0xD8) {
+  if (kind == EncodedKind::jpeg && size >= 4) {
     // Walk the marker segments up to the first start-of-frame (SOF0..SOF15 except DHT C4,
     // JPG C8 and DAC CC), whose body is precision, height, width.
     size_t i = 2;

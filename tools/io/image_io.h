@@ -49,7 +49,7 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
                         PixelType type, const void* pixels, const ImageWriteOptions& options = {});
 
 // Whether writing `path` (by its extension; a GIF's too, gif_writer.h) or reading the image at
-// `path` (by its signature) loads OpenImageIO's module: PNG files are written and read by libpng
+// `path` (by its signature, encoded_kind) loads OpenImageIO's module: PNG files are written and read by libpng
 // itself (png_writer.h, png_reader.h), JPEG files (FF D8 FF) read by libjpeg (jpeg_reader.h),
 // every other type through the module. For a command that loads the module ahead, on a thread
 // of its own, only where it will need it.
@@ -77,6 +77,16 @@ struct ImageHeader {
   int bytes_per_channel = 0;  // 1 or 2 for 8 and 16-bit files, 4 for everything read as float
 };
 ImageHeader read_image_header(const std::filesystem::path& path);
+
+// An encoded image's type by its first bytes: the PNG signature (8 bytes), or a JPEG's
+// start-of-image marker and the marker after it (FF D8 FF); `other` for anything else, or too
+// few bytes. pelt reads PNG and JPEG files itself (png_reader.h, jpeg_reader.h), and checks the
+// size of embedded ones before decoding them (encoded_image_size).
+enum class EncodedKind { png, jpeg, other };
+inline constexpr size_t kEncodedKindBytes = 8;  // enough of a file's head for encoded_kind
+EncodedKind encoded_kind(const uint8_t* bytes, size_t size);
+// The same, of a file's head (`other` when it cannot be read).
+EncodedKind encoded_kind(const std::filesystem::path& path);
 
 // Width and height of an encoded PNG (IHDR) or JPEG (first SOFn marker) held in memory,
 // from the header bytes alone; nullopt when the bytes are neither or the header is cut

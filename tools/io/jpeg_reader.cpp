@@ -4,7 +4,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -139,13 +138,6 @@ class JpegReader final : public ImageReader {
 };
 
 }  // namespace
-
-bool has_jpeg_signature(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char head[3] = {};
-  if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return false;
-  return head[0] == 0xFF && head[1] == 0xD8 && head[2] == 0xFF;
-}
 
 std::unique_ptr<ImageReader> open_jpeg(const std::string& file, std::string& error) {
   auto reader = std::make_unique<JpegReader>();

@@ -18,17 +18,12 @@
 // last scan by then): what follows is never looked at.
 #pragma once
 
-#include <filesystem>
 #include <memory>
 #include <string>
 
 #include "tools/io/image_backend.h"
 
 namespace pelt::io {
-
-// Whether `path` begins with a JPEG's start-of-image marker and the marker after it, FF D8 FF
-// (false when it cannot be read).
-bool has_jpeg_signature(const std::filesystem::path& path);
 
 // Opens `file` and reads its header; nullptr with `error` set (libjpeg's reason or the system's)
 // when it cannot. The reader's read() takes the file's own channel count and type (8-bit), and

@@ -92,6 +92,12 @@ void free_temp_slot(int i) {
   slot.claimed.store(false, std::memory_order_release);
 }
 
+// Whether `path` itself (not a link's target) is the file `st` describes. Async-signal-safe.
+bool names_file(const char* path, const struct stat& st) {
+  struct stat named {};
+  return ::lstat(path, &named) == 0 && named.st_dev == st.st_dev && named.st_ino == st.st_ino;
+}
+
 // Removes the temporary `path`, open as `fd`. Its folder moved away (or renamed) while it was
 // written, its path names nothing (or another file), and removing by path left it in the moved
 // folder; the kernel still knows where it lies (/proc/self/fd). A file found that way is unlinked
@@ -102,15 +108,8 @@ void free_temp_slot(int i) {
 // closes it and the number is reused. Async-signal-safe (fstat, lstat, readlink, unlink and
 // string functions; no allocation): the handler's.
 void remove_temp(const char* path, int fd) {
-  struct stat open_file {}, named {};
-  if (fd < 0 || ::fstat(fd, &open_file) != 0) {
-    ::unlink(path);
-    return;
-  }
-  const auto same = [&](const struct stat& st) {
-    return st.st_dev == open_file.st_dev && st.st_ino == open_file.st_ino;
-  };
-  if (::lstat(path, &named) == 0 && same(named)) {
+  struct stat open_file {};
+  if (fd < 0 || ::fstat(fd, &open_file) != 0 || names_file(path, open_file)) {
     ::unlink(path);
     return;
   }
@@ -129,7 +128,7 @@ void remove_temp(const char* path, int fd) {
   const char* found_name = std::strrchr(where, '/');
   own_name = own_name ? own_name + 1 : path;
   if (!found_name || std::strcmp(found_name + 1, own_name) != 0) return;
-  if (::lstat(where, &named) == 0 && same(named)) ::unlink(where);
+  if (names_file(where, open_file)) ::unlink(where);
 }
 
 }  // namespace
@@ -191,9 +190,8 @@ std::string TempFile::named(std::string message) const {
 }
 
 bool TempFile::at_its_path() const {
-  struct stat open_file {}, named {};
-  return fd_ >= 0 && ::fstat(fd_, &open_file) == 0 && ::lstat(path_.c_str(), &named) == 0 &&
-         open_file.st_dev == named.st_dev && open_file.st_ino == named.st_ino;
+  struct stat open_file {};
+  return fd_ >= 0 && ::fstat(fd_, &open_file) == 0 && names_file(path_.c_str(), open_file);
 }
 
 int TempFile::sync() const { return fd_ >= 0 && ::fsync(fd_) != 0 ? errno : 0; }

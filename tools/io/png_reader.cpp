@@ -5,7 +5,6 @@
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
-#include <fstream>
 #include <vector>
 
 #include "tools/io/c_file.h"
@@ -85,13 +84,6 @@ class PngReader final : public ImageReader {
 };
 
 }  // namespace
-
-bool has_png_signature(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char head[8] = {};
-  if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return false;
-  return png_sig_cmp(head, 0, sizeof head) == 0;
-}
 
 std::unique_ptr<ImageReader> open_png(const std::string& file, std::string& error) {
   auto reader = std::make_unique<PngReader>();

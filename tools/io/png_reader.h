@@ -7,16 +7,12 @@
 // declared linear.
 #pragma once
 
-#include <filesystem>
 #include <memory>
 #include <string>
 
 #include "tools/io/image_backend.h"
 
 namespace pelt::io {
-
-// Whether `path` begins with the PNG signature (false when it cannot be read).
-bool has_png_signature(const std::filesystem::path& path);
 
 // Opens `file` and reads its header; nullptr with `error` set (libpng's reason or the system's)
 // when it cannot. The reader's read() takes the file's own channel count and type.

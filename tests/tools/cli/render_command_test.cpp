@@ -916,6 +916,18 @@ void write_map_meshes(TempDir& dir) {
   io::write_image_atomic(dir.path() / "map.tif", 1, 1, 3, io::PixelType::u8, px);
 }
 
+// Renders a 16 x 16 scene of `mesh` (a lambert material, with `map` as its colour map where
+// given) to `out` in `dir`, with `extra` options.
+Result render_mesh(TempDir& dir, const std::string& mesh, const std::string& out, const std::string& map = "",
+                   const std::vector<std::string>& extra = {}) {
+  const std::string material = map.empty() ? "" : R"(, "color_map": ")" + map + "\"";
+  const fs::path s = dir.write("s.json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
+      "objects": [{"mesh": ")" + mesh + R"(", "material": {"type": "lambert")" + material + "}}]}");
+  std::vector<std::string> args = {"render", s.string(), "-o", (dir.path() / out).string(), "-q"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return run_pelt(args, dir.path());
+}
+
 TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
   write_map_meshes(dir);  // before the module goes
   const std::string missing = (dir.path() / "nowhere" / "libpelt_oiio.so").string();
@@ -925,11 +937,7 @@ TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
   const Result png = pelt({"-o", (dir.path() / "png/f.png").string(), "--frame", "0", "-q"});
   // Nor does a mesh file that names no map, a PNG map (libpng reads it, io/png_reader.h) or a JPEG
   // map (libjpeg reads it, io/jpeg_reader.h); a TIFF map needs the module.
-  const auto mesh_render = [&](const std::string& mesh) {
-    const fs::path s = dir.write(mesh + ".json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
-        "objects": [{"mesh": ")" + mesh + R"(", "material": {"type": "lambert"}}]})");
-    return run_pelt({"render", s.string(), "-o", (dir.path() / "mesh" / (mesh + ".png")).string(), "-q"}, dir.path());
-  };
+  const auto mesh_render = [&](const std::string& mesh) { return render_mesh(dir, mesh, "mesh/" + mesh + ".png"); };
   const Result plain = mesh_render("q.obj"), png_map = mesh_render("p.obj"), jpeg_map = mesh_render("j.obj"),
                mapped = mesh_render("m.obj");
   ::unsetenv("PELT_IMAGE_MODULE");
@@ -957,12 +965,8 @@ TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
 TEST_F(RenderCommand, StatsSayWhetherTheImageModuleWasLoaded) {
   write_map_meshes(dir);
   const auto loaded = [&](const std::string& mesh, const std::string& out, const std::string& map = "") {
-    const std::string material = map.empty() ? "" : R"(, "color_map": ")" + map + "\"";
-    const fs::path s = dir.write("s.json", R"({"pelt": 1, "image": {"width": 16, "height": 16},
-        "objects": [{"mesh": ")" + mesh + R"(", "material": {"type": "lambert")" + material + "}}]}");
     const fs::path stats = dir.path() / "stats.json";
-    const Result r = run_pelt({"render", s.string(), "-o", (dir.path() / out).string(), "-q", "--stats", stats.string()},
-                              dir.path());
+    const Result r = render_mesh(dir, mesh, out, map, {"--stats", stats.string()});
     EXPECT_EQ(r.code, 0) << r.err;
     return nlohmann::json::parse(read_text(stats)).at("image_module").get<bool>();
   };

@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "tools/io/alpha_mode.h"
 #include "tools/io/input_error.h"
 #include "tools/render/animation.h"
 #include "tools/render/varyings.h"
@@ -102,8 +103,8 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
        std::any_of(face_cut_map_.begin(), face_cut_map_.end(),
                    [&](uint32_t m) { return m != kNoFurCut && m >= cut_maps_.size(); })))
     throw std::invalid_argument("FurObject: face_cut_map must give each base face one of the cut-outs, or none");
-  const bool cut_by_map =
-      std::any_of(cut_maps_.begin(), cut_maps_.end(), [](const FurCutMap& c) { return c.map.texture != nullptr; });
+  settle_mapless_cuts(base.triangle_count());
+  const bool cut_by_map = !cut_maps_.empty();  // every cut-out left reads a map
   mesh_uvs_ = !color_maps_.empty() || cut_by_map;
   const std::vector<glm::vec2>& map_uvs = options.map_uvs.empty() ? base.uvs : options.map_uvs;
   if (cut_by_map && map_uvs.size() != base.positions.size())
@@ -113,8 +114,17 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
     if (auto e = fur::build_fur_geometry(base, params, geo_, options.length_scale,
                                          cut_by_map ? std::span<const glm::vec2>(map_uvs) : std::span<const glm::vec2>()))
       throw_fur_error(origin, e->field, e->reason);
+    // A face cut away keeps its place, as a bald face does (fur_geometry.h): layer s is still
+    // triangles s F .. s F + F - 1, each copy of it one point that set-up culls.
+    const size_t faces = geo_.counts.base_faces;
+    for (size_t f = 0; f < face_gone_.size(); ++f)
+      if (face_gone_[f])
+        for (uint32_t s = 0; s < geo_.layers; ++s) {
+          uint32_t* tri = geo_.shell_indices.data() + (size_t{s} * faces + f) * 3;
+          tri[1] = tri[2] = tri[0];
+        }
   }
-  if (options.textures) {
+  if (options.textures && !all_gone_) {
     StageTimer t(setup, "fur_textures");
     fur::StrandTextures tex;
     if (match_llvmpipe_) {
@@ -172,6 +182,37 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
       fin_varyings_[i * vc + uv + 1] = geo_.fin_uvs[i].y;
     }
   if (lighting_ == FurLighting::pixel && mesh_uvs_) write_mesh_uvs(vc);
+}
+
+void FurObject::settle_mapless_cuts(size_t faces) {
+  // A cut-out without a map tests the factor alone (MaterialShader), the same at every fragment:
+  // it keeps all of its faces or none. Faces it keeps need no test; faces it cuts away grow no
+  // fur at all, so nothing of theirs is drawn, where their shells and fins used to be
+  // rasterized, shaded and zeroed fragment by fragment. The cut-outs that read a map stay, renumbered.
+  if (cut_maps_.empty()) return;
+  std::vector<uint32_t> renumber(cut_maps_.size(), kNoFurCut);
+  std::vector<FurCutMap> kept;
+  for (size_t m = 0; m < cut_maps_.size(); ++m)
+    if (cut_maps_[m].map.texture) {
+      renumber[m] = static_cast<uint32_t>(kept.size());
+      kept.push_back(cut_maps_[m]);
+    }
+  auto cuts_away = [&](uint32_t m) {
+    const FurCutMap& c = cut_maps_[m];
+    return m != kNoFurCut && !c.map.texture && !io::mask_keeps(1.0f, c.factor, c.cutoff);
+  };
+  face_gone_.assign(faces, 0);
+  size_t gone = 0;
+  for (size_t f = 0; f < faces; ++f) {
+    const uint32_t m = face_cut_map_.empty() ? 0u : face_cut_map_[f];
+    face_gone_[f] = cuts_away(m);
+    gone += face_gone_[f];
+    if (!face_cut_map_.empty() && m != kNoFurCut) face_cut_map_[f] = renumber[m];
+  }
+  all_gone_ = faces > 0 && gone == faces;
+  if (gone == 0) face_gone_.clear();
+  cut_maps_ = std::move(kept);
+  if (cut_maps_.empty()) face_cut_map_.clear();
 }
 
 void FurObject::write_mesh_uvs(int stride) {
@@ -353,7 +394,7 @@ void FurObject::rebuild_fin_list() {
     uint32_t count = layers - 1;
     for (uint32_t s = 0; s < count; ++s) ends[s] = s + 1;
     for (uint32_t e = 0; e < edges; ++e) {
-      if (fin_weight_[e] < kMinFinWeight) continue;
+      if (fin_weight_[e] < kMinFinWeight || edge_gone(e)) continue;
       const fur::FurEdge& edge = geo_.edges[e];
       if (merge_fins_)
         count = fur::fin_quad_ends(pose_, n, layers, edge.a, edge.b, fin_breaks_, fin_tolerance(), ends);
@@ -371,7 +412,7 @@ void FurObject::rebuild_fin_list() {
   for (uint32_t s = 0; s + 1 < geo_.layers; ++s) {
     fin_segment_[s] = static_cast<uint32_t>(fin_quad_weight_.size());
     for (uint32_t e = 0; e < edges; ++e) {
-      if (fin_weight_[e] < kMinFinWeight) continue;
+      if (fin_weight_[e] < kMinFinWeight || edge_gone(e)) continue;
       fin_list_.insert(fin_list_.end(), quad(s, e), quad(s, e) + 6);
       fin_quad_weight_.push_back(fin_weight_[e]);
       add_map(e);
@@ -385,6 +426,7 @@ void FurObject::update(const FurFrame& f, const std::vector<shading::Light>& lig
   const uint32_t n = geo_.base_vertex_count, s = geo_.layers;
   sort_ = f.sort;
   clip_from_world_ = f.clip_from_world;
+  if (all_gone_) return;  // nothing is drawn: no pose, light or fin list to make
   // The sorts the rasterizer orders (per tile or per pixel) take each fin root to tip as a
   // strip; the others draw layer by layer.
   const bool strips = raster_sort_mode(f.sort) != raster::SortMode::None;
@@ -553,6 +595,7 @@ void FurObject::prepare_shaders(const std::vector<shading::Light>& lights, const
 void FurObject::append_draws(std::vector<raster::DrawCall>& draws) const {
   const FurSort sort = sort_;
   const uint32_t faces = static_cast<uint32_t>(geo_.counts.base_faces);
+  if (all_gone_) return;
   const bool fins = fins_ && !fin_quad_weight_.empty();
   auto draw = [&](bool fin, uint32_t first_tri, uint32_t count, const FurShader* sh) {
     if (count == 0) return;

@@ -64,7 +64,9 @@ struct FurDrawOptions {
   std::vector<uint32_t> face_color_map;  // one per base face, or empty
   // The cut-outs of the surface under the fur (its mesh file's alphaMode MASK parts): strands are
   // not drawn where it is cut away. One and no face_cut_map: every face's. Otherwise base face f's
-  // is cut_maps[face_cut_map[f]], or none (kNoFurCut); a fin takes its edge's first face's.
+  // is cut_maps[face_cut_map[f]], or none (kNoFurCut); a fin takes its edge's first face's. A
+  // cut-out without a map (its factor alone) keeps its faces whole or cuts them away whole: the
+  // latter draw nothing at all (no shell or fin of theirs reaches the rasterizer).
   std::vector<FurCutMap> cut_maps;
   std::vector<uint32_t> face_cut_map;  // one per base face, or empty
   // One per mesh vertex: the texture coordinates a cut-out's map is read at, for a caller that hands
@@ -145,6 +147,10 @@ class FurObject {
   // The mesh uvs into both varying arrays' records of `stride` floats, as their last two.
   void write_mesh_uvs(int stride);
   void rebuild_fin_list();
+  // Sets face_gone_ and all_gone_ from the cut-outs without a map, and leaves in cut_maps_ and
+  // face_cut_map_ only those that read one.
+  void settle_mapless_cuts(size_t faces);
+  bool edge_gone(uint32_t e) const { return !face_gone_.empty() && face_gone_[geo_.edges[e].face0]; }
   // How far a merged fin may stray from the per-layer one (fur/fin_spans.h), scene units.
   float fin_tolerance() const { return fur::kFinSpanTolerance * geo_.layer_distance; }
 
@@ -162,6 +168,11 @@ class FurObject {
   std::vector<FurCutMap> cut_maps_;       // FurDrawOptions::cut_maps
   std::vector<uint32_t> face_cut_map_;    // FurDrawOptions::face_cut_map
   std::vector<uint32_t> fin_quad_cut_;    // with face_cut_map_: each fin quad's (its edge's face0's)
+  // Per base face, 1 where a cut-out without a map cuts it away whole (its shells are single
+  // points, its edges' fins are not listed; a fin takes its edge's first face's cut); empty when
+  // none is. all_gone_: every face is, and the object draws nothing and makes nothing per frame.
+  std::vector<uint8_t> face_gone_;
+  bool all_gone_ = false;
   bool mesh_uvs_ = false;  // a colour map or a cut-out's map is read at the mesh uvs (FurMapUv)
   int uv_stride_ = 0;  // the record stride the uvs in the varying arrays were written for (0: none yet)
   shading::FurLightParams light_params_;

@@ -609,7 +609,9 @@ void SceneRenderer::build(std::vector<io::SceneMesh> meshes) {
         if (d.mask_cuts == MaskCuts::nothing || !fo.textures) continue;
         FurCutMap cut{{nullptr, d.color_placement}, d.alpha_factor, d.alpha_cutoff};
         if (d.mask_cuts == MaskCuts::everything) {
-          cut.factor = 0.0f;  // the cutoff is above 0 here, which a factor of 0 never reaches
+          // The cutoff is above 0 here, which a factor of 0 never reaches: FurObject then draws
+          // nothing of these faces.
+          cut.factor = 0.0f;
         } else {  // some: a map's alphas on both sides of the cutoff
           const raster::Texture*& copy = cut_alpha[d.color_map];
           if (!copy) {

@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <iterator>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tests/tools/render/render_test_scenes.h"
@@ -123,6 +125,112 @@ TEST(FurCutOut, AMeshCutAwayWholeGrowsNoFur) {
                             << ", lighting " << int(lighting);
         }
     }
+  }
+}
+
+// Faces cut away whole are not drawn at all, where their shells and fins used to be rasterized,
+// shaded and zeroed: outside the front quad, where only the back quad (gone) lies, no translucent
+// fragment passes the depth test under any sort (the overdraw AOV), while the front quad's kept
+// half has its fur. Its left half, cut by its map, still blends zeroed fragments: that cut is
+// per texel.
+TEST(FurCutOut, APartCutAwayWholeIsNotRasterized) {
+  SceneDir dir;
+  write_front(dir, false);
+  const io::Scene s = furry_quads(dir, kBackGone);
+  for (const io::SortQuality sort : {io::SortQuality::tile, io::SortQuality::layer, io::SortQuality::none,
+                                     io::SortQuality::surface, io::SortQuality::exact}) {
+    RenderSettings rs;
+    io::Quality q;
+    q.sort = sort;
+    rs.quality = q;
+    rs.aov = Aov::overdraw;
+    SceneRenderer r(s, rs);
+    FrameImage img;
+    FrameStats st;
+    r.render(0, img, st);
+    ASSERT_EQ(img.overdraw.size(), 64u * 64u);
+    uint32_t outside = 0, kept = 0;
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x) {
+        const uint32_t n = img.overdraw[size_t(y) * 64 + size_t(x)];
+        if (x < 8 || x > 56 || y < 8 || y > 56) outside += n;
+        if (x >= 37 && x < 52 && y >= 14 && y < 50) kept += n > 0;
+      }
+    EXPECT_EQ(outside, 0u) << "sort " << int(sort);
+    EXPECT_EQ(kept, 15u * 36u) << "sort " << int(sort);
+  }
+}
+
+// The draws of a fur whose every third face a cut-out without a map cuts away (its factor 0):
+// those faces' shells are single points in every layer, and the fins of the edges whose first
+// face they are are not listed, in every order (per-layer and root-to-tip fin lists, quads
+// merged or not); the other faces and edges keep all of theirs.
+TEST(FurCutOut, TheDrawsHoldNothingOfTheFacesCutAway) {
+  for (const bool merge : {false, true}) {
+    FurDrawOptions options;
+    options.merge_fins = merge;
+    options.cut_maps = {FurCutMap{{}, 0.0f, 0.5f}};
+    const Mesh box = io::make_builtin_mesh("box:3");
+    for (uint32_t f = 0; f < box.triangle_count(); ++f) options.face_cut_map.push_back(f % 3 == 0 ? 0u : kNoFurCut);
+    FurRig rig("box:3", small_fur(5, fur::FinMode::all), "box", options);
+    const fur::FurGeometry& g = rig.fur.geometry();
+    const uint32_t faces = box.triangle_count(), n = g.base_vertex_count;
+    std::vector<std::pair<uint32_t, uint32_t>> kept_edges;
+    for (const fur::FurEdge& e : g.edges)
+      if (e.face0 % 3 != 0) kept_edges.push_back(std::minmax(e.a % n, e.b % n));
+    std::sort(kept_edges.begin(), kept_edges.end());
+    for (const FurSort sort : {FurSort::tile, FurSort::layer, FurSort::none, FurSort::exact}) {
+      size_t shells = 0, fin_triangles = 0;
+      std::vector<std::pair<uint32_t, uint32_t>> fin_edges;
+      for (const raster::DrawCall& d : rig.draws(sort)) {
+        const bool fin = d.indices < g.shell_indices.data() || d.indices >= g.shell_indices.data() + g.shell_indices.size();
+        for (uint32_t t = 0; t < d.triangle_count; ++t) {
+          const uint32_t* i = d.indices + 3 * size_t{t};
+          if (!fin) {
+            const size_t face = size_t(i - g.shell_indices.data()) / 3 % faces;
+            const bool point = i[0] == i[1] && i[1] == i[2];
+            EXPECT_EQ(point, face % 3 == 0) << "face " << face;
+            shells += !point;
+            continue;
+          }
+          ++fin_triangles;
+          // A fin triangle's corners lie on two chains: its edge's ends.
+          uint32_t a = i[0] % n, b = a;
+          for (int k = 1; k < 3; ++k)
+            if (i[k] % n != a) b = i[k] % n;
+          fin_edges.push_back(std::minmax(a, b));
+        }
+      }
+      EXPECT_EQ(shells, size_t{faces - (faces + 2) / 3} * 5) << int(sort);
+      std::sort(fin_edges.begin(), fin_edges.end());
+      fin_edges.erase(std::unique(fin_edges.begin(), fin_edges.end()), fin_edges.end());
+      EXPECT_EQ(fin_edges, kept_edges) << int(sort) << " merge " << merge;
+      if (!merge || sort == FurSort::layer || sort == FurSort::none)
+        EXPECT_EQ(fin_triangles, kept_edges.size() * 4 * 2) << int(sort);
+    }
+  }
+}
+
+// A mesh whose every face is cut away makes nothing for its fur, on its first frame or any
+// other: no strand textures, pose, light, wind or fin list, and no fragment; the same mesh with
+// half of one quad kept makes them all.
+TEST(FurCutOut, AMeshCutAwayWholeMakesNothingForItsFur) {
+  for (const bool all_cut : {true, false}) {
+    SceneDir dir;
+    write_front(dir, all_cut);
+    io::Scene s = furry_quads(dir, kBackGone, true, R"(, "wind": {"direction": [1, 0, 0], "strength": 1})");
+    s.animation.emplace().frames = 3;  // the wind swings: every frame makes a pose
+    SceneRenderer r(s, RenderSettings{});
+    const char* const stages[] = {"fur_textures", "wind", "fur_pose", "fur_lighting", "fins"};
+    bool ran[std::size(stages)] = {};
+    for (int frame : {0, 1, 2}) {
+      FrameImage img;
+      FrameStats st;
+      r.render(frame, img, st);
+      for (size_t k = 0; k < std::size(stages); ++k) ran[k] |= st.stage(stages[k]).ran;
+      EXPECT_EQ(st.raster.fragments_blended == 0, all_cut) << "frame " << frame;
+    }
+    for (size_t k = 0; k < std::size(stages); ++k) EXPECT_EQ(ran[k], !all_cut) << stages[k];
   }
 }
 

@@ -240,7 +240,7 @@ size_t FurObject::memory_bytes() const {
              bytes(shell_varyings_) + bytes(fin_varyings_) + bytes(fin_list_) + bytes(light_soa_.storage) +
              bytes(pose_clip_) + bytes(shell_keys_) + bytes(geo_.mesh_uvs) + bytes(geo_.length_scale) +
              bytes(face_color_map_) + bytes(fin_quad_map_) + bytes(cut_maps_) + bytes(face_cut_map_) +
-             bytes(fin_quad_cut_);
+             bytes(fin_quad_cut_) + bytes(face_gone_);
   for (const raster::Texture& t : shell_tex_.layers) n += t.bytes();
   return n + fin_tex_.bytes();
 }

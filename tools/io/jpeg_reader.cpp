@@ -37,6 +37,19 @@ void jpeg_warned(j_common_ptr jpeg) {
   if (f.warning[0] == '\0') (*jpeg->err->format_message)(jpeg, f.warning);
 }
 
+// libjpeg calls this before each row of blocks it decodes (and each row it gives), with the
+// scan's marker already counted: the scan past the limit is refused before a block of it is
+// decoded. A comparison alone: it runs for every row of blocks of every scan.
+void jpeg_progressed(j_common_ptr jpeg) {
+  if (reinterpret_cast<j_decompress_ptr>(jpeg)->input_scan_number <= kMaxJpegScans) return;
+  JpegFailure& f = failure_of(jpeg);
+  std::snprintf(f.error, sizeof f.error,
+                "a JPEG of more than %d scans (each scan may walk the whole image): refused as too slow to "
+                "decode; re-save it with fewer scans",
+                kMaxJpegScans);
+  std::longjmp(f.jump, 1);
+}
+
 // OpenImageIO's CMYK to RGB, which takes the stored values as Adobe's inverted CMYK: a colour
 // channel is C * K / 255 rounded to the nearest (computed there in floats; no value lies within
 // 1 / 510 of a half, so the integers give its every result).
@@ -92,11 +105,15 @@ class JpegReader final : public ImageReader {
     manager_.error_exit = jpeg_failed;
     manager_.output_message = jpeg_warned;
     jpeg_.client_data = &failure_;  // kept by jpeg_create_decompress, like err
+    progress_.progress_monitor = jpeg_progressed;
     if (setjmp(failure_.jump)) {
       error = failure_.error;
       return false;
     }
     jpeg_create_decompress(&jpeg_);
+    // Set after jpeg_create_decompress, which clears it. jpeg_read_header stops at the first scan
+    // and calls no monitor; the scans are counted in decode(), under read()'s setjmp.
+    jpeg_.progress = &progress_;
     jpeg_stdio_src(&jpeg_, file_.get());
     jpeg_read_header(&jpeg_, TRUE);  // a file of tables and no image is an error
     return true;
@@ -130,6 +147,7 @@ class JpegReader final : public ImageReader {
   CFile file_;  // closed after jpeg_ is destroyed
   jpeg_decompress_struct jpeg_{};
   jpeg_error_mgr manager_{};
+  jpeg_progress_mgr progress_{};
   JpegFailure failure_;
   bool cmyk_ = false;
   ImageFileInfo info_;

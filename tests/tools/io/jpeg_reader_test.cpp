@@ -4,10 +4,12 @@
 // YCbCr, RGB, CMYK, YCCK, with and without their JFIF and Adobe markers, and other component
 // counts), every chroma subsampling, baseline, optimised, progressive and arithmetic coding,
 // restart markers, two qualities and sizes that leave partial MCUs; and a file OpenImageIO's
-// read left an error on (cut, corrupt, a header libjpeg doubts, 12-bit) is refused. The files are
-// made here with libjpeg, so each variant is exactly the one named.
+// read left an error on (cut, corrupt, a header libjpeg doubts, 12-bit) is refused, and so is one
+// of more scans than the limit, which it read. The files are made here with libjpeg, so each
+// variant is exactly the one named.
 #include "tools/io/jpeg_reader.h"
 
+#include <algorithm>
 #include <csetjmp>
 #include <cstdint>
 #include <cstdio>
@@ -43,12 +45,14 @@ struct Variant {
   int jfif_major = 1;               // another is a header libjpeg warns about
   bool exif_rotated = false;        // an Exif block saying the image is turned 90 degrees
   bool icc = false;                 // an ICC profile (APP2)
+  std::vector<jpeg_scan_info> script = {};  // libjpeg's scan script, none for its own
   std::string name() const {
     static constexpr const char* kCoding[] = {"baseline", "optimized", "progressive", "arithmetic",
                                               "arithmetic progressive", "restart every MCU", "restart every row"};
     return std::string(colour) + ", " + std::to_string(h) + "x" + std::to_string(v) + ", " +
            kCoding[int(coding)] + ", quality " + std::to_string(quality) + ", " + std::to_string(width) + "x" +
-           std::to_string(height) + (exif_rotated ? ", Exif orientation 6" : "") + (icc ? ", ICC" : "");
+           std::to_string(height) + (exif_rotated ? ", Exif orientation 6" : "") + (icc ? ", ICC" : "") +
+           (script.empty() ? "" : ", " + std::to_string(script.size()) + " scans");
   }
 };
 
@@ -123,6 +127,10 @@ void write_variant(const std::string& file, const Variant& v) {
       break;
     case Coding::restart_mcus: jpeg.restart_interval = 1; break;
     case Coding::restart_rows: jpeg.restart_in_rows = 1; break;
+  }
+  if (!v.script.empty()) {
+    jpeg.scan_info = v.script.data();
+    jpeg.num_scans = int(v.script.size());
   }
   jpeg_start_compress(&jpeg, TRUE);
   if (v.exif_rotated) jpeg_write_marker(&jpeg, JPEG_APP0 + 1, kExif, sizeof kExif);
@@ -235,6 +243,52 @@ std::string contents(const std::filesystem::path& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+// A valid progressive script of `scans` scans (64 to 704) for one component: each coefficient in
+// scans of its own, a first sending all but its Al low bits and one refining each of those, Al
+// as large as makes the count (libjpeg writes at most 10 for 8-bit samples).
+std::vector<jpeg_scan_info> progressive_script(int scans) {
+  std::vector<jpeg_scan_info> script;
+  int refinements = scans - 64;
+  for (int k = 0; k < 64; ++k) {
+    const int al = std::min(refinements, 10);
+    refinements -= al;
+    script.push_back(jpeg_scan_info{1, {0}, k, k, 0, al});
+    for (int bit = al; bit > 0; --bit) script.push_back(jpeg_scan_info{1, {0}, k, k, bit, bit - 1});
+  }
+  return script;
+}
+
+// A sequential script of one scan a component, each whole.
+std::vector<jpeg_scan_info> sequential_script(int components) {
+  std::vector<jpeg_scan_info> script;
+  for (int c = 0; c < components; ++c) script.push_back(jpeg_scan_info{1, {c}, 0, 63, 0, 0});
+  return script;
+}
+
+// The SOS markers in a file: entropy-coded data stuffs a 0 after every FF, so each is a scan.
+int scans_in(const std::string& bytes) {
+  int scans = 0;
+  for (size_t at = bytes.find("\xFF\xDA"); at != std::string::npos; at = bytes.find("\xFF\xDA", at + 2)) ++scans;
+  return scans;
+}
+
+// `bytes` with its first scan (its SOS segment and entropy-coded data, up to the next marker that
+// is neither a stuffed FF nor a restart) written `copies` more times after it.
+std::string first_scan_repeated(const std::string& bytes, int copies) {
+  const size_t sos = bytes.find("\xFF\xDA");
+  if (sos == std::string::npos || sos + 4 > bytes.size()) return bytes;
+  size_t end = sos + 2 + (size_t(uint8_t(bytes[sos + 2])) << 8 | uint8_t(bytes[sos + 3]));
+  for (end = bytes.find('\xFF', end); end != std::string::npos && end + 1 < bytes.size();
+       end = bytes.find('\xFF', end + 2)) {
+    const auto next = uint8_t(bytes[end + 1]);
+    if (next != 0 && (next < 0xD0 || next > 0xD7)) break;
+  }
+  if (end == std::string::npos) return bytes;
+  std::string out = bytes.substr(0, end);
+  for (int i = 0; i < copies; ++i) out += bytes.substr(sos, end - sos);
+  return out + bytes.substr(end);
+}
+
 // Reads `path` through read_image_rgba, as a map is read, and returns the refusal's reason ("" when
 // it was read); the refusal names the file, and libjpeg prints nothing.
 std::string refusal(const std::filesystem::path& path) {
@@ -323,6 +377,54 @@ TEST(JpegReader, ATwelveBitFileIsRefusedAsOpenImageIoDid) {
   bytes[sof + 1] = char(0xC1);  // extended sequential
   bytes[sof + 4] = 12;          // its precision
   expect_refused_as_by_oiio(dir.write("twelve.jpg", bytes), "precision 12");
+}
+
+// How a refusal for too many scans begins, the limit named.
+std::string scan_limit_reason() {
+  return "reading the pixels failed: a JPEG of more than " + std::to_string(kMaxJpegScans) + " scans";
+}
+
+// A progressive file of a valid script (libjpeg finds nothing wrong: OpenImageIO reads it) of
+// more scans than the limit is refused, the limit in the reason: each scan walks every block,
+// so such a file could be small and take seconds. One of the limit's scans is read as before.
+TEST(JpegReader, AProgressiveFileOfMoreScansThanTheLimitIsRefused) {
+  TempDir dir;
+  for (const int scans : {kMaxJpegScans, kMaxJpegScans + 1, 704}) {
+    Variant v{"grey", JCS_GRAYSCALE, 1, JCS_GRAYSCALE};
+    v.coding = Coding::progressive;
+    v.quality = 100;  // every refinement sends bits
+    v.width = 61, v.height = 47;
+    v.script = progressive_script(scans);
+    const std::filesystem::path file = written(dir, std::to_string(scans) + ".jpg", v);
+    ASSERT_EQ(scans_in(contents(file)), scans) << v.name();
+    if (scans <= kMaxJpegScans) {
+      expect_read_alike(file.string(), v.name());
+      continue;
+    }
+    EXPECT_TRUE(oiio_view(file.string()).read) << v.name();
+    EXPECT_EQ(refusal(file).substr(0, scan_limit_reason().size()), scan_limit_reason()) << v.name();
+  }
+}
+
+// libjpeg never checks that a sequential file sends each component once: a file whose luma scan
+// is repeated decodes, each copy walking the image again, and arithmetic-coded a copy of plain
+// blocks takes a few bytes. Past the limit it is refused as a progressive file is; at the limit
+// it reads as OpenImageIO read it (each copy writes the same coefficients).
+TEST(JpegReader, ASequentialFileOfMoreScansThanTheLimitIsRefused) {
+  TempDir dir;
+  Variant v{"RGB as YCbCr (JFIF)", JCS_RGB, 3, JCS_YCbCr};
+  v.coding = Coding::arithmetic;
+  v.width = 40, v.height = 24;
+  v.script = sequential_script(3);
+  const std::string one_each = contents(written(dir, "sequential.jpg", v));
+  ASSERT_EQ(scans_in(one_each), 3);
+  const std::filesystem::path at_limit = dir.write("at_limit.jpg", first_scan_repeated(one_each, kMaxJpegScans - 3));
+  const std::filesystem::path past = dir.write("past.jpg", first_scan_repeated(one_each, kMaxJpegScans - 2));
+  ASSERT_EQ(scans_in(contents(at_limit)), kMaxJpegScans);
+  ASSERT_EQ(scans_in(contents(past)), kMaxJpegScans + 1);
+  expect_read_alike(at_limit.string(), "sequential, " + std::to_string(kMaxJpegScans) + " scans");
+  EXPECT_TRUE(oiio_view(past.string()).read);
+  EXPECT_EQ(refusal(past).substr(0, scan_limit_reason().size()), scan_limit_reason());
 }
 
 }  // namespace jpeg_reader_test

@@ -205,8 +205,9 @@ TEST(FurCutOut, TheDrawsHoldNothingOfTheFacesCutAway) {
       std::sort(fin_edges.begin(), fin_edges.end());
       fin_edges.erase(std::unique(fin_edges.begin(), fin_edges.end()), fin_edges.end());
       EXPECT_EQ(fin_edges, kept_edges) << int(sort) << " merge " << merge;
-      if (!merge || sort == FurSort::layer || sort == FurSort::none)
+      if (!merge || sort == FurSort::layer || sort == FurSort::none) {  // per-layer quads: 4 a fin
         EXPECT_EQ(fin_triangles, kept_edges.size() * 4 * 2) << int(sort);
+      }
     }
   }
 }

@@ -7,7 +7,7 @@ apt-get update
 apt-get install -y --no-install-recommends \
   build-essential cmake ninja-build pkg-config git \
   libglm-dev libtinygltf-dev libstb-dev nlohmann-json3-dev \
-  libopenimageio-dev openimageio-tools libpng-dev libjpeg62-turbo-dev \
+  libopenimageio-dev openimageio-tools libpng-dev libjpeg62-turbo-dev libopenexr-dev \
   libbenchmark-dev libgtest-dev libgmock-dev \
   libhwy-dev libtbb-dev libcli11-dev libtinyobjloader-dev libmeshoptimizer-dev \
   python3 python3-matplotlib \

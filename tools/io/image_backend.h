@@ -5,9 +5,9 @@
 // FFmpeg, ...), and linking it into pelt made every run pay for loading them, 0.3-0.8 s
 // here, whether or not it touched an image: `pelt --version`, `pelt bench`, a scene error,
 // and each of the test suite's processes. The module keeps that cost to the commands that
-// read images other than PNG and JPEG or write them as anything but PNG (libpng writes and
-// reads PNG itself, png_writer.h, png_reader.h; libjpeg reads JPEG, jpeg_reader.h), and
-// `pelt render` loads it while it renders (preload below).
+// read images other than PNG and JPEG or write them as anything but PNG and EXR (libpng writes
+// and reads PNG itself, png_writer.h, png_reader.h; libjpeg reads JPEG, jpeg_reader.h; OpenEXR's
+// library writes EXR, exr_writer.h), and `pelt render` loads it while it renders (preload below).
 //
 // The split: the module only drives OpenImageIO and reports its errors as text; the checks,
 // the sRGB encoding, the temporaries and the wording of errors (InputError) stay in pelt_io.
@@ -29,7 +29,9 @@ struct ImageWriteRequest {
   std::string temp;    // the file actually written (renamed over target by the caller)
   int width = 0, height = 0, channels = 0;
   StoredType type = StoredType::u8;  // of both the pixels and the file's channels
-  bool exr_grey_names = false;       // name 1 and 2 channels "Y" and "Y", "A"
+  // Name 1 and 2 channels "Y" and "Y", "A" in an EXR. pelt_io writes EXR files with OpenEXR's
+  // library (exr_writer.h); the module's EXR writer is kept for the tests that compare the two.
+  bool exr_grey_names = false;
   const void* pixels = nullptr;      // interleaved, rows top to bottom
 };
 

@@ -10,6 +10,7 @@
 #include <system_error>
 #include <vector>
 
+#include "tools/io/exr_writer.h"
 #include "tools/io/image_backend.h"
 #include "tools/io/input_error.h"
 #include "tools/io/jpeg_reader.h"
@@ -60,7 +61,10 @@ std::vector<float> premultiplied(const float* px, size_t pixels, int channels) {
 
 }  // namespace
 
-bool needs_image_module_to_write(const std::filesystem::path& path) { return lower_extension(path) != ".png"; }
+bool needs_image_module_to_write(const std::filesystem::path& path) {
+  const std::string ext = lower_extension(path);
+  return ext != ".png" && ext != ".exr";
+}
 
 namespace {
 
@@ -121,12 +125,16 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
                                    "(32-bit unsigned needs one channel and .tif; .exr needs float)");
   }
 
-  if (!needs_image_module_to_write(path)) {  // a PNG, u8 here: libpng itself (png_writer.h)
+  // A PNG (u8 here) through libpng itself (png_writer.h), an EXR (f32) through OpenEXR's library
+  // (exr_writer.h); a TIFF through the module.
+  if (kind == FileKind::png || kind == FileKind::exr) {
     AtomicOutput out(path);
-    if (const std::string error = write_png8(out.write_path(), width, height, channels,
-                                             static_cast<const uint8_t*>(data), options.png_compression);
-        !error.empty())
-      throw InputError(file, "", out.named(error));
+    const std::string error =
+        kind == FileKind::png
+            ? write_png8(out.write_path(), width, height, channels, static_cast<const uint8_t*>(data),
+                         options.png_compression)
+            : write_exr_f32(out.write_path(), width, height, channels, static_cast<const float*>(data));
+    if (!error.empty()) throw InputError(file, "", out.named(error));
     out.commit("", "the finished image");
     return;
   }
@@ -137,7 +145,6 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
   request.height = height;
   request.channels = channels;
   request.type = file_type;
-  request.exr_grey_names = kind == FileKind::exr;
   request.pixels = data;
   AtomicOutput out(path);
   request.temp = out.write_path();

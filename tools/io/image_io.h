@@ -1,7 +1,8 @@
 // Image files through OpenImageIO (in a module loaded on first use, image_backend.h), PNG
-// files through libpng (png_writer.h, png_reader.h) and JPEG input through libjpeg
-// (jpeg_reader.h): atomic writes of rendered images and AOVs, and colour-map reads. Failing to
-// load the module is an InputError naming the file, like any other failure here.
+// files through libpng (png_writer.h, png_reader.h), JPEG input through libjpeg
+// (jpeg_reader.h) and EXR output through OpenEXR (exr_writer.h): atomic writes of rendered
+// images and AOVs, and colour-map reads. Failing to load the module is an InputError naming the
+// file, like any other failure here.
 #pragma once
 
 #include <cstddef>
@@ -27,7 +28,8 @@ enum class PixelType {
 //                 linear), bit-exact with linear_to_srgb8.
 //   .tif / .tiff  u8 as is; u32 with 1 channel as 32-bit unsigned; f32 with 1 channel as
 //                 32-bit float; f32 with 2..4 channels as 8-bit sRGB like .png.
-//   .exr          f32 as 32-bit float channels (1 = "Y", 3 = RGB, 4 = RGBA).
+//   .exr          f32 as 32-bit float channels (1 = "Y", 2 = "Y", "A", 3 = RGB, 4 = RGBA), ZIP
+//                 compressed, every value's bits kept (exr_writer.h).
 // With 2 or 4 channels the last is alpha. 8-bit files hold straight (unassociated) colour and
 // EXR premultiplied (associated) colour, OpenEXR's convention that its readers assume:
 // float pixels are converted from `options.alpha` to the file's convention (colour divided
@@ -50,9 +52,10 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
 
 // Whether writing `path` (by its extension; a GIF's too, gif_writer.h) or reading the image at
 // `path` (by its signature, encoded_kind) loads OpenImageIO's module: PNG files are written and read by libpng
-// itself (png_writer.h, png_reader.h), JPEG files (FF D8 FF) read by libjpeg (jpeg_reader.h),
-// every other type through the module. For a command that loads the module ahead, on a thread
-// of its own, only where it will need it.
+// itself (png_writer.h, png_reader.h), EXR files written by OpenEXR's library (exr_writer.h; read
+// through the module), JPEG files (FF D8 FF) read by libjpeg (jpeg_reader.h), every other type
+// through the module. For a command that loads the module ahead, on a thread of its own, only
+// where it will need it.
 bool needs_image_module_to_write(const std::filesystem::path& path);
 bool needs_image_module_to_read(const std::filesystem::path& path);
 

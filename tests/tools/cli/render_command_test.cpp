@@ -932,9 +932,12 @@ TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
   write_map_meshes(dir);  // before the module goes
   const std::string missing = (dir.path() / "nowhere" / "libpelt_oiio.so").string();
   ::setenv("PELT_IMAGE_MODULE", missing.c_str(), 1);
-  const Result r = pelt({"-o", (dir.path() / "out/f.exr").string(), "--frame", "0", "-q"});
+  const Result r = pelt({"-o", (dir.path() / "out/f.tif").string(), "--frame", "0", "-q"});
   const Result gif = pelt({"-o", (dir.path() / "out/a.gif").string(), "-q"});
   const Result png = pelt({"-o", (dir.path() / "png/f.png").string(), "--frame", "0", "-q"});
+  // OpenEXR's library writes an EXR (io/exr_writer.h), the depth AOV's too.
+  const Result exr = pelt({"-o", (dir.path() / "exr/f.exr").string(), "--frame", "0", "-q"});
+  const Result depth = pelt({"-o", (dir.path() / "exr/d.exr").string(), "--frame", "0", "--aov", "depth", "-q"});
   // Nor does a mesh file that names no map, a PNG map (libpng reads it, io/png_reader.h) or a JPEG
   // map (libjpeg reads it, io/jpeg_reader.h); a TIFF map needs the module.
   const auto mesh_render = [&](const std::string& mesh) { return render_mesh(dir, mesh, "mesh/" + mesh + ".png"); };
@@ -950,18 +953,22 @@ TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
   EXPECT_EQ(files("mesh"), (std::vector<std::string>{"j.obj.png", "p.obj.png", "q.obj.png"}));
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find(missing), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("f.exr"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("f.tif"), std::string::npos) << r.err;
   EXPECT_EQ(gif.code, 2) << gif.err;
   EXPECT_TRUE(!fs::exists(dir.path() / "out") || files("out").empty());
   EXPECT_EQ(png.code, 0) << png.err;
   EXPECT_TRUE(fs::exists(dir.path() / "png/f.png"));
+  EXPECT_EQ(exr.code, 0) << exr.err;
+  EXPECT_EQ(depth.code, 0) << depth.err;
+  EXPECT_TRUE(fs::exists(dir.path() / "exr/f.exr"));
+  EXPECT_TRUE(fs::exists(dir.path() / "exr/d.exr"));
 }
 
 // OpenImageIO's module loads (0.4 s) only where the render needs it, and --stats says whether it
 // did: not for a PNG of built-in meshes (libpng writes it), of a mesh file naming no map, a PNG
-// map (libpng reads it) or a JPEG map (libjpeg reads it), but for an EXR, and for a TIFF map (a
-// mesh file's loads it when the set-up reaches it, the scene's ahead). The shipped scenes load it
-// for none of their maps (scenes_test.cpp).
+// map (libpng reads it) or a JPEG map (libjpeg reads it), nor for an EXR of any of those (OpenEXR's
+// library writes it), but for a TIFF, and for a TIFF map (a mesh file's loads it when the set-up
+// reaches it, the scene's ahead). The shipped scenes load it for none of their maps (scenes_test.cpp).
 TEST_F(RenderCommand, StatsSayWhetherTheImageModuleWasLoaded) {
   write_map_meshes(dir);
   const auto loaded = [&](const std::string& mesh, const std::string& out, const std::string& map = "") {
@@ -973,7 +980,12 @@ TEST_F(RenderCommand, StatsSayWhetherTheImageModuleWasLoaded) {
   EXPECT_FALSE(loaded("sphere:8", "a.png"));
   EXPECT_FALSE(loaded("q.obj", "b.png"));
   EXPECT_FALSE(loaded("p.obj", "c.png"));
-  EXPECT_TRUE(loaded("sphere:8", "d.exr"));
+  EXPECT_FALSE(loaded("sphere:8", "d.exr"));
+  EXPECT_FALSE(loaded("p.obj", "k.exr"));
+  EXPECT_FALSE(loaded("j.obj", "l.exr"));
+  EXPECT_FALSE(loaded("q.obj", "m.exr", "map.jpg"));
+  EXPECT_TRUE(loaded("sphere:8", "n.tif"));
+  EXPECT_TRUE(loaded("m.obj", "o.exr"));  // a TIFF map still loads it
   EXPECT_TRUE(loaded("m.obj", "e.png"));
   EXPECT_FALSE(loaded("j.obj", "h.png"));
   EXPECT_FALSE(loaded("q.obj", "f.png", "map.png"));  // the scene's own maps: PNG or JPEG, or not

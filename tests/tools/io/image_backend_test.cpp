@@ -1,7 +1,7 @@
-// The OpenImageIO module is loaded when an image other than a PNG or JPEG is first touched, not
-// at start-up, and a module that cannot be loaded is a clear InputError. Each case runs in a
-// fresh process (a "threadsafe" death test re-executes this binary), since a process loads it
-// only once.
+// The OpenImageIO module is loaded when an image other than a PNG or JPEG is first read, or one
+// other than a PNG or EXR first written, not at start-up, and a module that cannot be loaded is a
+// clear InputError. Each case runs in a fresh process (a "threadsafe" death test re-executes this
+// binary), since a process loads it only once.
 #include "tools/io/image_backend.h"
 
 #include <cstdlib>
@@ -62,8 +62,11 @@ TEST(ImageBackend, LoadsOnlyWhenAnImageIsTouched) {
     if (read_image_rgba(dir.path() / "a.png").width != 4 || read_image_rgba(jpeg).width != 1024)
       return "a PNG or JPEG read back wrong";
     if (image_backend_loaded() || mapped("libOpenImageIO")) return "reading a PNG or JPEG loaded the module";
+    // Nor does writing an EXR: OpenEXR's library writes it (exr_writer.h).
     write_image_atomic(dir.path() / "a.exr", 4, 3, 4, PixelType::f32, px.data());
-    if (!image_backend_loaded()) return "writing an EXR did not load the module";
+    if (image_backend_loaded() || mapped("libOpenImageIO")) return "writing an EXR loaded the module";
+    write_image_atomic(dir.path() / "a.tif", 4, 3, 4, PixelType::f32, px.data());
+    if (!image_backend_loaded()) return "writing a TIFF did not load the module";
     if (!mapped("libpelt_oiio.so") || !mapped("libOpenImageIO")) return "the module or OpenImageIO is not mapped";
     const ImageHeader h = read_image_header(dir.path() / "a.png");
     if (h.width != 4 || h.height != 3 || h.channels != 4 || h.bytes_per_channel != 1) return "header read back wrong";
@@ -76,7 +79,7 @@ TEST(ImageBackend, AModuleThatCannotBeLoadedIsAnInputErrorAndLeavesNoFile) {
     TempDir dir;
     const std::string missing = (dir.path() / "nowhere" / "libpelt_oiio.so").string();
     ::setenv("PELT_IMAGE_MODULE", missing.c_str(), 1);
-    const std::filesystem::path out = dir.path() / "a.exr";  // a PNG needs no module (png_writer.h)
+    const std::filesystem::path out = dir.path() / "a.tif";  // a PNG or an EXR needs no module (png_writer.h, exr_writer.h)
     const std::vector<float> px(2 * 2 * 4, 0.5f);
     try {
       write_image_atomic(out, 2, 2, 4, PixelType::f32, px.data());

@@ -120,7 +120,8 @@ int run_info(const InfoOptions& o) {
       if (m.alpha_mode == io::AlphaMode::mask) {
         char cut[48];
         std::snprintf(cut, sizeof cut, "%g", double(m.alpha_cutoff));
-        alpha = "cut out where " + of + " is below " + cut;
+        alpha = "cut out where " + of + " is below " + cut +
+                (m.cut_away ? ", which is everywhere: neither the part nor fur over it is drawn" : "");
       } else if (m.alpha_mode == io::AlphaMode::blend) {
         alpha = "blended by " + of;
       }
@@ -158,11 +159,23 @@ int run_info(const InfoOptions& o) {
     if (const fur::FurGeometry* g = r.fur_geometry(i)) {
       const fur::FurCounts* c = &g->counts;
       const fur::FurParams& f = *o.fur;
-      const ForceFrames forces = count_force_frames(scene, i);
-      std::printf("       fur: %d shells, fins %s, gravity %s, wind %s\n", f.shells,
-                  std::string(fur::to_string(f.fins)).c_str(),
-                  force_frames(f.gravity.has_value(), forces.gravity, forces.frames).c_str(),
-                  force_frames(f.wind.has_value(), forces.wind, forces.frames).c_str());
+      // Faces whose part cuts everything grow no fur (render::FurObject): a mesh cut away whole
+      // computes nothing for it, in any frame.
+      size_t gone = 0;
+      for (const render::SceneRenderer::MapsDrawn& m : maps) gone += m.cut_away ? m.triangles : 0;
+      if (gone == c->base_faces) {
+        std::printf("       fur: %d shells, fins %s, cut away whole with the surface: nothing computed or drawn\n",
+                    f.shells, std::string(fur::to_string(f.fins)).c_str());
+      } else {
+        const ForceFrames forces = count_force_frames(scene, i);
+        std::printf("       fur: %d shells, fins %s, gravity %s, wind %s\n", f.shells,
+                    std::string(fur::to_string(f.fins)).c_str(),
+                    force_frames(f.gravity.has_value(), forces.gravity, forces.frames).c_str(),
+                    force_frames(f.wind.has_value(), forces.wind, forces.frames).c_str());
+        if (gone > 0)
+          std::printf("       cut away %zu of %zu base faces grow none (their parts cut everywhere)\n", gone,
+                      c->base_faces);
+      }
       if (!o.fur_length_map.empty())
         std::printf("       length   x the first channel of %s at the mesh's uvs; %zu of %zu base faces grow none\n",
                     o.fur_length_map.filename().string().c_str(), g->bald_faces, c->base_faces);

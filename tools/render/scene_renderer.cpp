@@ -703,6 +703,7 @@ std::vector<SceneRenderer::MapsDrawn> SceneRenderer::maps_drawn(size_t object) c
     m.alpha_mode = p.desc.alpha_mode;
     m.alpha_cutoff = p.desc.alpha_cutoff;
     m.alpha_factor = p.desc.alpha_factor;
+    m.cut_away = p.desc.mask_cuts == MaskCuts::everything;
     m.alpha_map = p.alpha_map;
     m.alpha_map_alone = p.alpha_map_alone;
   }

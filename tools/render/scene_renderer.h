@@ -119,6 +119,9 @@ class SceneRenderer {
     io::MapPlacement color_placement, normal_placement;
     io::AlphaMode alpha_mode = io::AlphaMode::opaque;  // the mesh file's material's, with its cutoff and factor
     float alpha_cutoff = 0.5f, alpha_factor = 1.0f;
+    // A MASK whose test fails on every texel (or on the factor alone): neither the part nor the
+    // fur over it is drawn or computed.
+    bool cut_away = false;
     // An OBJ's map_d (its file name), whose dissolve the colour map's alpha carries (io/dissolve_map.h);
     // alone: the material has no map_Kd, so the colour map is white with map_d's dissolve as alpha.
     std::string alpha_map;

@@ -17,6 +17,7 @@
 
 #include "tests/tools/cli/render_command_fixture.h"
 #include "tests/tools/cli/run_pelt.h"
+#include "tests/tools/render/two_quads_gltf.h"
 #include "tools/io/image_io.h"
 
 namespace pelt::cli_test {
@@ -732,6 +733,55 @@ TEST_F(RenderCommand, InfoCountsTheFramesThatComputeEachForceAsTheRenderDoes) {
       }
     EXPECT_EQ(gravity, c.gravity);
     EXPECT_EQ(wind, c.wind);
+  }
+}
+
+// `pelt info` says where a MASK part cuts everything, so that neither it nor the fur over it is
+// drawn, and what that leaves of the fur: the faces that grow none, or, every part cut away,
+// nothing computed in any frame (the render agrees: no gravity or wind stage runs), where it
+// counted the frames that would compute gravity and wind.
+TEST_F(RenderCommand, InfoSaysWhatAPartCutAwayWholeLeavesOfTheFur) {
+  const std::string back = R"({"name":"back","alphaMode":"MASK","pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0]}})";
+  for (const uint8_t front_alpha : {255, 0}) {
+    SCOPED_TRACE(int(front_alpha));
+    const uint8_t px[4] = {0, 255, 0, front_alpha};
+    io::write_image_atomic(dir.path() / "front.png", 1, 1, 4, io::PixelType::u8, px);
+    std::string gltf =
+        render::test::two_quads_gltf(R"({"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})");
+    const std::string from = R"("materials":[{"name":"back"},)";
+    gltf.replace(gltf.find(from), from.size(), R"("materials":[)" + back + ",");
+    dir.write("quads.gltf", gltf);
+    const fs::path file = dir.write("cut.json", R"({"pelt": 1, "image": {"width": 32, "height": 24},
+      "camera": {"eye": [0, 0, 4], "target": [0, 0, 0]}, "animation": {"frames": 3},
+      "objects": [{"mesh": "quads.gltf", "material": {"type": "lambert"},
+                   "fur": {"shells": 4, "texture_size": 16, "gravity": {}, "wind": {}}}]})");
+    const Result info = run_pelt({"info", file.string()}, dir.path());
+    ASSERT_EQ(info.code, 0) << info.err;
+    EXPECT_NE(info.out.find("`back`, 2 triangles: cut out where the factor's alpha 0 is below 0.5, which is "
+                            "everywhere: neither the part nor fur over it is drawn\n"),
+              std::string::npos)
+        << info.out;
+    const bool whole = front_alpha == 0;
+    EXPECT_EQ(info.out.find("fur: 4 shells, fins silhouette, cut away whole with the surface: nothing computed or "
+                            "drawn\n") != std::string::npos,
+              whole)
+        << info.out;
+    EXPECT_EQ(info.out.find("       cut away 2 of 4 base faces grow none (their parts cut everywhere)\n") !=
+                  std::string::npos,
+              !whole)
+        << info.out;
+    EXPECT_EQ(info.out.find("gravity computed in") == std::string::npos, whole) << info.out;
+    const fs::path stats = dir.path() / "cut_stats.json";
+    const Result r = run_pelt(
+        {"render", file.string(), "-o", (dir.path() / "cut_#.png").string(), "-q", "--stats", stats.string()},
+        dir.path());
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(read_text(stats));
+    int forces = 0;
+    for (const nlohmann::json& f : j["frames"])
+      for (const nlohmann::json& st : f["stages"])
+        forces += (st["name"] == "gravity" || st["name"] == "wind") && st["ran"] == true;
+    EXPECT_EQ(forces == 0, whole);
   }
 }
 

@@ -72,26 +72,11 @@ class FileStream final : public Imf::OStream {
   int error_ = 0;
 };
 
-// OpenEXR compresses blocks of rows on a process-wide pool of threads, made on the first write: one
-// per core, the count OpenImageIO set when it wrote pelt's EXR files (its module, loaded for a map,
-// sets that count again, which changes nothing). The file is the same on any count. Without the
-// pool, 24 frames of box_fur at 1024 x 768 took 2.3 s against 1.75 s on 2 cores: the writes, 90
-// against 65 ms a frame, set the pace while the next frame renders. The pool's threads only
-// compress: OpenEXR does the file's I/O on the calling thread, which made the temporary
-// (output_file.h), so none of them creates a file a signal's clean-up could miss.
-void start_compression_threads() {
-  static const bool started = [] {
-    Imf::setGlobalThreadCount(int(std::thread::hardware_concurrency()));
-    return true;
-  }();
-  (void)started;
-}
-
 // The OpenEXR calls, with its exceptions turned into the reason; "" on success.
 std::string encode(FileStream& stream, int width, int height, int channels, const float* pixels) {
   static constexpr const char* kNames[4][4] = {{"Y"}, {"Y", "A"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
   try {
-    start_compression_threads();  // inside: a thread that cannot be made fails this write, not pelt
+    start_exr_threads();  // inside: a thread that cannot be made fails this write, not pelt
     Imf::Header header(width, height);  // ZIP, increasing y, windows at 0, 0: OpenImageIO's header
     Imf::FrameBuffer frame;
     const size_t x_stride = sizeof(float) * size_t(channels), y_stride = x_stride * size_t(width);
@@ -111,6 +96,22 @@ std::string encode(FileStream& stream, int width, int height, int channels, cons
 }
 
 }  // namespace
+
+// OpenEXR compresses blocks of rows on a process-wide pool of threads, made on the first write or EXR
+// map read: one per core, the count OpenImageIO set when it wrote pelt's EXR files (its module, loaded
+// for a map, sets that count again, which changes nothing). The file is the same on any count. Without the
+// pool, 24 frames of box_fur at 1024 x 768 took 2.3 s against 1.75 s on 2 cores: the writes, 90
+// against 65 ms a frame, set the pace while the next frame renders. The pool's threads only
+// compress (or decompress a map's blocks, exr_reader.cpp): OpenEXR does the file's I/O on the
+// calling thread, which made the temporary (output_file.h), so none of them creates a file a
+// signal's clean-up could miss.
+void start_exr_threads() {
+  static const bool started = [] {
+    Imf::setGlobalThreadCount(int(std::thread::hardware_concurrency()));
+    return true;
+  }();
+  (void)started;
+}
 
 std::string write_exr_f32(const std::string& file, int width, int height, int channels, const float* pixels) {
   if (width <= 0 || height <= 0 || channels < 1 || channels > 4 || !pixels)

@@ -19,4 +19,9 @@ namespace pelt::io {
 // file. A pipe gets a whole file too: see exr_writer.cpp.
 std::string write_exr_f32(const std::string& file, int width, int height, int channels, const float* pixels);
 
+// Starts OpenEXR's pool of one thread per core, once a process (later calls return at once); the
+// writer and the reader (exr_reader.h) code their blocks on it. May throw OpenEXR's exception when a
+// thread cannot be made.
+void start_exr_threads();
+
 }  // namespace pelt::io

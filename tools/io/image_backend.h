@@ -5,9 +5,10 @@
 // FFmpeg, ...), and linking it into pelt made every run pay for loading them, 0.3-0.8 s
 // here, whether or not it touched an image: `pelt --version`, `pelt bench`, a scene error,
 // and each of the test suite's processes. The module keeps that cost to the commands that
-// read images other than PNG and JPEG or write them as anything but PNG and EXR (libpng writes
+// read images other than PNG, JPEG and EXR or write them as anything but PNG and EXR (libpng writes
 // and reads PNG itself, png_writer.h, png_reader.h; libjpeg reads JPEG, jpeg_reader.h; OpenEXR's
-// library writes EXR, exr_writer.h), and `pelt render` loads it while it renders (preload below).
+// library writes and reads EXR, exr_writer.h, exr_reader.h), and `pelt render` loads it while it
+// renders (preload below).
 //
 // The split: the module only drives OpenImageIO and reports its errors as text; the checks,
 // the sRGB encoding, the temporaries and the wording of errors (InputError) stay in pelt_io.

@@ -10,6 +10,7 @@
 #include <system_error>
 #include <vector>
 
+#include "tools/io/exr_reader.h"
 #include "tools/io/exr_writer.h"
 #include "tools/io/image_backend.h"
 #include "tools/io/input_error.h"
@@ -71,11 +72,12 @@ namespace {
 using OpenImage = std::unique_ptr<ImageReader> (*)(const std::string& file, std::string& error);
 
 // pelt's own reader of the image at `path`, by its signature: libpng's for a PNG, libjpeg's for
-// a JPEG; nullptr for every other file, which the module reads.
+// a JPEG, OpenEXR's for an EXR; nullptr for every other file, which the module reads.
 OpenImage own_reader(const std::filesystem::path& path) {
   switch (encoded_kind(path)) {
     case EncodedKind::png: return open_png;
     case EncodedKind::jpeg: return open_jpeg;
+    case EncodedKind::exr: return open_exr;
     case EncodedKind::other: break;
   }
   return nullptr;
@@ -208,6 +210,9 @@ EncodedKind encoded_kind(const uint8_t* bytes, size_t size) {
   static_assert(sizeof kPng <= kEncodedKindBytes);
   if (bytes && size >= sizeof kPng && std::equal(kPng, kPng + sizeof kPng, bytes)) return EncodedKind::png;
   if (bytes && size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) return EncodedKind::jpeg;
+  // OpenEXR's magic number, 20000630 stored little-endian.
+  if (bytes && size >= 4 && bytes[0] == 0x76 && bytes[1] == 0x2F && bytes[2] == 0x31 && bytes[3] == 0x01)
+    return EncodedKind::exr;
   return EncodedKind::other;
 }
 

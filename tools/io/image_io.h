@@ -1,7 +1,7 @@
 // Image files through OpenImageIO (in a module loaded on first use, image_backend.h), PNG
 // files through libpng (png_writer.h, png_reader.h), JPEG input through libjpeg
-// (jpeg_reader.h) and EXR output through OpenEXR (exr_writer.h): atomic writes of rendered
-// images and AOVs, and colour-map reads. Failing to load the module is an InputError naming the
+// (jpeg_reader.h) and EXR files through OpenEXR (exr_writer.h, exr_reader.h): atomic writes of
+// rendered images and AOVs, and colour-map reads. Failing to load the module is an InputError naming the
 // file, like any other failure here.
 #pragma once
 
@@ -52,9 +52,9 @@ void write_image_atomic(const std::filesystem::path& path, int width, int height
 
 // Whether writing `path` (by its extension; a GIF's too, gif_writer.h) or reading the image at
 // `path` (by its signature, encoded_kind) loads OpenImageIO's module: PNG files are written and read by libpng
-// itself (png_writer.h, png_reader.h), EXR files written by OpenEXR's library (exr_writer.h; read
-// through the module), JPEG files (FF D8 FF) read by libjpeg (jpeg_reader.h), every other type
-// through the module. For a command that loads the module ahead, on a thread of its own, only
+// itself (png_writer.h, png_reader.h), EXR files written and read by OpenEXR's library
+// (exr_writer.h, exr_reader.h), JPEG files (FF D8 FF) read by libjpeg (jpeg_reader.h), every other
+// type through the module. For a command that loads the module ahead, on a thread of its own, only
 // where it will need it.
 bool needs_image_module_to_write(const std::filesystem::path& path);
 bool needs_image_module_to_read(const std::filesystem::path& path);
@@ -81,11 +81,12 @@ struct ImageHeader {
 };
 ImageHeader read_image_header(const std::filesystem::path& path);
 
-// An encoded image's type by its first bytes: the PNG signature (8 bytes), or a JPEG's
-// start-of-image marker and the marker after it (FF D8 FF); `other` for anything else, or too
-// few bytes. pelt reads PNG and JPEG files itself (png_reader.h, jpeg_reader.h), and checks the
-// size of embedded ones before decoding them (encoded_image_size).
-enum class EncodedKind { png, jpeg, other };
+// An encoded image's type by its first bytes: the PNG signature (8 bytes), a JPEG's
+// start-of-image marker and the marker after it (FF D8 FF), or OpenEXR's magic number (76 2F 31
+// 01); `other` for anything else, or too few bytes. pelt reads PNG, JPEG and EXR files itself
+// (png_reader.h, jpeg_reader.h, exr_reader.h), and checks the size of embedded PNG and JPEG ones
+// before decoding them (encoded_image_size).
+enum class EncodedKind { png, jpeg, exr, other };
 inline constexpr size_t kEncodedKindBytes = 8;  // enough of a file's head for encoded_kind
 EncodedKind encoded_kind(const uint8_t* bytes, size_t size);
 // The same, of a file's head (`other` when it cannot be read).

@@ -960,10 +960,14 @@ void write_map_meshes(TempDir& dir) {
   dir.write("m.mtl", "newmtl m\nmap_Kd map.tif\n");
   dir.write("j.obj", "mtllib j.mtl\n" + mapped);
   dir.write("j.mtl", "newmtl m\nmap_Kd map.jpg\n");
+  dir.write("x.obj", "mtllib x.mtl\n" + mapped);
+  dir.write("x.mtl", "newmtl m\nmap_Kd map.exr\n");
   fs::copy_file(source_dir() / "tools/data/LeePerrySmith/Map-COL.jpg", dir.path() / "map.jpg");
   const uint8_t px[3] = {200, 100, 50};
   io::write_image_atomic(dir.path() / "map.png", 1, 1, 3, io::PixelType::u8, px);
   io::write_image_atomic(dir.path() / "map.tif", 1, 1, 3, io::PixelType::u8, px);
+  const float linear[3] = {0.6f, 0.2f, 0.05f};
+  io::write_image_atomic(dir.path() / "map.exr", 1, 1, 3, io::PixelType::f32, linear);
 }
 
 // Renders a 16 x 16 scene of `mesh` (a lambert material, with `map` as its colour map where
@@ -988,19 +992,21 @@ TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
   // OpenEXR's library writes an EXR (io/exr_writer.h), the depth AOV's too.
   const Result exr = pelt({"-o", (dir.path() / "exr/f.exr").string(), "--frame", "0", "-q"});
   const Result depth = pelt({"-o", (dir.path() / "exr/d.exr").string(), "--frame", "0", "--aov", "depth", "-q"});
-  // Nor does a mesh file that names no map, a PNG map (libpng reads it, io/png_reader.h) or a JPEG
-  // map (libjpeg reads it, io/jpeg_reader.h); a TIFF map needs the module.
+  // Nor does a mesh file that names no map, a PNG map (libpng reads it, io/png_reader.h), a JPEG
+  // map (libjpeg reads it, io/jpeg_reader.h) or an EXR map (OpenEXR's library reads it,
+  // io/exr_reader.h); a TIFF map needs the module.
   const auto mesh_render = [&](const std::string& mesh) { return render_mesh(dir, mesh, "mesh/" + mesh + ".png"); };
   const Result plain = mesh_render("q.obj"), png_map = mesh_render("p.obj"), jpeg_map = mesh_render("j.obj"),
-               mapped = mesh_render("m.obj");
+               exr_map = mesh_render("x.obj"), mapped = mesh_render("m.obj");
   ::unsetenv("PELT_IMAGE_MODULE");
   EXPECT_EQ(plain.code, 0) << plain.err;
   EXPECT_EQ(png_map.code, 0) << png_map.err;
   EXPECT_EQ(jpeg_map.code, 0) << jpeg_map.err;
+  EXPECT_EQ(exr_map.code, 0) << exr_map.err;
   EXPECT_EQ(mapped.code, 2) << mapped.err;
   EXPECT_NE(mapped.err.find(missing), std::string::npos) << mapped.err;
   EXPECT_NE(mapped.err.find("map.tif"), std::string::npos) << mapped.err;
-  EXPECT_EQ(files("mesh"), (std::vector<std::string>{"j.obj.png", "p.obj.png", "q.obj.png"}));
+  EXPECT_EQ(files("mesh"), (std::vector<std::string>{"j.obj.png", "p.obj.png", "q.obj.png", "x.obj.png"}));
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find(missing), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("f.tif"), std::string::npos) << r.err;
@@ -1016,8 +1022,8 @@ TEST_F(RenderCommand, WithoutItsImageModuleExitsWith2AndWritesNothing) {
 
 // OpenImageIO's module loads (0.4 s) only where the render needs it, and --stats says whether it
 // did: not for a PNG of built-in meshes (libpng writes it), of a mesh file naming no map, a PNG
-// map (libpng reads it) or a JPEG map (libjpeg reads it), nor for an EXR of any of those (OpenEXR's
-// library writes it), but for a TIFF, and for a TIFF map (a mesh file's loads it when the set-up
+// map (libpng reads it), a JPEG map (libjpeg reads it) or an EXR map (OpenEXR's library reads it),
+// nor for an EXR of any of those (OpenEXR's library writes it), but for a TIFF, and for a TIFF map (a mesh file's loads it when the set-up
 // reaches it, the scene's ahead). The shipped scenes load it for none of their maps (scenes_test.cpp).
 TEST_F(RenderCommand, StatsSayWhetherTheImageModuleWasLoaded) {
   write_map_meshes(dir);
@@ -1040,6 +1046,9 @@ TEST_F(RenderCommand, StatsSayWhetherTheImageModuleWasLoaded) {
   EXPECT_FALSE(loaded("j.obj", "h.png"));
   EXPECT_FALSE(loaded("q.obj", "f.png", "map.png"));  // the scene's own maps: PNG or JPEG, or not
   EXPECT_FALSE(loaded("q.obj", "i.png", "map.jpg"));
+  EXPECT_FALSE(loaded("q.obj", "p.png", "map.exr"));
+  EXPECT_FALSE(loaded("x.obj", "r.png"));
+  EXPECT_FALSE(loaded("x.obj", "s.exr"));
   EXPECT_TRUE(loaded("q.obj", "g.png", "map.tif"));
 }
 

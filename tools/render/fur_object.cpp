@@ -198,8 +198,9 @@ void FurObject::settle_mapless_cuts(size_t faces) {
       kept.push_back(cut_maps_[m]);
     }
   auto cuts_away = [&](uint32_t m) {
+    if (m == kNoFurCut) return false;  // checked first: cut_maps_[kNoFurCut] lies far past the end
     const FurCutMap& c = cut_maps_[m];
-    return m != kNoFurCut && !c.map.texture && !io::mask_keeps(1.0f, c.factor, c.cutoff);
+    return !c.map.texture && !io::mask_keeps(1.0f, c.factor, c.cutoff);
   };
   face_gone_.assign(faces, 0);
   size_t gone = 0;

@@ -151,6 +151,9 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
       fin_tint_slope_ = fin_lum.tint_slope;
     }
   }
+  // Nothing of a mesh cut away whole is ever drawn: update() makes nothing for it, so it keeps
+  // no poses, tangents, light or varyings either (some 200 bytes a fur vertex).
+  if (all_gone_) return;
   const size_t v = geo_.positions.size();
   pose_ = geo_.positions;
   gravity_pose_ = geo_.positions;

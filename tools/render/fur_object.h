@@ -170,7 +170,8 @@ class FurObject {
   std::vector<uint32_t> fin_quad_cut_;    // with face_cut_map_: each fin quad's (its edge's face0's)
   // Per base face, 1 where a cut-out without a map cuts it away whole (its shells are single
   // points, its edges' fins are not listed; a fin takes its edge's first face's cut); empty when
-  // none is. all_gone_: every face is, and the object draws nothing and makes nothing per frame.
+  // none is. all_gone_: every face is, and the object draws nothing, makes nothing per frame and
+  // holds no per-frame arrays (poses, varyings, light).
   std::vector<uint8_t> face_gone_;
   bool all_gone_ = false;
   bool mesh_uvs_ = false;  // a colour map or a cut-out's map is read at the mesh uvs (FurMapUv)

@@ -235,6 +235,34 @@ TEST(FurCutOut, AMeshCutAwayWholeMakesNothingForItsFur) {
   }
 }
 
+// A mesh cut away whole keeps its geometry (counts, `pelt info`) and nothing per frame: no pose,
+// tangents, light or varyings, which FurObject::memory_bytes (the renderer's memory estimate)
+// would count at some 200 bytes a fur vertex (207 here before it kept none). Textures off in
+// both, so the strand textures (never made for it) do not hide the difference; the object
+// without a cut-out keeps them all.
+TEST(FurCutOut, AMeshCutAwayWholeKeepsNoFrameBuffers) {
+  FurDrawOptions cut;
+  cut.textures = false;
+  cut.cut_maps = {FurCutMap{{}, 0.0f, 0.5f}};
+  FurDrawOptions uncut;
+  uncut.textures = false;
+  FurRig gone("box:3", small_fur(5, fur::FinMode::all), "box", cut);
+  FurRig kept("box:3", small_fur(5, fur::FinMode::all), "box", uncut);
+  auto geometry_bytes = [](const fur::FurGeometry& g) {
+    auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+    return bytes(g.positions) + bytes(g.shell_uvs) + bytes(g.fin_uvs) + bytes(g.layer) + bytes(g.shell_indices) +
+           bytes(g.fin_indices) + bytes(g.edges) + bytes(g.mesh_uvs) + bytes(g.length_scale);
+  };
+  const size_t vertices = gone.fur.geometry().positions.size();
+  ASSERT_EQ(vertices, kept.fur.geometry().positions.size());
+  ASSERT_EQ(geometry_bytes(gone.fur.geometry()), geometry_bytes(kept.fur.geometry()));
+  const size_t gone_extra = gone.fur.memory_bytes() - geometry_bytes(gone.fur.geometry());
+  const size_t kept_extra = kept.fur.memory_bytes() - geometry_bytes(kept.fur.geometry());
+  EXPECT_LT(gone_extra, vertices) << "bytes beside the geometry: under one a fur vertex";
+  EXPECT_GT(kept_extra, 100 * vertices);
+  EXPECT_TRUE(gone.draws(FurSort::tile).empty());
+}
+
 // The layer order hands each layer's fin shader its own stretch of the fin list, and of each fin's
 // cut with it (FurObject::set_view): a fin of layer s must read its own quad's cut, not that of
 // another layer's or edge's. With the quads' parts cut unlike (the back gone, the front's left half

@@ -325,8 +325,9 @@ TEST(ImageIo, ExrFloatRgbaAndOneChannel) {
   EXPECT_EQ(spec.nchannels, 1);
 }
 
-// A file's bytes depend on its pixels only: no wall-clock time in the header (OIIO's EXR and
-// TIFF writers add DateTime unless told not to), so two renders of a frame compare with cmp.
+// A file's bytes depend on its pixels only: no wall-clock time in the header (OIIO's TIFF writer,
+// and its EXR writer that pelt used until 2026-11-28, add DateTime unless told not to; pelt's own
+// EXR writer writes none), so two renders of a frame compare with cmp.
 TEST(ImageIo, ExrAndTiffCarryNoWriteTime) {
   TempDir dir;
   const auto px = ramp(3, 2, 4);

@@ -244,7 +244,7 @@ void ExpectSameBlur(const TestMesh& whole, const TestMesh& split, float toleranc
       size_t w = v;  // the vertex of `whole` at the same position
       if (v >= n)
         for (size_t u = 0; u < n; ++u)
-          if (std::equal(&whole.pos[3 * u], &whole.pos[3 * u + 3], &split.pos[3 * v])) w = u;
+          if (std::equal(whole.pos.data() + 3 * u, whole.pos.data() + 3 * u + 3, split.pos.data() + 3 * v)) w = u;
       for (int a = 0; a < 3; ++a) {
         const float d = std::abs(got.channel[c][3 * v + a] - expected.channel[c][3 * w + a]);
         if (d > worst) worst = d, worst_vertex = v;

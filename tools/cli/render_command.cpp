@@ -23,6 +23,7 @@
 #include "tools/cli/quality_options.h"
 #include "tools/io/gif_writer.h"
 #include "tools/io/image_backend.h"
+#include "tools/io/exr_writer.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
 #include "tools/io/output_file.h"
@@ -299,6 +300,7 @@ int run_render(const RenderOptions& o) {
   // once, saying so (a farm's log of a job pre-empted there had no line at all).
   std::optional<render::InterruptGuard> during_setup(std::in_place, render::InterruptGuard::Stop::now);
   raster::start_worker_threads(rs.threads);
+  io::set_exr_threads(rs.threads);  // EXR frames and maps code their blocks on --threads threads too
   const io::PreloadJoin join_preload;  // declared before the load starts: joined on every way out
   if (will_need_image_module(scene, o.output)) io::preload_image_backend();
   const auto setup_start = std::chrono::steady_clock::now();

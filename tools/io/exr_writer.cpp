@@ -10,11 +10,13 @@
 #include <sys/types.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -105,12 +107,20 @@ std::string encode(FileStream& stream, int width, int height, int channels, cons
 // compress (or decompress a map's blocks, exr_reader.cpp): OpenEXR does the file's I/O on the
 // calling thread, which made the temporary (output_file.h), so none of them creates a file a
 // signal's clean-up could miss.
+namespace {
+std::atomic<bool> g_threads_set{false};  // set_exr_threads ran: its count stands
+}  // namespace
+
+void set_exr_threads(int threads) {
+  Imf::setGlobalThreadCount(std::max(0, threads));
+  g_threads_set = true;
+}
+
 void start_exr_threads() {
-  static const bool started = [] {
-    Imf::setGlobalThreadCount(int(std::thread::hardware_concurrency()));
-    return true;
-  }();
-  (void)started;
+  static std::once_flag once;
+  std::call_once(once, [] {
+    if (!g_threads_set) Imf::setGlobalThreadCount(int(std::thread::hardware_concurrency()));
+  });
 }
 
 std::string write_exr_f32(const std::string& file, int width, int height, int channels, const float* pixels) {

@@ -19,9 +19,16 @@ namespace pelt::io {
 // file. A pipe gets a whole file too: see exr_writer.cpp.
 std::string write_exr_f32(const std::string& file, int width, int height, int channels, const float* pixels);
 
-// Starts OpenEXR's pool of one thread per core, once a process (later calls return at once); the
-// writer and the reader (exr_reader.h) code their blocks on it. May throw OpenEXR's exception when a
-// thread cannot be made.
+// Starts OpenEXR's pool of one thread per core, once a process (later calls return at once), unless
+// set_exr_threads set its size; the writer and the reader (exr_reader.h) code their blocks on it.
+// May throw OpenEXR's exception when a thread cannot be made.
 void start_exr_threads();
+
+// Sizes OpenEXR's pool to `threads` now (0: none, the calling thread codes every block), for a
+// command whose --threads must bound the cores it takes: a farm's job of --threads 1 compressed
+// its EXR frames on one thread per core. Before a load of OpenImageIO's module on another thread
+// (image_backend.h), since no thread can start during it (raster/parallel.h). The count stands:
+// start_exr_threads then changes nothing. Throws as start_exr_threads does.
+void set_exr_threads(int threads);
 
 }  // namespace pelt::io

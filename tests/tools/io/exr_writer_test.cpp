@@ -27,6 +27,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/tools/io/fresh_process.h"
 #include "tests/tools/io/oiio_view.h"
 #include "tests/tools/io/temp_dir.h"
 #include "tools/io/image_backend.h"
@@ -234,6 +235,24 @@ TEST(ExrWriter, FailuresAreInputErrorsThatLeaveNoFile) {
   ::setrlimit(RLIMIT_FSIZE, &before);
   std::signal(SIGXFSZ, previous);
   EXPECT_EQ(files_in(dir.path()), 2u);
+}
+
+// A command's --threads bounds OpenEXR's pool (`pelt render` calls set_exr_threads before the
+// set-up): the size set stands when the first write starts the pool, which would otherwise make
+// one thread per core, and 0 codes every block on the calling thread, the same file. In fresh
+// processes: the pool is started once a process.
+TEST(ExrWriter, TheThreadCountSetBeforeTheFirstWriteStands) {
+  for (const int threads : {1, 0}) {
+    in_fresh_process([threads]() -> std::string {
+      TempDir dir;
+      const std::vector<float> px = awkward_floats(40, 70, 4);
+      set_exr_threads(threads);
+      if (!write_exr_f32((dir.path() / "a.exr").string(), 40, 70, 4, px.data()).empty()) return "the write failed";
+      if (Imf::globalThreadCount() != threads)
+        return "the pool holds " + std::to_string(Imf::globalThreadCount()) + " threads, not " + std::to_string(threads);
+      return {};
+    });
+  }
 }
 
 // OpenEXR compresses on a pool of one thread per core, started by the first write (exr_writer.cpp),

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/tools/io/fresh_process.h"
 #include "tests/tools/io/temp_dir.h"
 #include "tools/io/image_io.h"
 #include "tools/io/input_error.h"
@@ -25,19 +26,6 @@ bool mapped(const std::string& library) {
   std::stringstream s;
   s << maps.rdbuf();
   return s.str().find(library) != std::string::npos;
-}
-
-// Runs `body` in a fresh process; it passes when body returns "" there, else prints why.
-template <class Body>
-void in_fresh_process(Body body) {
-  GTEST_FLAG_SET(death_test_style, "threadsafe");
-  EXPECT_EXIT(
-      {
-        const std::string problem = body();
-        if (!problem.empty()) std::cerr << problem << std::endl;
-        std::exit(problem.empty() ? 0 : 1);
-      },
-      ::testing::ExitedWithCode(0), "");
 }
 
 size_t files_in(const std::filesystem::path& dir) {

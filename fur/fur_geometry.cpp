@@ -497,6 +497,15 @@ std::optional<ParamError> prepare(const Mesh& input, const FurParams& params, st
 
 }  // namespace
 
+void collapse_face_shells(FurGeometry& g, size_t face) {
+  if (g.layers == 0) return;
+  const size_t faces = g.shell_indices.size() / (3 * size_t{g.layers});
+  for (uint32_t s = 0; s < g.layers; ++s) {
+    uint32_t* tri = g.shell_indices.data() + (size_t{s} * faces + face) * 3;
+    tri[1] = tri[2] = tri[0];
+  }
+}
+
 size_t fur_base_vertex_count(const Mesh& mesh, const FurParams& params) {
   std::vector<glm::vec3> normals;
   BoundingSphere bounds;
@@ -654,18 +663,14 @@ std::optional<ParamError> build_fur_geometry(const Mesh& input, const FurParams&
     uint32_t* dst = out.shell_indices.data() + size_t(s) * F * 3;
     for (size_t k3 = 0; k3 < 3 * F; ++k3) dst[k3] = same_shell[base.indices[k3]] + shift;
   }
-  // A face whose three corners grow no fur has no shells: each layer's copy becomes one point
-  // (set-up culls it), or its layers would lie on the base and blend its strands over bare skin.
-  // The triangle keeps its place, so layer s is still triangles s F .. s F + F - 1.
+  // A face whose three corners grow no fur has no shells, or its layers would lie on the base and
+  // blend its strands over bare skin.
   if (!out.length_scale.empty())
     for (size_t f = 0; f < F; ++f) {
       const uint32_t* t = &base.indices[3 * f];
       if (out.length_scale[t[0]] != 0.0f || out.length_scale[t[1]] != 0.0f || out.length_scale[t[2]] != 0.0f)
         continue;
-      for (uint32_t s = 0; s < S; ++s) {
-        uint32_t* tri = out.shell_indices.data() + (size_t(s) * F + f) * 3;
-        tri[1] = tri[2] = tri[0];
-      }
+      collapse_face_shells(out, f);
       ++out.bald_faces;
     }
 

@@ -186,6 +186,11 @@ std::optional<ParamError> build_fur_geometry(const Mesh& base, const FurParams& 
                                              FurGeometry& out, std::span<const float> length_scale = {},
                                              std::span<const glm::vec2> map_uvs = {});
 
+// Makes every layer's copy of base face `face` one point, which set-up culls: the face grows no
+// fur (bald under a length map, or cut away with its surface, tools/render/fur_object.h). The
+// triangles keep their places, so layer s is still triangles s F .. s F + F - 1 of shell_indices.
+void collapse_face_shells(FurGeometry& g, size_t face);
+
 // The base vertex count build_fur_geometry would give (the mesh's own, or more under the box
 // mapping), for estimating memory before building; the mesh's own count when it would fail.
 size_t fur_base_vertex_count(const Mesh& base, const FurParams& params);

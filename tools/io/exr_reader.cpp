@@ -268,9 +268,7 @@ class ExrReader final : public ImageReader {
 }  // namespace
 
 std::unique_ptr<ImageReader> open_exr(const std::string& file, std::string& error) {
-  auto reader = std::make_unique<ExrReader>();
-  if (!reader->open(file, error)) return nullptr;
-  return reader;
+  return open_reader<ExrReader>(file, error);
 }
 
 }  // namespace pelt::io

@@ -61,6 +61,15 @@ class ImageReader {
   virtual std::string read(int channels, StoredType type, void* out) = 0;
 };
 
+// Opens a reader of pelt's own (png_reader.h, jpeg_reader.h, exr_reader.h), whose
+// `bool open(file, error)` reads the header: the reader, or nullptr with `error` set.
+template <class Reader>
+std::unique_ptr<ImageReader> open_reader(const std::string& file, std::string& error) {
+  auto reader = std::make_unique<Reader>();
+  if (!reader->open(file, error)) return nullptr;
+  return reader;
+}
+
 // An animated GIF being written frame by frame.
 class GifFrames {
  public:

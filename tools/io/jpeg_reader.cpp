@@ -158,9 +158,7 @@ class JpegReader final : public ImageReader {
 }  // namespace
 
 std::unique_ptr<ImageReader> open_jpeg(const std::string& file, std::string& error) {
-  auto reader = std::make_unique<JpegReader>();
-  if (!reader->open(file, error)) return nullptr;
-  return reader;
+  return open_reader<JpegReader>(file, error);
 }
 
 }  // namespace pelt::io

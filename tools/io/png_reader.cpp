@@ -86,9 +86,7 @@ class PngReader final : public ImageReader {
 }  // namespace
 
 std::unique_ptr<ImageReader> open_png(const std::string& file, std::string& error) {
-  auto reader = std::make_unique<PngReader>();
-  if (!reader->open(file, error)) return nullptr;
-  return reader;
+  return open_reader<PngReader>(file, error);
 }
 
 }  // namespace pelt::io

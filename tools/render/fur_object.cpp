@@ -114,15 +114,8 @@ FurObject::FurObject(const Mesh& base, const fur::FurParams& params, const FurDr
     if (auto e = fur::build_fur_geometry(base, params, geo_, options.length_scale,
                                          cut_by_map ? std::span<const glm::vec2>(map_uvs) : std::span<const glm::vec2>()))
       throw_fur_error(origin, e->field, e->reason);
-    // A face cut away keeps its place, as a bald face does (fur_geometry.h): layer s is still
-    // triangles s F .. s F + F - 1, each copy of it one point that set-up culls.
-    const size_t faces = geo_.counts.base_faces;
     for (size_t f = 0; f < face_gone_.size(); ++f)
-      if (face_gone_[f])
-        for (uint32_t s = 0; s < geo_.layers; ++s) {
-          uint32_t* tri = geo_.shell_indices.data() + (size_t{s} * faces + f) * 3;
-          tri[1] = tri[2] = tri[0];
-        }
+      if (face_gone_[f]) fur::collapse_face_shells(geo_, f);  // as a bald face's
   }
   if (options.textures && !all_gone_) {
     StageTimer t(setup, "fur_textures");
